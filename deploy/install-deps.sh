@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Installs what dh3 needs to build, test and run, from Debian's packages only.
+# Idempotent: packages already present are left alone; apt lists are refreshed
+# only when something is missing. Used by the README, .ci/run and the container
+# image's build stage.
+#
+#   deploy/install-deps.sh            build + test dependencies (default)
+#   deploy/install-deps.sh --runtime  only what the service and dh3ctl need to run
+set -euo pipefail
+
+runtime_pkgs=(
+  libfastrtps2.9 libfastcdr1 libspdlog1.10 libyaml-cpp0.7 fastdds-tools
+)
+build_pkgs=(
+  build-essential cmake ninja-build pkg-config
+  libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
+  libspdlog-dev libfmt-dev libcli11-dev libyaml-cpp-dev
+  libgtest-dev libgmock-dev
+  iproute2 procps python3
+)
+
+want=("${build_pkgs[@]}")
+[[ ${1:-} == --runtime ]] && want=("${runtime_pkgs[@]}")
+
+missing=()
+for p in "${want[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
+done
+
+if ((${#missing[@]} == 0)); then
+  echo "install-deps: all ${#want[@]} packages present"
+  exit 0
+fi
+
+sudo=()
+[[ $(id -u) -ne 0 ]] && sudo=(sudo)
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+"${sudo[@]}" apt-get update -qq
+"${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
