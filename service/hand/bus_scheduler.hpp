@@ -1,0 +1,118 @@
+#pragma once
+// One scheduler per bus: owns the Bus, one driver per hand on it, and the loop
+// that sends, matches replies, paces, polls status, times out and detects
+// events. Many hands share a bus fairly; every command ends in one result.
+//
+// Threading: submit(), request_scan() and state() are safe from any thread.
+// Everything else happens on the loop: either the scheduler's own thread
+// (start()/stop()) or, in tests, whoever calls step(). Completions and observer
+// callbacks run on the loop thread and must not block.
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bus/bus.hpp"
+#include "common/clock.hpp"
+#include "hand/hand_types.hpp"
+
+namespace dh3::hand {
+
+struct HandConfig {
+  std::uint8_t can_id = 1;
+  std::string name;
+};
+
+/// Tuning of one bus. Defaults follow the document (20 ms between commands).
+struct SchedulerOptions {
+  /// Minimum time between two frames to the same hand (design.md reading 9).
+  Duration command_interval = std::chrono::milliseconds(20);
+  /// Status poll period while a hand moves, and at rest.
+  Duration poll_interval_moving = std::chrono::milliseconds(50);
+  Duration poll_interval_idle = std::chrono::milliseconds(500);
+  /// Deadline for one frame's reply before it is re-sent or fails.
+  Duration reply_timeout = std::chrono::milliseconds(150);
+  /// Deadline for CAN ID and baud-rate writes, which reply after storing (reading 6).
+  Duration admin_reply_timeout = std::chrono::seconds(3);
+  /// Re-sends of reads and idempotent writes after a timeout.
+  int max_retries = 2;
+  /// Consecutive timeouts after which a hand is offline.
+  int offline_after_timeouts = 3;
+  /// How often an offline hand is probed to see if it is back.
+  Duration offline_probe_interval = std::chrono::seconds(1);
+  /// Initialization must finish within this.
+  Duration init_timeout = std::chrono::seconds(15);
+  /// Grasp and release must end (caught / arrived) within this.
+  Duration motion_timeout = std::chrono::seconds(10);
+  /// Commands waiting per hand; more get BUSY.
+  std::size_t queue_capacity = 16;
+  /// When the bus lists no hands, probe IDs 1-255 at start and then this often
+  /// (0 disables the repeat). A requested scan runs at any time.
+  Duration discovery_interval = std::chrono::seconds(30);
+  /// Administrative registers (CAN ID, baud rate) may be written.
+  bool allow_admin = false;
+};
+
+/// Receives what happens on the bus. Called on the loop thread.
+class HandObserver {
+ public:
+  virtual ~HandObserver() = default;
+  virtual void on_state(const HandState& state) = 0;
+  virtual void on_event(const HandEvent& event) = 0;
+  virtual void on_link(bus::LinkState state) = 0;
+};
+
+using Completion = std::function<void(const CommandResult&)>;
+using ScanCompletion = std::function<void(const std::vector<std::uint8_t>& found)>;
+
+struct SchedulerCounters {
+  std::uint64_t frames_sent = 0;
+  std::uint64_t frames_received = 0;
+  std::uint64_t unexpected_frames = 0;
+  std::uint64_t retries = 0;
+  std::uint64_t timeouts = 0;
+};
+
+class BusScheduler {
+ public:
+  /// `hands` empty: discover hands by probing (SchedulerOptions::discovery_interval).
+  BusScheduler(std::string bus_name, std::unique_ptr<bus::Bus> bus, std::vector<HandConfig> hands,
+               SchedulerOptions options, const Clock& clock, HandObserver& observer);
+  ~BusScheduler();
+  BusScheduler(const BusScheduler&) = delete;
+  BusScheduler& operator=(const BusScheduler&) = delete;
+
+  /// Queues a command for a hand. Validation errors, unknown hands and a full
+  /// queue complete at once (on the caller's thread); everything else completes
+  /// on the loop thread. Exactly one completion per call.
+  void submit(std::uint8_t can_id, Command command, Completion done);
+
+  /// Probes IDs 1-255 now and reports the IDs that answered.
+  void request_scan(ScanCompletion done);
+
+  /// Snapshot of every known hand.
+  [[nodiscard]] std::vector<HandState> state() const;
+  [[nodiscard]] SchedulerCounters counters() const;
+  [[nodiscard]] const std::string& name() const;
+  [[nodiscard]] bus::LinkState link_state() const;
+
+  /// Runs the loop on its own thread until stop(). stop() ends pending
+  /// commands with CANCELLED and reports every hand offline.
+  void start();
+  void stop();
+
+  /// One pass of the loop at clock.now() without waiting: receive what is
+  /// there, match, time out, send what is due. For tests with a FakeClock.
+  void step();
+  /// When the loop next needs to run (earliest deadline or due send).
+  [[nodiscard]] TimePoint next_wakeup() const;
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace dh3::hand
