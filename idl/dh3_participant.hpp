@@ -1,0 +1,47 @@
+#pragma once
+// How every dh3 participant (service, client library, tests, benchmarks) sets
+// up its Fast DDS transports, so they always find each other the same way.
+//
+// The default is loopback only: a service on a robot cell's controller that is
+// not told which network to use stays on the machine. Give `interfaces` (the
+// IPv4 addresses of the NICs to use, or "*" for all) to reach other hosts, and
+// `udp_only` where participants do not share /dev/shm (containers, namespaces).
+
+#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace dh3::contract {
+
+struct TransportOptions {
+  /// IPv4 addresses of the interfaces to use; empty = loopback only; {"*"} = all.
+  std::vector<std::string> interfaces;
+  /// No shared-memory transport: everything goes over UDP.
+  bool udp_only = false;
+};
+
+inline eprosima::fastdds::dds::DomainParticipantQos participant_qos(
+    const std::string& participant_name, const TransportOptions& options) {
+  using namespace eprosima::fastdds;
+  dds::DomainParticipantQos qos;
+  qos.name(participant_name);
+  auto& transport = qos.transport();
+  transport.use_builtin_transports = false;
+
+  auto udp = std::make_shared<rtps::UDPv4TransportDescriptor>();
+  const bool all = options.interfaces.size() == 1 && options.interfaces.front() == "*";
+  if (!all) {
+    udp->interfaceWhiteList = options.interfaces;
+    if (udp->interfaceWhiteList.empty()) udp->interfaceWhiteList.push_back("127.0.0.1");
+  }
+  transport.user_transports.push_back(udp);
+  if (!options.udp_only) {
+    transport.user_transports.push_back(std::make_shared<rtps::SharedMemTransportDescriptor>());
+  }
+  return qos;
+}
+
+}  // namespace dh3::contract
