@@ -26,8 +26,11 @@ class StreamDecoder {
   [[nodiscard]] std::uint64_t frames_decoded() const { return frames_decoded_; }
   /// Bytes held while waiting for the rest of a frame (always < 14).
   [[nodiscard]] std::size_t buffered() const { return buffer_.size(); }
-  /// Forgets a partial frame, e.g. after the link reconnects.
-  void reset() { buffer_.clear(); }
+  /// Forgets a partial frame, e.g. after the link reconnects; its bytes count as skipped.
+  void reset() {
+    bytes_skipped_ += buffer_.size();
+    buffer_.clear();
+  }
 
  private:
   std::vector<std::uint8_t> buffer_;
