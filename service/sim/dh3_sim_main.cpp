@@ -1,0 +1,200 @@
+// dh3-sim: simulated DH-3 hands served as the vendor's transfer box over TCP,
+// so dh3-service (bus "tcp:HOST:PORT") or any client of the box runs without
+// hardware. Prints "listening HOST:PORT" on stdout once ready; logs go to
+// stderr; control commands come on stdin (see --help).
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "common/clock.hpp"
+#include "sim/transfer_box_server.hpp"
+
+namespace {
+
+using dh3::sim::SimHandOptions;
+
+// The one place with global state: a signal handler can reach nothing else.
+std::atomic<dh3::sim::TransferBoxServer*> g_server{nullptr};
+
+extern "C" void on_stop_signal(int /*signal*/) {
+  if (dh3::sim::TransferBoxServer* server = g_server.load()) server->request_stop();
+}
+
+void install_stop_handlers() {
+  struct sigaction action {};
+  action.sa_handler = on_stop_signal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = 0;  // no SA_RESTART: poll() returns EINTR at once
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+  std::signal(SIGPIPE, SIG_IGN);
+}
+
+int parse_int(const std::string& text, const std::string& what) {
+  std::size_t used = 0;
+  int value = 0;
+  try {
+    value = std::stoi(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size())
+    throw CLI::ValidationError(what, "'" + text + "' is no number");
+  return value;
+}
+
+std::uint8_t parse_hand_id(const std::string& text, const std::string& what) {
+  const int id = parse_int(text, what);
+  if (id < 1 || id > 255) throw CLI::ValidationError(what, "hand IDs are 1-255, not " + text);
+  return static_cast<std::uint8_t>(id);
+}
+
+/// "1,2,3" or "1-8,10".
+std::vector<std::uint8_t> parse_hand_list(const std::string& text) {
+  std::vector<std::uint8_t> ids;
+  std::size_t start = 0;
+  while (start <= text.size()) {
+    std::size_t comma = text.find(',', start);
+    if (comma == std::string::npos) comma = text.size();
+    const std::string item = text.substr(start, comma - start);
+    const std::size_t dash = item.find('-');
+    if (dash == std::string::npos) {
+      ids.push_back(parse_hand_id(item, "--hands"));
+    } else {
+      const std::uint8_t first = parse_hand_id(item.substr(0, dash), "--hands");
+      const std::uint8_t last = parse_hand_id(item.substr(dash + 1), "--hands");
+      if (last < first) throw CLI::ValidationError("--hands", "empty range " + item);
+      for (int id = first; id <= last; ++id) ids.push_back(static_cast<std::uint8_t>(id));
+    }
+    start = comma + 1;
+  }
+  return ids;
+}
+
+/// "ID:POS" with POS 0-100.
+std::pair<std::uint8_t, std::int32_t> parse_placement(const std::string& text,
+                                                      const std::string& what) {
+  const std::size_t colon = text.find(':');
+  if (colon == std::string::npos) throw CLI::ValidationError(what, "expected ID:POS, got " + text);
+  const std::uint8_t id = parse_hand_id(text.substr(0, colon), what);
+  const int position = parse_int(text.substr(colon + 1), what);
+  if (position < 0 || position > 100) {
+    throw CLI::ValidationError(what, "positions are 0-100, not " + text.substr(colon + 1));
+  }
+  return {id, position};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "dh3-sim: simulated DH-3 hands served as a transfer box over TCP (14-byte frames).\n"
+      "Prints 'listening HOST:PORT' on stdout when ready; logs go to stderr."};
+  std::string listen = "127.0.0.1:0";
+  std::string hand_list = "1";
+  std::vector<std::string> objects;
+  std::vector<std::string> obstacles;
+  int init_time_ms = 300;
+  double speed = 200.0;
+  double rotation_speed = 0.0;
+  int reply_delay_ms = 0;
+  int store_delay_ms = 50;
+  std::string log_level = "info";
+  app.add_option("--listen", listen, "HOST:PORT to listen on (IPv4); port 0 picks a free one")
+      ->capture_default_str();
+  app.add_option("--hands", hand_list, "CAN IDs of the simulated hands, e.g. 1,2,3 or 1-8")
+      ->capture_default_str();
+  app.add_option("--object", objects, "ID:POS: an object between hand ID's fingers at POS (0-100)")
+      ->take_all();
+  app.add_option("--obstacle", obstacles, "ID:POS: an obstacle blocking hand ID's rotation at POS")
+      ->take_all();
+  app.add_option("--init-time-ms", init_time_ms, "how long initialization takes")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--speed", speed, "finger speed, percent of the stroke per second")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  app.add_option("--rotation-speed", rotation_speed,
+                 "rotation speed, percent of 90 degrees per second (default: --speed)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--reply-delay-ms", reply_delay_ms, "time between a request and its reply")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--store-delay-ms", store_delay_ms,
+                 "extra time before answering a CAN ID or baud rate write")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--log-level", log_level, "trace, debug, info, warn, error, critical, off")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}));
+  app.footer(std::string(dh3::sim::kControlHelp) +
+             "\nSIGINT, SIGTERM or 'quit' stop it; end of stdin does not.");
+
+  dh3::sim::TransferBoxServerOptions options;
+  try {
+    app.parse(argc, argv);
+    const std::size_t colon = listen.rfind(':');
+    if (colon == std::string::npos) {
+      throw CLI::ValidationError("--listen", "expected HOST:PORT, got " + listen);
+    }
+    options.host = listen.substr(0, colon);
+    const int port = parse_int(listen.substr(colon + 1), "--listen");
+    if (port < 0 || port > 65535) throw CLI::ValidationError("--listen", "bad port in " + listen);
+    options.port = static_cast<std::uint16_t>(port);
+
+    for (const std::uint8_t id : parse_hand_list(hand_list)) {
+      SimHandOptions hand;
+      hand.id = id;
+      hand.init_time = std::chrono::milliseconds(init_time_ms);
+      hand.position_speed = speed;
+      hand.rotation_speed = rotation_speed > 0 ? rotation_speed : speed;
+      hand.reply_delay = std::chrono::milliseconds(reply_delay_ms);
+      hand.store_delay = std::chrono::milliseconds(store_delay_ms);
+      options.hands.push_back(hand);
+    }
+    const auto find_hand = [&](std::uint8_t id, const std::string& what) -> SimHandOptions& {
+      for (SimHandOptions& hand : options.hands) {
+        if (hand.id == id) return hand;
+      }
+      throw CLI::ValidationError(what, "no hand " + std::to_string(id) + " in --hands");
+    };
+    for (const std::string& text : objects) {
+      const auto [id, position] = parse_placement(text, "--object");
+      find_hand(id, "--object").object_position = position;
+    }
+    for (const std::string& text : obstacles) {
+      const auto [id, position] = parse_placement(text, "--obstacle");
+      find_hand(id, "--obstacle").rotation_obstacle = position;
+    }
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error);
+  }
+
+  auto logger = spdlog::stderr_color_mt("dh3-sim");
+  spdlog::set_default_logger(logger);
+  spdlog::set_level(spdlog::level::from_str(log_level));
+
+  options.control_in = 0;   // stdin
+  options.control_out = 1;  // stdout
+  auto opened = dh3::sim::TransferBoxServer::open(options, dh3::SystemClock::instance());
+  if (!opened) {
+    spdlog::critical("dh3-sim: cannot start: {}", dh3::sim::to_string(opened.error()));
+    return 1;
+  }
+  dh3::sim::TransferBoxServer& server = *opened.value();
+  g_server.store(&server);
+  install_stop_handlers();
+
+  std::printf("listening %s\n", server.address().c_str());
+  std::fflush(stdout);
+  server.run();
+  g_server.store(nullptr);
+  return 0;
+}

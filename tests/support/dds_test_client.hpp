@@ -1,0 +1,310 @@
+#pragma once
+// A minimal raw Fast DDS client of dh3's wire contract for integration tests:
+// the IDL types, the topic names and the contract's QoS, nothing of the client
+// library. It sends command requests, collects replies (its own), statuses,
+// events and service infos, and lets a test wait on any condition over them.
+//
+//   dh3::test::DdsTestClient client(domain);
+//   ASSERT_TRUE(client.wait_for_service("dh3"));
+//   auto reply = client.call(client.hand("dh3", "bus0", 1), dh3::msg::MOVE, 60);
+//   ASSERT_TRUE(reply);
+//   EXPECT_EQ(reply->code(), dh3::msg::OK);
+
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "dh3_idl/dh3.h"
+#include "dh3_idl/dh3PubSubTypes.h"
+#include "dh3_participant.hpp"
+#include "dh3_qos.hpp"
+
+namespace dh3::test {
+
+inline constexpr std::chrono::seconds kDdsDeadline{15};
+
+class DdsTestClient {
+ public:
+  using HandKey = std::tuple<std::string, std::string, std::uint16_t>;
+
+  explicit DdsTestClient(int domain, const std::string& name = "dh3-test") {
+    namespace fdds = eprosima::fastdds::dds;
+    participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(
+        static_cast<fdds::DomainId_t>(domain), contract::participant_qos(name, {}), nullptr,
+        fdds::StatusMask::none());
+    if (participant_ == nullptr) return;
+    client_id_ = contract::client_id_for(participant_->guid().guidPrefix);
+    const auto topic = [this](const std::string& topic_name, fdds::TopicDataType* type) {
+      fdds::TypeSupport support(type);
+      support.register_type(participant_);
+      return participant_->create_topic(topic_name, support.get_type_name(),
+                                        fdds::TOPIC_QOS_DEFAULT);
+    };
+    auto* status = topic(topics::HAND_STATUS, new msg::HandStatusPubSubType());
+    auto* event = topic(topics::HAND_EVENT, new msg::HandEventPubSubType());
+    auto* info = topic(topics::SERVICE_INFO, new msg::ServiceInfoPubSubType());
+    auto* request = topic(topics::COMMAND_REQUEST, new msg::CommandRequestPubSubType());
+    auto* reply = topic(topics::COMMAND_REPLY, new msg::CommandReplyPubSubType());
+    auto* publisher = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+    auto* subscriber = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+    using contract::TopicRole;
+    request_writer_ = publisher->create_datawriter(request, contract::writer_qos(TopicRole::request));
+    const auto mask = fdds::StatusMask::data_available();
+    subscriber->create_datareader(reply, contract::reader_qos(TopicRole::reply), &listener_, mask);
+    subscriber->create_datareader(status, contract::reader_qos(TopicRole::hand_status), &listener_,
+                                  mask);
+    subscriber->create_datareader(event, contract::reader_qos(TopicRole::hand_event), &listener_,
+                                  mask);
+    subscriber->create_datareader(info, contract::reader_qos(TopicRole::service_info), &listener_,
+                                  mask);
+  }
+
+  ~DdsTestClient() {
+    if (participant_ == nullptr) return;
+    participant_->delete_contained_entities();
+    eprosima::fastdds::dds::DomainParticipantFactory::get_instance()->delete_participant(
+        participant_);
+  }
+  DdsTestClient(const DdsTestClient&) = delete;
+  DdsTestClient& operator=(const DdsTestClient&) = delete;
+
+  [[nodiscard]] bool ok() const { return participant_ != nullptr && request_writer_ != nullptr; }
+  /// The hex GUID prefix of this participant: its client_id in requests.
+  [[nodiscard]] const std::string& client_id() const { return client_id_; }
+
+  static msg::HandAddress hand(const std::string& service, const std::string& bus,
+                               std::uint16_t can_id) {
+    msg::HandAddress address;
+    address.service(service);
+    address.bus(bus);
+    address.can_id(can_id);
+    return address;
+  }
+
+  /// Sends a request as is (client_id left empty is sent empty); returns its
+  /// request_seq, which this client numbers unless `keep_seq`.
+  std::uint64_t send(msg::CommandRequest request, bool keep_seq = false) {
+    if (!keep_seq) request.request_seq(++last_seq_);
+    request_writer_->write(&request);
+    return request.request_seq();
+  }
+
+  /// A request from this client.
+  msg::CommandRequest request(const msg::HandAddress& hand, msg::CommandType command,
+                              std::int32_t value = 0, std::uint16_t register_code = 0,
+                              std::uint32_t timeout_ms = 0) const {
+    msg::CommandRequest r;
+    r.client_id(client_id_);
+    r.hand(hand);
+    r.command(command);
+    r.value(value);
+    r.register_code(register_code);
+    r.timeout_ms(timeout_ms);
+    return r;
+  }
+
+  /// The first reply to `seq` (of `client_id`, this client's by default).
+  std::optional<msg::CommandReply> wait_reply(std::uint64_t seq,
+                                              std::chrono::milliseconds timeout = kDdsDeadline,
+                                              const std::string& client_id = {}) {
+    const std::string& who = client_id.empty() ? client_id_ : client_id;
+    std::optional<msg::CommandReply> found;
+    wait_until(
+        [&] {
+          const auto it = replies_.find({who, seq});
+          if (it == replies_.end()) return false;
+          found = it->second.front();
+          return true;
+        },
+        timeout);
+    return found;
+  }
+
+  /// Sends a request and waits for its reply.
+  std::optional<msg::CommandReply> call(const msg::HandAddress& hand, msg::CommandType command,
+                                        std::int32_t value = 0, std::uint16_t register_code = 0,
+                                        std::uint32_t timeout_ms = 0) {
+    return wait_reply(send(request(hand, command, value, register_code, timeout_ms)));
+  }
+
+  /// How many replies arrived for a request (every request gets exactly one).
+  std::size_t reply_count(std::uint64_t seq, const std::string& client_id = {}) {
+    std::lock_guard lock(mutex_);
+    const auto it = replies_.find({client_id.empty() ? client_id_ : client_id, seq});
+    return it == replies_.end() ? 0 : it->second.size();
+  }
+
+  /// Waits until the service answers this client: its request reader and reply
+  /// writer have both matched ours. Probes with requests the service refuses.
+  bool wait_for_service(const std::string& service,
+                        std::chrono::milliseconds timeout = kDdsDeadline) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (std::chrono::steady_clock::now() < deadline) {
+      // An empty bus is always INVALID_ARGUMENT: harmless, and always answered.
+      const auto seq = send(request(hand(service, "", 1), msg::READ_REGISTER));
+      if (wait_reply(seq, std::chrono::milliseconds(250))) return true;
+    }
+    return false;
+  }
+
+  /// Waits until `pred(latest status of each hand)` holds.
+  bool wait_statuses(const std::function<bool(const std::map<HandKey, msg::HandStatus>&)>& pred,
+                     std::chrono::milliseconds timeout = kDdsDeadline) {
+    return wait_until([&] { return pred(latest_status_); }, timeout);
+  }
+
+  /// Waits until the latest status of a hand satisfies `pred`; returns it.
+  std::optional<msg::HandStatus> wait_status(
+      const msg::HandAddress& hand, const std::function<bool(const msg::HandStatus&)>& pred,
+      std::chrono::milliseconds timeout = kDdsDeadline) {
+    std::optional<msg::HandStatus> found;
+    wait_until(
+        [&] {
+          const auto it = latest_status_.find({hand.service(), hand.bus(), hand.can_id()});
+          if (it == latest_status_.end() || !pred(it->second)) return false;
+          found = it->second;
+          return true;
+        },
+        timeout);
+    return found;
+  }
+
+  /// Waits for an event (received at any time since this client started).
+  std::optional<msg::HandEvent> wait_event(const std::function<bool(const msg::HandEvent&)>& pred,
+                                           std::chrono::milliseconds timeout = kDdsDeadline) {
+    std::optional<msg::HandEvent> found;
+    wait_until(
+        [&] {
+          for (const auto& event : events_) {
+            if (pred(event)) {
+              found = event;
+              return true;
+            }
+          }
+          return false;
+        },
+        timeout);
+    return found;
+  }
+
+  std::optional<msg::ServiceInfo> wait_info(
+      const std::string& service, const std::function<bool(const msg::ServiceInfo&)>& pred,
+      std::chrono::milliseconds timeout = kDdsDeadline) {
+    std::optional<msg::ServiceInfo> found;
+    wait_until(
+        [&] {
+          const auto it = infos_.find(service);
+          if (it == infos_.end() || !pred(it->second)) return false;
+          found = it->second;
+          return true;
+        },
+        timeout);
+    return found;
+  }
+
+  /// Every status sample received so far, in arrival order.
+  std::vector<msg::HandStatus> status_history() {
+    std::lock_guard lock(mutex_);
+    return status_history_;
+  }
+
+  /// Every status sample received so far for one hand, in arrival order.
+  std::vector<msg::HandStatus> status_history(const msg::HandAddress& hand) {
+    std::lock_guard lock(mutex_);
+    std::vector<msg::HandStatus> out;
+    for (const auto& s : status_history_) {
+      if (s.service() == hand.service() && s.bus() == hand.bus() && s.can_id() == hand.can_id()) {
+        out.push_back(s);
+      }
+    }
+    return out;
+  }
+
+  std::vector<msg::HandEvent> events() {
+    std::lock_guard lock(mutex_);
+    return events_;
+  }
+
+ private:
+  class Listener final : public eprosima::fastdds::dds::DataReaderListener {
+   public:
+    explicit Listener(DdsTestClient& client) : client_(client) {}
+    void on_data_available(eprosima::fastdds::dds::DataReader* reader) override {
+      const std::string type = reader->type().get_type_name();
+      if (type == msg::CommandReplyPubSubType().getName()) {
+        take<msg::CommandReply>(reader, [this](msg::CommandReply& r) {
+          client_.replies_[{r.client_id(), r.request_seq()}].push_back(std::move(r));
+        });
+      } else if (type == msg::HandStatusPubSubType().getName()) {
+        take<msg::HandStatus>(reader, [this](msg::HandStatus& s) {
+          client_.latest_status_[{s.service(), s.bus(), s.can_id()}] = s;
+          client_.status_history_.push_back(std::move(s));
+        });
+      } else if (type == msg::HandEventPubSubType().getName()) {
+        take<msg::HandEvent>(reader,
+                             [this](msg::HandEvent& e) { client_.events_.push_back(std::move(e)); });
+      } else if (type == msg::ServiceInfoPubSubType().getName()) {
+        take<msg::ServiceInfo>(reader, [this](msg::ServiceInfo& i) {
+          client_.infos_[i.service()] = std::move(i);
+        });
+      }
+    }
+
+   private:
+    template <typename T, typename Store>
+    void take(eprosima::fastdds::dds::DataReader* reader, Store store) {
+      T sample;
+      eprosima::fastdds::dds::SampleInfo info;
+      while (reader->take_next_sample(&sample, &info) ==
+             eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+        if (!info.valid_data) continue;
+        {
+          std::lock_guard lock(client_.mutex_);
+          store(sample);
+        }
+        client_.changed_.notify_all();
+      }
+    }
+    DdsTestClient& client_;
+  };
+
+  template <typename Pred>
+  bool wait_until(Pred pred, std::chrono::milliseconds timeout) {
+    std::unique_lock lock(mutex_);
+    return changed_.wait_for(lock, timeout, pred);
+  }
+
+  eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
+  eprosima::fastdds::dds::DataWriter* request_writer_ = nullptr;
+  Listener listener_{*this};
+  std::string client_id_;
+  std::uint64_t last_seq_ = 0;
+
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::map<std::pair<std::string, std::uint64_t>, std::vector<msg::CommandReply>> replies_;
+  std::map<HandKey, msg::HandStatus> latest_status_;
+  std::vector<msg::HandStatus> status_history_;
+  std::vector<msg::HandEvent> events_;
+  std::map<std::string, msg::ServiceInfo> infos_;
+};
+
+}  // namespace dh3::test

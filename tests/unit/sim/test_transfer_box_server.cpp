@@ -1,0 +1,170 @@
+// The transfer-box server behind dh3-sim, in-process on a real loopback socket:
+// opening, serving frames, the control channel, stopping.
+
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <string>
+#include <thread>
+
+#include "sim/transfer_box_server.hpp"
+#include "support/raw_tcp_client.hpp"
+
+namespace dh3::sim {
+namespace {
+
+using namespace std::chrono_literals;
+using dh3::test::RawTcpClient;
+
+constexpr auto kDeadline = 10s;
+
+SimHandOptions hand(std::uint8_t id) {
+  SimHandOptions options;
+  options.id = id;
+  options.init_time = 20ms;
+  return options;
+}
+
+/// A pipe whose ends close with it.
+struct Pipe {
+  Pipe() { EXPECT_EQ(::pipe2(fds, O_CLOEXEC), 0); }
+  ~Pipe() {
+    close_read();
+    close_write();
+  }
+  void close_read() {
+    if (fds[0] >= 0) ::close(fds[0]);
+    fds[0] = -1;
+  }
+  void close_write() {
+    if (fds[1] >= 0) ::close(fds[1]);
+    fds[1] = -1;
+  }
+  [[nodiscard]] int read_end() const { return fds[0]; }
+  [[nodiscard]] int write_end() const { return fds[1]; }
+  int fds[2] = {-1, -1};
+};
+
+/// A server running on its own thread until destroyed.
+class Running {
+ public:
+  explicit Running(TransferBoxServerOptions options) {
+    auto opened = TransferBoxServer::open(std::move(options), SystemClock::instance());
+    EXPECT_TRUE(opened.ok());
+    if (!opened) return;
+    server_ = std::move(opened.value());
+    thread_ = std::thread([this] { server_->run(); });
+  }
+  ~Running() {
+    if (server_) server_->request_stop();
+    if (thread_.joinable()) thread_.join();
+  }
+  TransferBoxServer& server() { return *server_; }
+  void join() { thread_.join(); }
+
+ private:
+  std::unique_ptr<TransferBoxServer> server_;
+  std::thread thread_;
+};
+
+void write_text(int fd, const std::string& text) {
+  ASSERT_EQ(::write(fd, text.data(), text.size()), static_cast<ssize_t>(text.size()));
+}
+
+/// Reads one line from `fd` (blocking; the server answers every command).
+std::string read_line(int fd) {
+  std::string line;
+  char c = 0;
+  while (::read(fd, &c, 1) == 1 && c != '\n') line += c;
+  return line;
+}
+
+TEST(TransferBoxServer, ListensOnAFreePortAndAnswersFrames) {
+  TransferBoxServerOptions options;
+  options.hands = {hand(1), hand(2)};
+  Running running(options);
+  ASSERT_NE(running.server().port(), 0);
+  EXPECT_EQ(running.server().address(), "127.0.0.1:" + std::to_string(running.server().port()));
+
+  RawTcpClient box(running.server().port());
+  ASSERT_TRUE(box.connected());
+  box.send_hex("FF FE FD FC 02 05 02 01 00 1E 00 00 00 FB");
+  EXPECT_EQ(box.read_hex(14, kDeadline), "FF FE FD FC 02 05 02 01 00 1E 00 00 00 FB");
+  box.send_hex(
+      "FF FE FD FC 01 08 01 01 00 00 00 00 00 FB FF FE FD FC 01 08 02 01 00 00 00 00 00 FB");
+  EXPECT_EQ(box.read_hex(14, kDeadline), "FF FE FD FC 01 08 01 01 00 A5 00 00 00 FB");
+  EXPECT_EQ(box.read_hex(14, kDeadline), "FF FE FD FC 01 08 02 01 00 00 00 00 00 FB");
+  EXPECT_EQ(box.read_hex(14, kDeadline), "FF FE FD FC 01 08 02 00 00 00 00 00 00 FB");
+}
+
+TEST(TransferBoxServer, AClientLeavingMidFrameDoesNotDisturbOthers) {
+  TransferBoxServerOptions options;
+  options.hands = {hand(1)};
+  Running running(options);
+  {
+    RawTcpClient leaving(running.server().port());
+    leaving.send_hex("FF FE FD FC 01 13");
+  }
+  RawTcpClient box(running.server().port());
+  box.send_hex("FF FE FD FC 01 13 01 00 00 00 00 00 00 FB");
+  EXPECT_EQ(box.read_hex(14, kDeadline), "FF FE FD FC 01 13 01 00 00 00 02 01 04 FB");
+}
+
+TEST(TransferBoxServer, RefusesAnAddressThatIsNotIpv4) {
+  TransferBoxServerOptions options;
+  options.host = "hand.example";
+  auto opened = TransferBoxServer::open(options, SystemClock::instance());
+  ASSERT_FALSE(opened.ok());
+  EXPECT_EQ(opened.error(), ServerError::bad_address);
+}
+
+TEST(TransferBoxServer, TheControlChannelAnswersEachLineAndQuitEndsTheRun) {
+  Pipe control_in;
+  Pipe control_out;
+  TransferBoxServerOptions options;
+  options.hands = {hand(1), hand(4)};
+  options.control_in = control_in.read_end();
+  options.control_out = control_out.write_end();
+  Running running(options);
+
+  write_text(control_in.write_end(), "hands\n  object 4 30 \n\nobject 4 x\r\n");
+  EXPECT_EQ(read_line(control_out.read_end()), "ok hands 1 4");
+  EXPECT_EQ(read_line(control_out.read_end()), "ok object 4 30");
+  EXPECT_EQ(read_line(control_out.read_end()), "error position must be 0-100 or none");
+  write_text(control_in.write_end(), "quit\n");
+  EXPECT_EQ(read_line(control_out.read_end()), "ok quit");
+  running.join();  // returns without request_stop()
+}
+
+TEST(TransferBoxServer, ServesOnWhenTheControlChannelCloses) {
+  Pipe control_in;
+  TransferBoxServerOptions options;
+  options.hands = {hand(1)};
+  options.control_in = control_in.read_end();
+  Running running(options);
+  control_in.close_write();
+  RawTcpClient box(running.server().port());
+  box.send_hex("FF FE FD FC 01 13 01 00 00 00 00 00 00 FB");
+  EXPECT_EQ(box.read_hex(14, kDeadline), "FF FE FD FC 01 13 01 00 00 00 02 01 04 FB");
+}
+
+TEST(TransferBoxServer, ExecuteChangesTheHands) {
+  TransferBoxServerOptions options;
+  options.hands = {hand(1)};
+  auto opened = TransferBoxServer::open(options, SystemClock::instance());
+  ASSERT_TRUE(opened.ok());
+  TransferBoxServer& server = *opened.value();
+  EXPECT_EQ(server.execute("mute 1"), "ok mute 1");
+  EXPECT_NE(server.execute("state 1").find("muted=1"), std::string::npos);
+  EXPECT_EQ(server.execute("unmute 1"), "ok unmute 1");
+  EXPECT_EQ(server.execute("delay 1 -3"), "error delay takes milliseconds >= 0");
+  EXPECT_EQ(server.execute("corrupt 1"), "error corrupt takes ID and a value");
+  EXPECT_EQ(server.execute("drop 0"), "error '0' is no hand ID (1-255)");
+  EXPECT_EQ(server.execute("reboot 1"), "ok reboot 1 (now ID 1)");
+  EXPECT_EQ(server.execute("kick"), "ok kick 0");
+}
+
+}  // namespace
+}  // namespace dh3::sim
