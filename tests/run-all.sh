@@ -10,4 +10,14 @@ jobs=${JOBS:-2}
 deploy/install-deps.sh
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo
 cmake --build "$build" -j "$jobs"
-ctest --test-dir "$build" --output-on-failure -j "$jobs" "$@"
+status=0
+ctest --test-dir "$build" --output-on-failure -j "$jobs" "$@" || status=$?
+
+# ctest lists skipped tests without their reason; print the reason each gave
+# (GoogleTest's "Skipped" message, or a netns script's "SKIP:" line).
+log="$build/Testing/Temporary/LastTest.log"
+if [[ -f $log ]] && grep -q -E ': Skipped$|^SKIP: ' "$log"; then
+  echo "Skipped tests and their reasons:"
+  awk '/: Skipped$/ { getline reason; print "  " reason } /^SKIP: / { print "  " $0 }' "$log" | sort -u
+fi
+exit "$status"

@@ -52,6 +52,9 @@ struct SchedulerOptions {
   /// When the bus lists no hands, probe IDs 1-255 at start and then this often
   /// (0 disables the repeat). A requested scan runs at any time.
   Duration discovery_interval = std::chrono::seconds(30);
+  /// Gap between two discovery probes (one firmware-version read per ID), so a
+  /// full 1-255 probe takes about 255 x this and leaves the bus to known hands.
+  Duration probe_spacing = std::chrono::milliseconds(1);
   /// Administrative registers (CAN ID, baud rate) may be written.
   bool allow_admin = false;
 };

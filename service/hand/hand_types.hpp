@@ -30,16 +30,16 @@ enum class CommandError : std::uint8_t {
 [[nodiscard]] std::string_view to_string(CommandError error);
 
 enum class CommandKind : std::uint8_t {
-  initialize,           ///< enable init feedback, initialize, wait until finished
-  move_to,              ///< value = position 0-100; OK when echoed (arrival is an event)
-  set_closing_force,    ///< value = 20-100
-  set_opening_force,    ///< value = 20-100
-  rotate_to,            ///< value = 0-100; OK when echoed
-  read_register,        ///< reg = any known register; OK with the value read
-  write_register,       ///< reg + value; administrative registers (CAN ID, baud, 0x0801)
-  grasp,                ///< value = closing force; OK with GraspOutcome once caught or missed
-  release,              ///< value = position to open to; OK once arrived
-  stop,                 ///< hold the current position; cancels pending motion
+  initialize,         ///< enable init feedback, initialize, wait until finished
+  move_to,            ///< value = position 0-100; OK when echoed (arrival is an event)
+  set_closing_force,  ///< value = 20-100
+  set_opening_force,  ///< value = 20-100
+  rotate_to,          ///< value = 0-100; OK when echoed
+  read_register,      ///< reg = any known register; OK with the value read
+  write_register,     ///< reg + value; administrative registers (CAN ID, baud, 0x0801)
+  grasp,              ///< value = closing force; OK with GraspOutcome once caught or missed
+  release,            ///< value = position to open to; OK once arrived
+  stop,               ///< hold the current position; cancels pending motion
 };
 
 [[nodiscard]] std::string_view to_string(CommandKind kind);

@@ -1,0 +1,473 @@
+#include "hand/bus_scheduler.hpp"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <map>
+#include <mutex>
+#include <thread>
+
+#include "hand/command_validation.hpp"
+#include "hand/hand_driver.hpp"
+#include "protocol/codec.hpp"
+
+namespace dh3::hand {
+namespace {
+
+/// The longest the loop sleeps in receive() with nothing due, so that a
+/// reconnecting backend is retried and stop() is noticed promptly.
+constexpr Duration kMaxIdleWait = std::chrono::milliseconds(100);
+
+bus::CanFrame to_frame(const protocol::Message& message) {
+  bus::CanFrame frame;
+  frame.id = message.hand_id;
+  frame.length = 8;
+  const auto payload = protocol::encode_payload(message);
+  std::copy(payload.begin(), payload.end(), frame.data.begin());
+  return frame;
+}
+
+}  // namespace
+
+class BusScheduler::Impl {
+ public:
+  Impl(std::string bus_name, std::unique_ptr<bus::Bus> bus, std::vector<HandConfig> hands,
+       SchedulerOptions options, const Clock& clock, HandObserver& observer)
+      : name_(std::move(bus_name)),
+        bus_(std::move(bus)),
+        options_(options),
+        clock_(clock),
+        observer_(observer),
+        context_{options_, observer_, name_, {}, retries_, timeouts_, unexpected_},
+        discover_(hands.empty()) {
+    context_.on_published = [this](const HandState& state) {
+      std::lock_guard lock(snapshot_mutex_);
+      snapshot_[state.can_id] = state;
+    };
+    link_up_ = bus_->link_state() == bus::LinkState::up;
+    link_.store(bus_->link_state());
+    const TimePoint now = clock_.now();
+    for (HandConfig& hand : hands) {
+      if (hand.can_id == 0 || drivers_[hand.can_id]) continue;
+      add_driver(std::move(hand), now)->publish_now(now);
+    }
+    next_discovery_at_ = now;
+  }
+
+  // ---- any thread ----------------------------------------------------------
+
+  void submit(std::uint8_t can_id, Command command, Completion done) {
+    if (auto invalid = validate(can_id, command, options_.allow_admin)) {
+      spdlog::debug("{}/{}: refused {}: {}", name_, can_id, to_string(command.kind),
+                    invalid->message);
+      done(fail(invalid->error));
+      return;
+    }
+    if (can_id != 0 && !known_[can_id].load()) {
+      done(fail(CommandError::unknown_hand));
+      return;
+    }
+    if (queued_[can_id].fetch_add(1) >= static_cast<int>(options_.queue_capacity)) {
+      queued_[can_id].fetch_sub(1);
+      done(fail(CommandError::busy));
+      return;
+    }
+    {
+      std::unique_lock lock(inbox_mutex_);
+      if (!stopped_) {
+        inbox_.push_back(
+            Submitted{can_id, HandDriver::Job{std::move(command), std::move(done), clock_.now()}});
+        lock.unlock();
+        bus_->wake();
+        return;
+      }
+    }
+    queued_[can_id].fetch_sub(1);
+    done(fail(CommandError::cancelled));
+  }
+
+  void request_scan(ScanCompletion done) {
+    {
+      std::lock_guard lock(inbox_mutex_);
+      if (!stopped_) {
+        scan_requests_.push_back(std::move(done));
+        bus_->wake();
+        return;
+      }
+    }
+    done({});
+  }
+
+  std::vector<HandState> state() const {
+    std::lock_guard lock(snapshot_mutex_);
+    std::vector<HandState> out;
+    out.reserve(snapshot_.size());
+    for (const auto& [id, state] : snapshot_) out.push_back(state);
+    return out;
+  }
+
+  SchedulerCounters counters() const {
+    return SchedulerCounters{frames_sent_.load(), frames_received_.load(), unexpected_.load(),
+                             retries_.load(), timeouts_.load()};
+  }
+
+  const std::string& name() const { return name_; }
+  bus::LinkState link_state() const { return link_.load(); }
+
+  void start() {
+    if (running_.exchange(true)) return;
+    thread_ = std::thread([this] { run(); });
+  }
+
+  void stop() {
+    if (running_.exchange(false)) {
+      bus_->wake();
+      if (thread_.joinable()) thread_.join();
+    }
+    std::vector<Submitted> leftover;
+    std::vector<ScanCompletion> scans;
+    {
+      std::lock_guard lock(inbox_mutex_);
+      if (stopped_) return;
+      stopped_ = true;
+      leftover.swap(inbox_);
+      scans.swap(scan_requests_);
+    }
+    const TimePoint now = clock_.now();
+    for (Submitted& item : leftover) {
+      queued_[item.can_id].fetch_sub(1);
+      item.job.done(fail(CommandError::cancelled));
+    }
+    for (std::uint8_t id : order_) drivers_[id]->shut_down(now);
+    finish_scan();
+    for (ScanCompletion& done : scans) done({});
+  }
+
+  // ---- loop thread ---------------------------------------------------------
+
+  void step() { pass(Duration::zero()); }
+
+  TimePoint next_wakeup() const {
+    const TimePoint now = clock_.now();
+    std::optional<TimePoint> earliest;
+    auto consider = [&](TimePoint t) {
+      if (!earliest || t < *earliest) earliest = t;
+    };
+    if (link_up_) {
+      for (std::uint8_t id : order_) {
+        if (auto t = drivers_[id]->next_wakeup()) consider(*t);
+      }
+      if (scan_) {
+        if (scan_->next_id <= 255) consider(scan_->next_probe_at);
+        for (const auto& [id, deadline] : scan_->pending) consider(deadline);
+      } else if (discover_ && options_.discovery_interval > Duration::zero()) {
+        consider(next_discovery_at_);
+      }
+    }
+    return earliest.value_or(now + kMaxIdleWait);
+  }
+
+ private:
+  struct Submitted {
+    std::uint8_t can_id = 0;
+    HandDriver::Job job;
+  };
+
+  /// A probe of IDs 1-255 for hands nobody configured.
+  struct Scan {
+    std::vector<ScanCompletion> waiting;
+    int next_id = 1;
+    TimePoint next_probe_at{};
+    std::map<std::uint8_t, TimePoint> pending;  ///< probed, not answered yet
+  };
+
+  HandDriver* add_driver(HandConfig config, TimePoint now) {
+    const std::uint8_t id = config.can_id;
+    drivers_[id] =
+        std::make_unique<HandDriver>(std::move(config), context_, queued_[id], now, id == 0);
+    order_.push_back(id);
+    if (id != 0) known_[id].store(true);
+    return drivers_[id].get();
+  }
+
+  void run() {
+    spdlog::debug("{}: loop started on {}", name_, bus_->spec());
+    while (running_.load()) {
+      const Duration wait =
+          std::clamp(next_wakeup() - clock_.now(), Duration::zero(), kMaxIdleWait);
+      pass(wait);
+    }
+  }
+
+  void pass(Duration wait) {
+    frames_.clear();
+    const auto received = bus_->receive(frames_, wait);
+    const TimePoint now = clock_.now();
+    if (!received && received.error() == bus::BusError::link_down) {
+      if (link_up_) on_link_down(now);
+    } else if (!link_up_ && bus_->link_state() == bus::LinkState::up) {
+      on_link_up(now);
+    }
+    drain_inbox(now);
+    for (const bus::CanFrame& frame : frames_) on_frame(frame, now);
+    for (std::uint8_t id : order_) drivers_[id]->on_time(now);
+    scan_on_time(now);
+    send_due(now);
+  }
+
+  void drain_inbox(TimePoint now) {
+    std::vector<Submitted> items;
+    std::vector<ScanCompletion> scans;
+    {
+      std::lock_guard lock(inbox_mutex_);
+      items.swap(inbox_);
+      scans.swap(scan_requests_);
+    }
+    for (Submitted& item : items) {
+      if (!link_up_) {
+        queued_[item.can_id].fetch_sub(1);
+        item.job.done(fail(CommandError::bus_down));
+        continue;
+      }
+      HandDriver* driver = drivers_[item.can_id].get();
+      if (!driver) driver = add_driver(HandConfig{item.can_id, {}}, now);  // ID 0
+      driver->enqueue(std::move(item.job), now);
+    }
+    for (ScanCompletion& done : scans) {
+      if (!link_up_) {
+        done({});
+        continue;
+      }
+      if (!scan_) start_scan(now);
+      scan_->waiting.push_back(std::move(done));
+    }
+  }
+
+  void on_frame(const bus::CanFrame& frame, TimePoint now) {
+    frames_received_.fetch_add(1);
+    if (frame.id > 0xFF || frame.length != protocol::kPayloadSize) {
+      unexpected(fmt::format("frame with id 0x{:X} and length {}", frame.id, frame.length));
+      return;
+    }
+    const auto id = static_cast<std::uint8_t>(frame.id);
+    const auto message = protocol::decode_payload(id, frame.data);
+    if (!message) {
+      unexpected(
+          fmt::format("undecodable frame from {}: {}", id, protocol::to_string(message.error())));
+      return;
+    }
+    if (HandDriver* driver = drivers_[id].get()) {
+      if (!driver->on_frame(*message, now)) unexpected(protocol::describe(*message));
+      return;
+    }
+    if (scan_ && scan_->pending.erase(id) > 0 && message->reg == protocol::reg::kFirmwareVersion) {
+      spdlog::info("{}: found a hand with CAN ID {}", name_, id);
+      add_driver(HandConfig{id, {}}, now)->on_discovered(*message, now);
+      return;
+    }
+    unexpected(protocol::describe(*message));
+  }
+
+  void unexpected(const std::string& what) {
+    const auto count = unexpected_.fetch_add(1) + 1;
+    // Counted always; logged sparingly, so a babbling device cannot flood the log.
+    if (count <= 10 || count % 1000 == 0) {
+      spdlog::warn("{}: unexpected frame ({} so far): {}", name_, count, what);
+    }
+  }
+
+  void send_due(TimePoint now) {
+    if (!link_up_) return;
+    const std::size_t n = order_.size();
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t index = (rr_ + k) % n;
+      HandDriver& driver = *drivers_[order_[index]];
+      const auto message = driver.next_frame(now);
+      if (!message) continue;
+      const auto sent = bus_->send(to_frame(*message));
+      if (sent) {
+        frames_sent_.fetch_add(1);
+        continue;
+      }
+      driver.unsend();
+      if (sent.error() == bus::BusError::link_down) {
+        on_link_down(now);
+        return;
+      }
+      if (sent.error() != bus::BusError::would_block) {
+        spdlog::warn("{}: could not send {}: {}", name_, protocol::describe(*message),
+                     bus::to_string(sent.error()));
+      }
+      rr_ = index;  // this hand goes first when the bus takes frames again
+      return;
+    }
+    // Round robin: a different hand leads every pass, so none is always last.
+    if (n > 0) rr_ = (rr_ + 1) % n;
+    send_probes(now);
+  }
+
+  // ---- discovery -------------------------------------------------------------
+
+  void start_scan(TimePoint now) {
+    scan_.emplace();
+    scan_->next_probe_at = now;
+    spdlog::debug("{}: probing CAN IDs 1-255 for hands", name_);
+  }
+
+  void send_probes(TimePoint now) {
+    if (!scan_) return;
+    while (scan_->next_id <= 255 && now >= scan_->next_probe_at) {
+      const auto id = static_cast<std::uint8_t>(scan_->next_id);
+      if (drivers_[id]) {
+        ++scan_->next_id;  // known hands answer their own polls
+        continue;
+      }
+      const auto probe = protocol::make_read(id, protocol::reg::kFirmwareVersion);
+      const auto sent = bus_->send(to_frame(probe));
+      if (!sent) {
+        if (sent.error() == bus::BusError::link_down) on_link_down(now);
+        return;  // would_block: the next pass tries this ID again
+      }
+      frames_sent_.fetch_add(1);
+      scan_->pending[id] = now + options_.reply_timeout;
+      ++scan_->next_id;
+      scan_->next_probe_at = now + options_.probe_spacing;
+      if (options_.probe_spacing > Duration::zero()) return;
+    }
+  }
+
+  void scan_on_time(TimePoint now) {
+    if (!scan_) {
+      if (discover_ && link_up_ && now >= next_discovery_at_ &&
+          (options_.discovery_interval > Duration::zero() || !discovered_once_)) {
+        start_scan(now);
+      }
+      return;
+    }
+    std::erase_if(scan_->pending, [&](const auto& entry) { return now >= entry.second; });
+    if (scan_->next_id > 255 && scan_->pending.empty()) {
+      finish_scan();
+      discovered_once_ = true;
+      next_discovery_at_ = now + options_.discovery_interval;
+    }
+  }
+
+  void finish_scan() {
+    if (!scan_) return;
+    std::vector<std::uint8_t> found;
+    for (std::uint8_t id : order_) {
+      if (id != 0 && drivers_[id]->state().online) found.push_back(id);
+    }
+    std::sort(found.begin(), found.end());
+    auto waiting = std::move(scan_->waiting);
+    scan_.reset();
+    spdlog::debug("{}: scan found {} hands", name_, found.size());
+    for (ScanCompletion& done : waiting) done(found);
+  }
+
+  // ---- link ------------------------------------------------------------------
+
+  void on_link_down(TimePoint now) {
+    link_up_ = false;
+    link_.store(bus::LinkState::down);
+    spdlog::warn("{}: bus down ({})", name_, bus_->spec());
+    observer_.on_link(bus::LinkState::down);
+    for (std::uint8_t id : order_) drivers_[id]->on_link_down(now);
+    finish_scan();
+  }
+
+  void on_link_up(TimePoint now) {
+    link_up_ = true;
+    link_.store(bus::LinkState::up);
+    spdlog::info("{}: bus up ({})", name_, bus_->spec());
+    observer_.on_link(bus::LinkState::up);
+    for (std::uint8_t id : order_) drivers_[id]->on_link_up(now);
+    if (discover_) next_discovery_at_ = now;
+  }
+
+  std::string name_;
+  std::unique_ptr<bus::Bus> bus_;
+  SchedulerOptions options_;
+  const Clock& clock_;
+  HandObserver& observer_;
+
+  std::atomic<std::uint64_t> frames_sent_{0};
+  std::atomic<std::uint64_t> frames_received_{0};
+  std::atomic<std::uint64_t> unexpected_{0};
+  std::atomic<std::uint64_t> retries_{0};
+  std::atomic<std::uint64_t> timeouts_{0};
+  DriverContext context_;
+
+  // Read by submit() on any thread; written by the loop.
+  std::array<std::atomic<bool>, 256> known_{};
+  std::array<std::atomic<int>, 256> queued_{};
+  std::atomic<bus::LinkState> link_{bus::LinkState::down};
+
+  std::mutex inbox_mutex_;
+  std::vector<Submitted> inbox_;
+  std::vector<ScanCompletion> scan_requests_;
+  bool stopped_ = false;
+
+  mutable std::mutex snapshot_mutex_;
+  std::map<std::uint8_t, HandState> snapshot_;
+
+  // Loop thread only.
+  std::array<std::unique_ptr<HandDriver>, 256> drivers_{};
+  std::vector<std::uint8_t> order_;
+  std::size_t rr_ = 0;
+  bool link_up_ = false;
+  bool discover_ = false;
+  bool discovered_once_ = false;
+  TimePoint next_discovery_at_{};
+  std::optional<Scan> scan_;
+  std::vector<bus::CanFrame> frames_;
+
+  std::atomic<bool> running_{false};
+  std::thread thread_;
+};
+
+BusScheduler::BusScheduler(std::string bus_name, std::unique_ptr<bus::Bus> bus,
+                           std::vector<HandConfig> hands, SchedulerOptions options,
+                           const Clock& clock, HandObserver& observer)
+    : impl_(std::make_unique<Impl>(std::move(bus_name), std::move(bus), std::move(hands), options,
+                                   clock, observer)) {}
+
+BusScheduler::~BusScheduler() {
+  impl_->stop();
+}
+
+void BusScheduler::submit(std::uint8_t can_id, Command command, Completion done) {
+  impl_->submit(can_id, std::move(command), std::move(done));
+}
+void BusScheduler::request_scan(ScanCompletion done) {
+  impl_->request_scan(std::move(done));
+}
+std::vector<HandState> BusScheduler::state() const {
+  return impl_->state();
+}
+SchedulerCounters BusScheduler::counters() const {
+  return impl_->counters();
+}
+const std::string& BusScheduler::name() const {
+  return impl_->name();
+}
+bus::LinkState BusScheduler::link_state() const {
+  return impl_->link_state();
+}
+void BusScheduler::start() {
+  impl_->start();
+}
+void BusScheduler::stop() {
+  impl_->stop();
+}
+void BusScheduler::step() {
+  impl_->step();
+}
+TimePoint BusScheduler::next_wakeup() const {
+  return impl_->next_wakeup();
+}
+
+}  // namespace dh3::hand

@@ -1,0 +1,152 @@
+// The states a user cares about, detected from what the hand reports: grasped,
+// missed, dropped, arrived, rotation arrived and blocked, initialized (with the
+// unsolicited frame), and faults. Each event carries the values that explain it.
+
+#include <gtest/gtest.h>
+
+#include "unit/hand/scheduler_harness.hpp"
+
+namespace dh3::hand::test {
+namespace {
+
+TEST(BusSchedulerEvents, GraspOnAnObjectEndsGraspedWithWhereTheFingersStopped) {
+  auto sim = sim_hands({1});
+  sim[0].object_position = 35;
+  SchedulerHarness h(sim, configs({1}));
+  h.bring_up({1});
+  const auto result = h.call(1, grasp(60));
+  ASSERT_TRUE(result);
+  ASSERT_TRUE(result->ok()) << to_string(result->error());
+  EXPECT_EQ(result->value().grasp, GraspOutcome::grasped);
+  EXPECT_EQ(result->value().value, 35);
+  const auto grasped = h.observer.events_of(EventKind::grasped, 1);
+  ASSERT_EQ(grasped.size(), 1u);
+  EXPECT_EQ(grasped[0].value, 60) << "a grasp is explained by its force";
+  EXPECT_EQ(grasped[0].target, 0);
+  EXPECT_EQ(h.state(1)->grip, GripState::caught);
+  EXPECT_EQ(h.state(1)->closing_force, 60);
+  EXPECT_TRUE(h.observer.events_of(EventKind::missed, 1).empty());
+}
+
+TEST(BusSchedulerEvents, GraspWithNothingThereEndsMissedAtTheClosedPosition) {
+  SchedulerHarness h(sim_hands({1}), configs({1}));
+  h.bring_up({1});
+  const auto result = h.call(1, grasp(30));
+  ASSERT_TRUE(result && result->ok());
+  EXPECT_EQ(result->value().grasp, GraspOutcome::missed);
+  EXPECT_EQ(result->value().value, 0);
+  EXPECT_EQ(h.observer.events_of(EventKind::missed, 1).size(), 1u);
+  EXPECT_EQ(h.state(1)->grip, GripState::no_object);
+}
+
+TEST(BusSchedulerEvents, ObjectLostWithNoCommandIsADrop) {
+  auto sim = sim_hands({1});
+  sim[0].object_position = 50;
+  SchedulerHarness h(sim, configs({1}));
+  h.bring_up({1});
+  ASSERT_EQ(h.call(1, grasp(40))->value().grasp, GraspOutcome::grasped);
+  h.run_for(1s);
+  EXPECT_TRUE(h.observer.events_of(EventKind::dropped, 1).empty()) << "holding is not dropping";
+  h.sim_bus().with_hand(1, [](sim::SimHand& hand) { hand.drop_object(); });
+  ASSERT_TRUE(h.run_until([&] { return !h.observer.events_of(EventKind::dropped, 1).empty(); }));
+  const auto dropped = h.observer.events_of(EventKind::dropped, 1).front();
+  EXPECT_NE(dropped.value, 3) << "the status that left 3 is reported";
+  EXPECT_EQ(h.state(1)->grip, GripState::dropped);
+  // The fingers close on to their target; the hand stays "dropped" until told otherwise.
+  h.run_for(2s);
+  EXPECT_EQ(h.state(1)->grip, GripState::dropped);
+  EXPECT_EQ(h.observer.events_of(EventKind::dropped, 1).size(), 1u);
+  EXPECT_TRUE(h.observer.events_of(EventKind::missed, 1).empty());
+}
+
+TEST(BusSchedulerEvents, OpeningAfterACatchIsNotADrop) {
+  auto sim = sim_hands({1});
+  sim[0].object_position = 50;
+  SchedulerHarness h(sim, configs({1}));
+  h.bring_up({1});
+  ASSERT_EQ(h.call(1, grasp(40))->value().grasp, GraspOutcome::grasped);
+  const auto released = h.call(1, cmd(CommandKind::release, 100));
+  ASSERT_TRUE(released && released->ok()) << to_string(released->error());
+  EXPECT_EQ(released->value().value, 100);
+  EXPECT_TRUE(h.observer.events_of(EventKind::dropped, 1).empty());
+  EXPECT_EQ(h.state(1)->grip, GripState::arrived);
+}
+
+TEST(BusSchedulerEvents, MoveArrivalIsReportedOncePerMotion) {
+  SchedulerHarness h(sim_hands({1}), configs({1}));
+  h.bring_up({1});
+  ASSERT_TRUE(h.call(1, move(60))->ok());
+  ASSERT_TRUE(h.run_until([&] { return h.observer.events_of(EventKind::arrived, 1).size() == 1; }));
+  h.run_for(3s);  // many idle polls of status 2
+  EXPECT_EQ(h.observer.events_of(EventKind::arrived, 1).size(), 1u);
+  ASSERT_TRUE(h.call(1, move(20))->ok());
+  ASSERT_TRUE(h.run_until([&] { return h.observer.events_of(EventKind::arrived, 1).size() == 2; }));
+  EXPECT_EQ(h.observer.events_of(EventKind::arrived, 1).back().position, 20);
+}
+
+TEST(BusSchedulerEvents, RotationArrivesOrIsBlocked) {
+  auto sim = sim_hands({1});
+  sim[0].rotation_obstacle = 40;
+  SchedulerHarness h(sim, configs({1}));
+  h.bring_up({1});
+  ASSERT_TRUE(h.call(1, cmd(CommandKind::rotate_to, 30))->ok());
+  ASSERT_TRUE(
+      h.run_until([&] { return !h.observer.events_of(EventKind::rotation_arrived, 1).empty(); }));
+  EXPECT_EQ(h.observer.events_of(EventKind::rotation_arrived, 1).front().position, 30);
+  ASSERT_TRUE(h.call(1, cmd(CommandKind::rotate_to, 90))->ok());
+  ASSERT_TRUE(
+      h.run_until([&] { return !h.observer.events_of(EventKind::rotation_blocked, 1).empty(); }));
+  const auto blocked = h.observer.events_of(EventKind::rotation_blocked, 1).front();
+  EXPECT_EQ(blocked.position, 40);
+  EXPECT_EQ(blocked.target, 90);
+  EXPECT_EQ(h.state(1)->rotation_state, RotationState::blocked);
+}
+
+TEST(BusSchedulerEvents, UnsolicitedInitializationFrameIsConfirmedByARead) {
+  auto options = test_options();
+  options.poll_interval_moving = 10s;  // only the unsolicited frame can prompt a check soon
+  auto sim = sim_hands({1});
+  sim[0].init_time = 300ms;
+  SchedulerHarness h(sim, configs({1}), options);
+  h.run_until([&] { return h.state(1) && h.state(1)->online; });
+  std::optional<CommandResult> result;
+  h.scheduler->submit(1, cmd(CommandKind::initialize), [&](const CommandResult& r) { result = r; });
+  const TimePoint start = h.clock.now();
+  ASSERT_TRUE(h.run_until([&] { return result.has_value(); }, 5s));
+  EXPECT_TRUE(result->ok());
+  // Finished long before the 10 s check period: the frame was recognised.
+  EXPECT_LT(h.clock.now() - start, 1s);
+  EXPECT_EQ(h.scheduler->counters().unexpected_frames, 0u);
+}
+
+TEST(BusSchedulerEvents, ARebootedHandIsNoLongerInitialized) {
+  SchedulerHarness h(sim_hands({1}), configs({1}));
+  h.bring_up({1});
+  h.sim_bus().with_hand(1, [&](sim::SimHand& hand) { hand.reboot(h.clock.now()); });
+  ASSERT_TRUE(h.run_until([&] { return !h.state(1)->initialized; }));
+  const auto faults = h.observer.events_of(EventKind::fault, 1);
+  ASSERT_FALSE(faults.empty());
+  EXPECT_NE(faults.back().message.find("not initialized"), std::string::npos);
+  EXPECT_EQ(h.call(1, move(10))->error(), CommandError::not_initialized);
+}
+
+TEST(BusSchedulerEvents, EveryStateChangeIsPublishedWithARisingSequence) {
+  SchedulerHarness h(sim_hands({1}), configs({1}));
+  h.bring_up({1});
+  ASSERT_TRUE(h.call(1, move(50))->ok());
+  h.run_for(1s);
+  std::uint64_t last = 0;
+  for (const auto& s : h.observer.states) {
+    EXPECT_GT(s.sequence, last);
+    last = s.sequence;
+  }
+  ASSERT_TRUE(h.observer.last_state(1));
+  EXPECT_EQ(h.observer.last_state(1)->position, 50);
+  // Nothing changes at rest: no new samples.
+  const std::size_t published = h.observer.states.size();
+  h.run_for(3s);
+  EXPECT_EQ(h.observer.states.size(), published);
+}
+
+}  // namespace
+}  // namespace dh3::hand::test
