@@ -95,6 +95,24 @@ TEST(BusSchedulerScheduling, AtMostOneFrameInFlightPerHand) {
   }
 }
 
+TEST(BusSchedulerScheduling, StatusIsPolledFasterWhileMovingThanAtRest) {
+  auto sim = sim_hands({1});
+  sim[0].position_speed = 10.0;  // 100 % takes 10 s
+  SchedulerHarness h(sim, configs({1}));
+  h.bring_up({1});
+  auto grip_polls_during = [&](Duration span) {
+    const std::size_t before = h.sent_to(1, reg::kGripStatus).size();
+    h.run_for(span);
+    return h.sent_to(1, reg::kGripStatus).size() - before;
+  };
+  const std::size_t at_rest = grip_polls_during(4s);
+  ASSERT_TRUE(h.call(1, move(0))->ok());
+  const std::size_t moving = grip_polls_during(4s);
+  // 500 ms at rest vs 50 ms (bounded by 4 reads x 20 ms pacing) while moving.
+  EXPECT_LE(at_rest, 9u);
+  EXPECT_GE(moving, 4 * at_rest);
+}
+
 class BusSchedulerFairness : public ::testing::TestWithParam<int> {};
 
 void expect_fair_share(const SchedulerHarness& h, int n) {
