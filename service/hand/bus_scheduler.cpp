@@ -21,6 +21,11 @@ namespace {
 /// reconnecting backend is retried and stop() is noticed promptly.
 constexpr Duration kMaxIdleWait = std::chrono::milliseconds(100);
 
+/// An 8-byte CAN 2.0A frame with worst-case bit stuffing.
+constexpr double kWorstCaseBitsPerFrame = 135.0;
+/// Requests the line budget may catch up with after an idle moment.
+constexpr int kLineBurst = 4;
+
 bus::CanFrame to_frame(const protocol::Message& message) {
   bus::CanFrame frame;
   frame.id = message.hand_id;
@@ -47,6 +52,12 @@ class BusScheduler::Impl {
       std::lock_guard lock(snapshot_mutex_);
       snapshot_[state.can_id] = state;
     };
+    if (bus_->bit_rate() > 0 && options_.max_line_load > 0.0) {
+      // A request and its reply, worst-case bit stuffing, at the allowed load.
+      const double seconds = 2.0 * kWorstCaseBitsPerFrame / static_cast<double>(bus_->bit_rate()) /
+                             options_.max_line_load;
+      line_spacing_ = std::chrono::duration_cast<Duration>(std::chrono::duration<double>(seconds));
+    }
     link_up_ = bus_->link_state() == bus::LinkState::up;
     link_.store(bus_->link_state());
     const TimePoint now = clock_.now();
@@ -158,7 +169,7 @@ class BusScheduler::Impl {
     };
     if (link_up_) {
       for (std::uint8_t id : order_) {
-        if (auto t = drivers_[id]->next_wakeup()) consider(*t);
+        if (auto t = drivers_[id]->next_wakeup()) consider(line_allows(*t) ? *t : line_next_at_);
       }
       if (scan_) {
         if (scan_->next_id <= 255) consider(scan_->next_probe_at);
@@ -284,12 +295,17 @@ class BusScheduler::Impl {
     const std::size_t n = order_.size();
     for (std::size_t k = 0; k < n; ++k) {
       const std::size_t index = (rr_ + k) % n;
+      if (!line_allows(now)) {
+        rr_ = index;  // this hand goes first when the line has room again
+        return;
+      }
       HandDriver& driver = *drivers_[order_[index]];
       const auto message = driver.next_frame(now);
       if (!message) continue;
       const auto sent = bus_->send(to_frame(*message));
       if (sent) {
         frames_sent_.fetch_add(1);
+        line_used(now);
         continue;
       }
       driver.unsend();
@@ -309,6 +325,16 @@ class BusScheduler::Impl {
     send_probes(now);
   }
 
+  // ---- line budget -----------------------------------------------------------
+
+  [[nodiscard]] bool line_allows(TimePoint now) const {
+    return line_spacing_ == Duration::zero() || line_next_at_ <= now;
+  }
+  void line_used(TimePoint now) {
+    if (line_spacing_ == Duration::zero()) return;
+    line_next_at_ = std::max(line_next_at_, now - kLineBurst * line_spacing_) + line_spacing_;
+  }
+
   // ---- discovery -------------------------------------------------------------
 
   void start_scan(TimePoint now) {
@@ -319,7 +345,7 @@ class BusScheduler::Impl {
 
   void send_probes(TimePoint now) {
     if (!scan_) return;
-    while (scan_->next_id <= 255 && now >= scan_->next_probe_at) {
+    while (scan_->next_id <= 255 && now >= scan_->next_probe_at && line_allows(now)) {
       const auto id = static_cast<std::uint8_t>(scan_->next_id);
       if (drivers_[id]) {
         ++scan_->next_id;  // known hands answer their own polls
@@ -332,6 +358,7 @@ class BusScheduler::Impl {
         return;  // would_block: the next pass tries this ID again
       }
       frames_sent_.fetch_add(1);
+      line_used(now);
       scan_->pending[id] = now + options_.reply_timeout;
       ++scan_->next_id;
       scan_->next_probe_at = now + options_.probe_spacing;
@@ -424,6 +451,8 @@ class BusScheduler::Impl {
   TimePoint next_discovery_at_{};
   std::optional<Scan> scan_;
   std::vector<bus::CanFrame> frames_;
+  Duration line_spacing_{};  ///< zero: no line budget
+  TimePoint line_next_at_{};
 
   std::atomic<bool> running_{false};
   std::thread thread_;

@@ -55,6 +55,13 @@ struct SchedulerOptions {
   /// Gap between two discovery probes (one firmware-version read per ID), so a
   /// full 1-255 probe takes about 255 x this and leaves the bus to known hands.
   Duration probe_spacing = std::chrono::milliseconds(1);
+  /// On a bus that knows its bit rate (Bus::bit_rate() > 0), the share of the
+  /// line the scheduler offers at most: requests are spaced so that a request
+  /// and its reply (2 frames of up to 135 bits) fit this share. On a CAN line,
+  /// arbitration lets the lowest ID win, so a line asked for more than it
+  /// carries starves the highest IDs; never asking for more keeps it fair.
+  /// 0 disables the limit.
+  double max_line_load = 0.8;
   /// Administrative registers (CAN ID, baud rate) may be written.
   bool allow_admin = false;
 };

@@ -58,6 +58,7 @@ class RecordingBus final : public bus::Bus {
   }
   void wake() override { inner_->wake(); }
   bus::LinkState link_state() const override { return inner_->link_state(); }
+  std::uint32_t bit_rate() const override { return inner_->bit_rate(); }
 
   /// The next `count` sends answer would_block (a full controller queue).
   void refuse_next_sends(int count) { refuse_sends_ = count; }

@@ -166,6 +166,41 @@ TEST_P(BusSchedulerFairness, EveryHandGetsItsShareOnAPacedCanLine) {
   EXPECT_EQ(h.scheduler->counters().timeouts, 0u);
 }
 
+// The same line with no pacing at all: the scheduler's line budget keeps the
+// offered load below what the line carries, so arbitration (lowest ID first)
+// cannot starve the highest IDs.
+TEST_P(BusSchedulerFairness, EveryHandGetsItsShareOnAnUnpacedCanLine) {
+  const int n = GetParam();
+  auto options = test_options();
+  options.command_interval = 0ms;
+  options.poll_interval_idle = 0ms;
+  options.poll_interval_moving = 0ms;
+  bus::SimBusOptions line;
+  line.bit_rate = 500'000;
+  line.bits_per_frame = 135;
+  line.tx_queue_length = 4;
+  SchedulerHarness h(sim_hands(ids_1_to(n)), configs(ids_1_to(n)), options, line);
+  h.run_for(5s);
+  expect_fair_share(h, n);
+  EXPECT_EQ(h.scheduler->counters().timeouts, 0u);
+}
+
+TEST(BusSchedulerScheduling, WithoutTheLineBudgetHighIdsStarveOnASaturatedCanLine) {
+  // Why the budget exists: the same unpaced load with the limit switched off.
+  auto options = test_options();
+  options.command_interval = 0ms;
+  options.poll_interval_idle = 0ms;
+  options.poll_interval_moving = 0ms;
+  options.max_line_load = 0.0;
+  bus::SimBusOptions line;
+  line.bit_rate = 500'000;
+  line.bits_per_frame = 135;
+  line.tx_queue_length = 4;
+  SchedulerHarness h(sim_hands(ids_1_to(8)), configs(ids_1_to(8)), options, line);
+  h.run_for(3s);
+  EXPECT_GT(h.scheduler->counters().timeouts, 0u);
+}
+
 INSTANTIATE_TEST_SUITE_P(Hands, BusSchedulerFairness, ::testing::Values(1, 8, 64));
 
 TEST(BusSchedulerScheduling, ASilentHandDoesNotDelayTheOthers) {
