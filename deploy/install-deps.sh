@@ -16,6 +16,7 @@ build_pkgs=(
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
   libspdlog-dev libfmt-dev libcli11-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev
+  clang libclang-rt-14-dev   # libFuzzer targets (tests/fuzz)
   iproute2 procps python3
 )
 
