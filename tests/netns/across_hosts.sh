@@ -1,0 +1,91 @@
+#!/usr/bin/env bash
+# "Client on another host", for real: three network namespaces joined by veth
+# pairs with link-local addresses. dh3-service runs in one, on the simulator;
+# dh3ctl and a client-library program run in the two others. UDP only (no shared
+# memory), so every sample crosses a veth link. Deletes what it made on exit.
+#
+#   across_hosts.sh DH3_SERVICE DH3CTL PICK_LOOP
+# Exit 77 (ctest: skipped) with the reason when namespaces cannot be made.
+set -uo pipefail
+service_bin=$1 ctl_bin=$2 pick_bin=$3
+
+tag=dh3$$
+srv=$tag-srv cli_a=$tag-a cli_b=$tag-b
+domain=$((10 + $$ % 200))
+log_dir=$(mktemp -d)
+service_pid=
+
+cleanup() {
+  [[ -n $service_pid ]] && kill "$service_pid" 2>/dev/null && wait "$service_pid" 2>/dev/null
+  for ns in "$srv" "$cli_a" "$cli_b"; do ip netns del "$ns" 2>/dev/null; done
+  rm -rf "$log_dir"
+}
+trap cleanup EXIT
+
+skip() { echo "SKIPPED: $*"; exit 77; }
+fail() {
+  echo "FAILED: $*"
+  echo "--- dh3-service log"; tail -n 40 "$log_dir/service.log" 2>/dev/null
+  exit 1
+}
+
+[[ $(id -u) -eq 0 ]] || skip "needs root to create network namespaces"
+command -v ip >/dev/null || skip "iproute2 (ip) is not installed"
+ip netns add "$srv" 2>"$log_dir/err" || skip "ip netns add failed: $(cat "$log_dir/err")"
+ip netns add "$cli_a" && ip netns add "$cli_b" || fail "could not create client namespaces"
+
+# srv <-> a on 169.254.10.0/24, srv <-> b on 169.254.11.0/24
+link() {  # link NS_A ADDR_A NS_B ADDR_B NAME
+  ip link add "$5a" type veth peer name "$5b" || fail "veth $5 failed"
+  ip link set "$5a" netns "$1" && ip link set "$5b" netns "$3"
+  ip -n "$1" addr add "$2/24" dev "$5a" && ip -n "$3" addr add "$4/24" dev "$5b"
+  ip -n "$1" link set "$5a" up multicast on && ip -n "$3" link set "$5b" up multicast on
+}
+for ns in "$srv" "$cli_a" "$cli_b"; do ip -n "$ns" link set lo up; done
+link "$srv" 169.254.10.1 "$cli_a" 169.254.10.2 "v${$}a"
+link "$srv" 169.254.11.1 "$cli_b" 169.254.11.2 "v${$}b"
+ip netns exec "$cli_a" ping -c1 -W2 169.254.10.1 >/dev/null || fail "no link between namespaces"
+
+ip netns exec "$srv" "$service_bin" --domain "$domain" --name cell --bus sim:1,2,3 \
+  --interface 169.254.10.1 --interface 169.254.11.1 --udp-only --log-level info \
+  >"$log_dir/service.log" 2>&1 &
+service_pid=$!
+
+ctl() {  # ctl NS ARGS...: dh3ctl in that client namespace over its veth only
+  local ns=$1 addr; shift
+  [[ $ns == "$cli_a" ]] && addr=169.254.10.2 || addr=169.254.11.2
+  ip netns exec "$ns" "$ctl_bin" --domain "$domain" --interface "$addr" --udp-only --timeout 20 "$@"
+}
+step() {  # step DESCRIPTION NS ARGS...: run dh3ctl, show its output, fail on non-zero
+  local what=$1; shift
+  echo "== $what"
+  ctl "$@" || fail "$what"
+}
+
+step "list from host a" "$cli_a" list
+step "init hand 1 from host a" "$cli_a" init cell/bus0/1
+step "move hand 1 from host a" "$cli_a" move cell/bus0/1 60
+step "status of hand 1 from host a" "$cli_a" status cell/bus0/1
+step "grasp hand 1 from host a" "$cli_a" grasp cell/bus0/1 40
+
+# Two client hosts at once: the same hand, and different hands.
+echo "== host a and host b together"
+ctl "$cli_b" init cell/bus0/2 >"$log_dir/b-init.out" 2>&1 &
+b_init=$!
+ctl "$cli_a" move cell/bus0/1 80 >"$log_dir/a-move.out" 2>&1 &
+a_move=$!
+wait $b_init || { cat "$log_dir/b-init.out"; fail "init hand 2 from host b"; }
+wait $a_move || { cat "$log_dir/a-move.out"; fail "move hand 1 from host a"; }
+ctl "$cli_a" move cell/bus0/2 30 >"$log_dir/a.out" 2>&1 &
+a_pid=$!
+ctl "$cli_b" move cell/bus0/2 70 >"$log_dir/b.out" 2>&1 &
+b_pid=$!
+wait $a_pid || { cat "$log_dir/a.out"; fail "host a moving hand 2"; }
+wait $b_pid || { cat "$log_dir/b.out"; fail "host b moving hand 2"; }
+step "status of hand 2 from host b" "$cli_b" --json status cell/bus0/2
+
+echo "== client-library program on host b"
+ip netns exec "$cli_b" "$pick_bin" --domain "$domain" --interface 169.254.11.2 --udp-only \
+  --hand cell/bus0/3 --cycles 2 || fail "pick loop on host b"
+
+echo "across-hosts: all steps passed"
