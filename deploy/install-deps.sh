@@ -17,7 +17,7 @@ build_pkgs=(
   libspdlog-dev libfmt-dev libcli11-dev libyaml-cpp-dev
   libgtest-dev libgmock-dev
   clang libclang-rt-14-dev   # libFuzzer targets (tests/fuzz)
-  iproute2 procps python3
+  iproute2 iputils-ping procps python3 python3-yaml openssl systemd
 )
 
 want=("${build_pkgs[@]}")

@@ -22,7 +22,7 @@ cleanup() {
 }
 trap cleanup EXIT
 
-skip() { echo "SKIPPED: $*"; exit 77; }
+skip() { echo "SKIP: $*"; exit 77; }
 fail() {
   echo "FAILED: $*"
   echo "--- dh3-service log"; tail -n 40 "$log_dir/service.log" 2>/dev/null
