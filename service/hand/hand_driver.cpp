@@ -381,6 +381,7 @@ void HandDriver::on_reply(const InFlight& sent, const Message& reply, TimePoint 
       return;
     case Purpose::confirm_position:
       apply_read(reply.reg, reply, now);
+      emit_ending_event(now);
       if (motion_waiter_ && motion_waiter_->confirming) {
         finish_waiter(motion_waiter_, ok(state_.position, motion_waiter_->outcome));
       }
@@ -584,10 +585,14 @@ void HandDriver::on_grip_status(std::int32_t status, TimePoint now) {
 }
 
 void HandDriver::finger_motion_ended(GripState grip, EventKind event, TimePoint now) {
+  (void)now;  // the event is emitted when the confirming read comes
   state_.grip = grip;
   finger_motion_active_ = false;
+  // The position was read before the status that ended the motion, so it may
+  // be a poll old: the event waits for a fresh read of where the fingers stopped.
   // A grasp is explained by the force it holds with; an arrival by its status.
-  emit(event, now, event == EventKind::grasped ? state_.closing_force : 2);
+  ending_event_ = PendingEvent{event, event == EventKind::grasped ? state_.closing_force : 2};
+  need_position_confirm_ = true;
   if (motion_waiter_ && motion_waiter_->epoch == finger_epoch_ && !motion_waiter_->confirming) {
     motion_waiter_->confirming = true;
     motion_waiter_->outcome = grip == GripState::caught      ? GraspOutcome::grasped
@@ -595,6 +600,13 @@ void HandDriver::finger_motion_ended(GripState grip, EventKind event, TimePoint 
                                                              : GraspOutcome::none;
     need_position_confirm_ = true;  // the result carries where the fingers stopped
   }
+}
+
+void HandDriver::emit_ending_event(TimePoint now) {
+  if (!ending_event_) return;
+  const PendingEvent event = *ending_event_;
+  ending_event_.reset();
+  emit(event.kind, now, event.value);
 }
 
 void HandDriver::on_rotation_status(std::int32_t status, TimePoint now) {
@@ -692,6 +704,7 @@ void HandDriver::on_timeout(TimePoint now) {
         }
         break;
       case Purpose::confirm_position:
+        emit_ending_event(now);
         if (motion_waiter_ && motion_waiter_->confirming) {
           finish_waiter(motion_waiter_, ok(state_.position, motion_waiter_->outcome));
         }
@@ -712,6 +725,7 @@ void HandDriver::go_offline(TimePoint now, const std::string& why) {
   finger_motion_active_ = false;
   rotation_motion_active_ = false;
   need_position_confirm_ = false;
+  emit_ending_event(now);
   refresh_.clear();
   resend_.reset();
   poll_round_running_ = false;
@@ -735,6 +749,7 @@ void HandDriver::on_link_down(TimePoint now) {
   finger_motion_active_ = false;
   rotation_motion_active_ = false;
   need_position_confirm_ = false;
+  emit_ending_event(now);
   refresh_.clear();
   poll_round_running_ = false;
   flush(now);

@@ -154,6 +154,7 @@ class HandDriver {
   void finger_motion_sent(std::int32_t target, bool gripping);
   void rotation_motion_sent(std::int32_t target);
   void finger_motion_ended(GripState state, EventKind event, TimePoint now);
+  void emit_ending_event(TimePoint now);
 
   void emit(EventKind kind, TimePoint now, std::int32_t value = 0, std::string message = {},
             std::optional<std::int32_t> position = {}, std::optional<std::int32_t> target = {});
@@ -210,6 +211,11 @@ class HandDriver {
   bool finger_command_since_caught_ = true;
   bool need_position_confirm_ = false;
   bool rotation_motion_active_ = false;
+  struct PendingEvent {
+    EventKind kind;
+    std::int32_t value;
+  };
+  std::optional<PendingEvent> ending_event_;  ///< waits for the confirming position read
   std::int32_t last_odd_status_ = 0;  ///< a status value outside the document, reported once
 
   std::vector<HandEvent> pending_events_;

@@ -84,6 +84,22 @@ TEST(BusSchedulerEvents, MoveArrivalIsReportedOncePerMotion) {
   EXPECT_EQ(h.observer.events_of(EventKind::arrived, 1).back().position, 20);
 }
 
+TEST(BusSchedulerEvents, ArrivalReportsWhereTheFingersStoppedNotAPollOldPosition) {
+  auto sim = sim_hands({1});
+  sim[0].position_speed = 400.0;  // 8 % per 20 ms poll step: a stale read would show
+  SchedulerHarness h(sim, configs({1}));
+  h.bring_up({1});
+  for (std::int32_t target : {30, 90, 10}) {
+    const std::size_t before = h.observer.events_of(EventKind::arrived, 1).size();
+    ASSERT_TRUE(h.call(1, move(target))->ok());
+    ASSERT_TRUE(
+        h.run_until([&] { return h.observer.events_of(EventKind::arrived, 1).size() > before; }));
+    const auto arrived = h.observer.events_of(EventKind::arrived, 1).back();
+    EXPECT_EQ(arrived.position, target);
+    EXPECT_EQ(arrived.target, target);
+  }
+}
+
 TEST(BusSchedulerEvents, RotationArrivesOrIsBlocked) {
   auto sim = sim_hands({1});
   sim[0].rotation_obstacle = 40;
