@@ -8,8 +8,10 @@
 // `udp_only` where participants do not share /dev/shm (containers, namespaces).
 
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
+#include <fastdds/rtps/common/GuidPrefix_t.hpp>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+#include <cstddef>
 #include <memory>
 #include <string>
 #include <vector>
@@ -25,7 +27,10 @@ struct TransportOptions {
 
 inline eprosima::fastdds::dds::DomainParticipantQos participant_qos(
     const std::string& participant_name, const TransportOptions& options) {
-  using namespace eprosima::fastdds;
+  // Aliases, not a using-directive: Fast DDS also declares a global ::dds
+  // namespace (fastdds/dds/topic/Topic.hpp), which would make "dds::" ambiguous.
+  namespace dds = eprosima::fastdds::dds;
+  namespace rtps = eprosima::fastdds::rtps;
   dds::DomainParticipantQos qos;
   qos.name(participant_name);
   auto& transport = qos.transport();
@@ -42,6 +47,20 @@ inline eprosima::fastdds::dds::DomainParticipantQos participant_qos(
     transport.user_transports.push_back(std::make_shared<rtps::SharedMemTransportDescriptor>());
   }
   return qos;
+}
+
+/// The client_id a Fast DDS participant puts in its CommandRequests: its GUID
+/// prefix as 24 lowercase hex digits, no separators. The service ends a client's
+/// leases when the participant with that prefix leaves the domain.
+inline std::string client_id_for(const eprosima::fastrtps::rtps::GuidPrefix_t& prefix) {
+  static constexpr char kDigits[] = "0123456789abcdef";
+  std::string id;
+  id.reserve(2 * eprosima::fastrtps::rtps::GuidPrefix_t::size);
+  for (std::size_t i = 0; i < eprosima::fastrtps::rtps::GuidPrefix_t::size; ++i) {
+    id.push_back(kDigits[prefix.value[i] >> 4]);
+    id.push_back(kDigits[prefix.value[i] & 0x0F]);
+  }
+  return id;
 }
 
 }  // namespace dh3::contract

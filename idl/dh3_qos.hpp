@@ -4,6 +4,7 @@
 // match. Participants of other DDS vendors must use the same policies
 // (documented beside the topic names in dh3.idl).
 
+#include <cstdint>
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 
@@ -34,16 +35,33 @@ inline Qos qos_for(TopicRole role) {
       break;
     case TopicRole::hand_event:
     case TopicRole::request:
-    case TopicRole::reply:
       qos.durability().kind = dds::VOLATILE_DURABILITY_QOS;
+      qos.history().depth = kStreamDepth;
+      break;
+    case TopicRole::reply:
+      // A client may send its request as soon as its request writer matched
+      // the service, before the service's reply writer has discovered the
+      // client's reply reader; a volatile reply written in that window would
+      // be lost. Kept replies reach the reader when it matches; clients take
+      // only replies carrying their own client_id.
+      qos.durability().kind = dds::TRANSIENT_LOCAL_DURABILITY_QOS;
       qos.history().depth = kStreamDepth;
       break;
   }
   return qos;
 }
 
+/// Heartbeat period of every reliable writer. A reader acknowledges, or asks
+/// for what it missed, when a heartbeat comes; with Fast DDS's 3 s default a
+/// lost sample costs seconds, and a writer waiting for acknowledgments before
+/// it leaves (orderly shutdown) waits that long. Not part of matching.
+inline constexpr std::uint32_t kHeartbeatPeriodNs = 100'000'000;
+
 inline eprosima::fastdds::dds::DataWriterQos writer_qos(TopicRole role) {
-  return qos_for<eprosima::fastdds::dds::DataWriterQos>(role);
+  auto qos = qos_for<eprosima::fastdds::dds::DataWriterQos>(role);
+  qos.reliable_writer_qos().times.heartbeatPeriod =
+      eprosima::fastrtps::Duration_t(0, kHeartbeatPeriodNs);
+  return qos;
 }
 
 inline eprosima::fastdds::dds::DataReaderQos reader_qos(TopicRole role) {
