@@ -10,6 +10,9 @@
 //   ASSERT_TRUE(reply);
 //   EXPECT_EQ(reply->code(), dh3::msg::OK);
 
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
@@ -20,10 +23,6 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
-
-#include <chrono>
-#include <condition_variable>
-#include <cstdint>
 #include <functional>
 #include <map>
 #include <mutex>
@@ -66,7 +65,8 @@ class DdsTestClient {
     auto* publisher = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
     auto* subscriber = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
     using contract::TopicRole;
-    request_writer_ = publisher->create_datawriter(request, contract::writer_qos(TopicRole::request));
+    request_writer_ =
+        publisher->create_datawriter(request, contract::writer_qos(TopicRole::request));
     const auto mask = fdds::StatusMask::data_available();
     subscriber->create_datareader(reply, contract::reader_qos(TopicRole::reply), &listener_, mask);
     subscriber->create_datareader(status, contract::reader_qos(TopicRole::hand_status), &listener_,
@@ -122,10 +122,10 @@ class DdsTestClient {
   }
 
   /// The first reply to `seq` (of `client_id`, this client's by default).
-  std::optional<msg::CommandReply> wait_reply(std::uint64_t seq,
-                                              std::chrono::milliseconds timeout = kDdsDeadline,
-                                              const std::string& client_id = {}) {
-    const std::string& who = client_id.empty() ? client_id_ : client_id;
+  std::optional<msg::CommandReply> wait_reply(
+      std::uint64_t seq, std::chrono::milliseconds timeout = kDdsDeadline,
+      const std::optional<std::string>& client_id = std::nullopt) {
+    const std::string& who = client_id ? *client_id : client_id_;
     std::optional<msg::CommandReply> found;
     wait_until(
         [&] {
@@ -146,9 +146,10 @@ class DdsTestClient {
   }
 
   /// How many replies arrived for a request (every request gets exactly one).
-  std::size_t reply_count(std::uint64_t seq, const std::string& client_id = {}) {
+  std::size_t reply_count(std::uint64_t seq,
+                          const std::optional<std::string>& client_id = std::nullopt) {
     std::lock_guard lock(mutex_);
-    const auto it = replies_.find({client_id.empty() ? client_id_ : client_id, seq});
+    const auto it = replies_.find({client_id ? *client_id : client_id_, seq});
     return it == replies_.end() ? 0 : it->second.size();
   }
 
@@ -259,12 +260,11 @@ class DdsTestClient {
           client_.status_history_.push_back(std::move(s));
         });
       } else if (type == msg::HandEventPubSubType().getName()) {
-        take<msg::HandEvent>(reader,
-                             [this](msg::HandEvent& e) { client_.events_.push_back(std::move(e)); });
+        take<msg::HandEvent>(
+            reader, [this](msg::HandEvent& e) { client_.events_.push_back(std::move(e)); });
       } else if (type == msg::ServiceInfoPubSubType().getName()) {
-        take<msg::ServiceInfo>(reader, [this](msg::ServiceInfo& i) {
-          client_.infos_[i.service()] = std::move(i);
-        });
+        take<msg::ServiceInfo>(
+            reader, [this](msg::ServiceInfo& i) { client_.infos_[i.service()] = std::move(i); });
       }
     }
 

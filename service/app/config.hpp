@@ -1,0 +1,121 @@
+#pragma once
+// dh3-service's configuration: a YAML file (--config), command-line overrides,
+// and the defaults that run it on the simulator with no configuration at all.
+//
+// The file; every key is optional except each bus's spec:
+//
+//   name: dh3                  # service name; requests address hands by it
+//   domain: 0                  # DDS domain id, 0-232
+//   log_level: info            # trace, debug, info, warn, error, critical, off
+//   allow_admin: false         # accept SET_CAN_ID and SET_BAUD_RATE
+//   dds:
+//     interfaces: [127.0.0.1]  # IPv4 addresses of the NICs, or ["*"]; default loopback only
+//     udp_only: false          # no shared memory (containers, namespaces)
+//   buses:
+//     - name: left             # default: the SocketCAN interface, else bus0, bus1, ...
+//       spec: tcp:192.168.1.50:8888
+//       command_interval_ms: 20   # and the other scheduler timings (BusSettings)
+//       hands:                 # empty or absent: discover the hands on the bus
+//         - {id: 1, name: gripper}
+//     - spec: sim              # simulated hands: the ones listed (or sim:IDS)
+//       sim: {reply_delay_ms: 2, position_speed: 200, init_time_ms: 300}
+//       hands:
+//         - {id: 1, object: 40, rotation_obstacle: 70}   # sim only
+//
+// Bus specs: sim | sim:1,2,3 | socketcan:can0 | tcp:HOST:PORT | serial:PATH@BAUD.
+// Scheduler keys per bus (milliseconds unless said): command_interval_ms,
+// poll_interval_moving_ms, poll_interval_idle_ms, reply_timeout_ms,
+// admin_reply_timeout_ms, offline_probe_interval_ms, init_timeout_ms,
+// motion_timeout_ms, discovery_interval_ms, probe_spacing_ms, max_retries,
+// offline_after_timeouts, queue_capacity. Simulator keys (sim:): reply_delay_ms,
+// position_speed, rotation_speed (percent per second), init_time_ms, bit_rate.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "common/clock.hpp"
+#include "common/result.hpp"
+#include "hand/bus_scheduler.hpp"
+
+namespace dh3::app {
+
+struct HandSettings {
+  std::uint8_t id = 1;
+  std::string name;
+  /// Simulated hands only: an object between the fingers at this position.
+  std::optional<std::int32_t> object;
+  /// Simulated hands only: an obstacle that blocks rotation here.
+  std::optional<std::int32_t> rotation_obstacle;
+};
+
+/// How the simulated hands of a sim bus behave. Defaults make the simulator
+/// feel like a real hand: replies take a moment, motion takes visible time.
+struct SimSettings {
+  Duration reply_delay = std::chrono::milliseconds(2);
+  double position_speed = 200.0;  ///< percent of the stroke per second
+  double rotation_speed = 200.0;  ///< percent of 90 degrees per second
+  Duration init_time = std::chrono::milliseconds(300);
+  std::uint32_t bit_rate = 0;  ///< 0: frames take no line time
+};
+
+struct BusSettings {
+  std::string name;
+  std::string spec;
+  std::vector<HandSettings> hands;  ///< empty: discover
+  hand::SchedulerOptions scheduler;
+  SimSettings sim;
+};
+
+struct ServiceConfig {
+  std::string name = "dh3";
+  int domain = 0;
+  std::string log_level = "info";
+  bool allow_admin = false;
+  std::vector<std::string> interfaces;  ///< empty: loopback only
+  bool udp_only = false;
+  std::vector<BusSettings> buses;
+};
+
+struct ConfigError {
+  std::string message;  ///< names the key and, for the file, the line
+};
+
+/// The configuration with no file and no --bus: the simulator with hands 1, 2
+/// and 3 on bus "bus0", service "dh3", domain 0.
+[[nodiscard]] ServiceConfig default_config();
+
+/// Parses a configuration file's text; `source` names it in messages
+/// ("cell.yaml:12: buses[0].hands[1].id: 300 is out of range (1-255)").
+[[nodiscard]] Result<ServiceConfig, ConfigError> parse_config(std::string_view yaml,
+                                                              std::string_view source);
+/// Reads and parses a configuration file.
+[[nodiscard]] Result<ServiceConfig, ConfigError> load_config(const std::string& path);
+
+/// What the command line may override. Unset fields leave the config alone.
+struct CommandLine {
+  std::optional<std::string> config_path;
+  /// Each SPEC or NAME=SPEC; when given, they replace the file's buses.
+  std::vector<std::string> buses;
+  std::optional<std::string> name;
+  std::optional<int> domain;
+  std::optional<std::string> log_level;
+  bool allow_admin = false;
+  std::vector<std::string> interfaces;  ///< replace the file's when given
+  bool udp_only = false;
+};
+
+/// Applies the command line to a configuration and checks the result.
+[[nodiscard]] Result<ServiceConfig, ConfigError> apply_command_line(ServiceConfig config,
+                                                                    const CommandLine& line);
+
+/// The name a bus from `--bus SPEC` gets: the SocketCAN interface's name, or
+/// "bus<index>" for the others.
+[[nodiscard]] std::string default_bus_name(std::string_view spec, std::size_t index);
+
+/// Spec text that names only "sim": the hands listed in the bus are simulated.
+[[nodiscard]] bool is_bare_sim_spec(std::string_view spec);
+
+}  // namespace dh3::app

@@ -1,0 +1,138 @@
+// dh3-service: puts the DH-3 hands of one or more buses on DDS.
+//
+// Exit codes: 0 after a clean stop (SIGINT, SIGTERM), 1 when the service cannot
+// start (a bus cannot be opened, DDS cannot be set up), 2 for a configuration
+// or command-line error, with a message that names the key (and the line).
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <csignal>
+#include <cstdio>
+#include <string>
+
+#include "app/bus_setup.hpp"
+#include "app/config.hpp"
+#include "common/clock.hpp"
+#include "dds/service.hpp"
+
+#ifndef DH3_VERSION
+#define DH3_VERSION "0.0.0"
+#endif
+
+namespace {
+
+constexpr int kExitStartFailed = 1;
+constexpr int kExitConfigError = 2;
+
+std::string host_name() {
+  char name[256] = {};
+  if (gethostname(name, sizeof name - 1) != 0) return {};
+  return name;
+}
+
+void set_up_logging(const std::string& level) {
+  auto logger = spdlog::stderr_color_mt("dh3-service");
+  logger->set_pattern("%Y-%m-%d %H:%M:%S.%e %^%l%$ %v");
+  spdlog::set_default_logger(logger);
+  spdlog::set_level(spdlog::level::from_str(level));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Signals are taken by sigwait() below; every thread started later inherits
+  // the blocked mask, so none of them is interrupted.
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGINT);
+  sigaddset(&stop_signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+
+  CLI::App cli{
+      "dh3-service: DH-3 robot hands on DDS. With no config and no --bus it runs the "
+      "simulator with hands 1, 2 and 3."};
+  dh3::app::CommandLine line;
+  std::string config_path;
+  std::string name;
+  std::string log_level;
+  int domain = 0;
+  cli.add_option("-c,--config", config_path, "YAML configuration file")->check(CLI::ExistingFile);
+  cli.add_option("-b,--bus", line.buses,
+                 "a bus as SPEC or NAME=SPEC (repeatable; replaces the file's buses): sim, "
+                 "sim:1,2,3, socketcan:can0, tcp:HOST:PORT, serial:PATH@BAUD")
+      ->allow_extra_args(false);  // one SPEC per --bus: a stray word is an error
+  auto* name_option = cli.add_option("-n,--name", name, "service name (default dh3)");
+  auto* domain_option = cli.add_option("-d,--domain", domain, "DDS domain id (default 0)");
+  auto* level_option =
+      cli.add_option("-l,--log-level", log_level,
+                     "trace, debug, info, warn, error, critical or off (default info)");
+  cli.add_flag("--allow-admin", line.allow_admin, "accept SET_CAN_ID and SET_BAUD_RATE");
+  cli.add_option("-i,--interface", line.interfaces,
+                 "IPv4 address of a network interface for DDS (repeatable), or * for all; "
+                 "default loopback only")
+      ->allow_extra_args(false);
+  cli.add_flag("--udp-only", line.udp_only, "no shared-memory transport, UDP only");
+  cli.set_version_flag("--version", DH3_VERSION);
+  try {
+    cli.parse(argc, argv);
+  } catch (const CLI::Success& done) {
+    return cli.exit(done);
+  } catch (const CLI::ParseError& error) {
+    cli.exit(error);
+    return kExitConfigError;
+  }
+  if (*name_option) line.name = name;
+  if (*domain_option) line.domain = domain;
+  if (*level_option) line.log_level = log_level;
+
+  auto base =
+      config_path.empty()
+          ? dh3::Result<dh3::app::ServiceConfig, dh3::app::ConfigError>(dh3::app::default_config())
+          : dh3::app::load_config(config_path);
+  if (!base) {
+    std::fprintf(stderr, "dh3-service: config error: %s\n", base.error().message.c_str());
+    return kExitConfigError;
+  }
+  auto config = dh3::app::apply_command_line(std::move(*base), line);
+  if (!config) {
+    std::fprintf(stderr, "dh3-service: config error: %s\n", config.error().message.c_str());
+    return kExitConfigError;
+  }
+
+  set_up_logging(config->log_level);
+  const dh3::Clock& clock = dh3::SystemClock::instance();
+  auto buses = dh3::app::open_buses(*config, clock);
+  if (!buses) {
+    spdlog::critical("{}", buses.error());
+    return kExitStartFailed;
+  }
+  for (std::size_t i = 0; i < config->buses.size(); ++i) {
+    spdlog::info("bus '{}': {}", config->buses[i].name, (*buses)[i].bus->spec());
+  }
+
+  dh3::dds::ServiceOptions options;
+  options.name = config->name;
+  options.domain = config->domain;
+  options.transport.interfaces = config->interfaces;
+  options.transport.udp_only = config->udp_only;
+  options.allow_admin = config->allow_admin;
+  options.version = DH3_VERSION;
+  options.host = host_name();
+  auto service = dh3::dds::Service::create(options, std::move(*buses), clock);
+  if (!service) {
+    spdlog::critical("{}", service.error());
+    return kExitStartFailed;
+  }
+  (*service)->start();
+
+  int signal_number = 0;
+  sigwait(&stop_signals, &signal_number);
+  spdlog::info("{} received, stopping", signal_number == SIGINT ? "SIGINT" : "SIGTERM");
+  (*service)->stop();
+  service->reset();
+  spdlog::shutdown();
+  return 0;
+}

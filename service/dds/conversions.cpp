@@ -1,0 +1,246 @@
+#include "dds/conversions.hpp"
+
+#include <chrono>
+
+#include "protocol/registers.hpp"
+
+namespace dh3::dds {
+
+msg::ResultCode to_result_code(hand::CommandError error) {
+  using hand::CommandError;
+  switch (error) {
+    case CommandError::invalid_argument:
+      return msg::INVALID_ARGUMENT;
+    case CommandError::unknown_hand:
+      return msg::UNKNOWN_HAND;
+    case CommandError::timeout:
+      return msg::TIMEOUT;
+    case CommandError::bus_down:
+      return msg::BUS_DOWN;
+    case CommandError::busy:
+      return msg::BUSY;
+    case CommandError::not_initialized:
+      return msg::NOT_INITIALIZED;
+    case CommandError::cancelled:
+      return msg::CANCELLED;
+    case CommandError::failed:
+      return msg::FAILED;
+  }
+  return msg::FAILED;
+}
+
+msg::GraspOutcome to_msg(hand::GraspOutcome outcome) {
+  switch (outcome) {
+    case hand::GraspOutcome::none:
+      return msg::GRASP_NONE;
+    case hand::GraspOutcome::grasped:
+      return msg::GRASPED;
+    case hand::GraspOutcome::missed:
+      return msg::MISSED;
+  }
+  return msg::GRASP_NONE;
+}
+
+msg::GripState to_msg(hand::GripState state) {
+  switch (state) {
+    case hand::GripState::unknown:
+      return msg::GRIP_UNKNOWN;
+    case hand::GripState::moving:
+      return msg::GRIP_MOVING;
+    case hand::GripState::arrived:
+      return msg::GRIP_ARRIVED;
+    case hand::GripState::caught:
+      return msg::GRIP_CAUGHT;
+    case hand::GripState::no_object:
+      return msg::GRIP_NO_OBJECT;
+    case hand::GripState::dropped:
+      return msg::GRIP_DROPPED;
+  }
+  return msg::GRIP_UNKNOWN;
+}
+
+msg::RotationState to_msg(hand::RotationState state) {
+  switch (state) {
+    case hand::RotationState::unknown:
+      return msg::ROTATION_UNKNOWN;
+    case hand::RotationState::moving:
+      return msg::ROTATION_MOVING;
+    case hand::RotationState::arrived:
+      return msg::ROTATION_ARRIVED;
+    case hand::RotationState::blocked:
+      return msg::ROTATION_BLOCKED;
+  }
+  return msg::ROTATION_UNKNOWN;
+}
+
+msg::EventKind to_msg(hand::EventKind kind) {
+  using hand::EventKind;
+  switch (kind) {
+    case EventKind::online:
+      return msg::EVENT_ONLINE;
+    case EventKind::offline:
+      return msg::EVENT_OFFLINE;
+    case EventKind::initialized:
+      return msg::EVENT_INITIALIZED;
+    case EventKind::init_failed:
+      return msg::EVENT_INIT_FAILED;
+    case EventKind::arrived:
+      return msg::EVENT_ARRIVED;
+    case EventKind::grasped:
+      return msg::EVENT_GRASPED;
+    case EventKind::missed:
+      return msg::EVENT_MISSED;
+    case EventKind::dropped:
+      return msg::EVENT_DROPPED;
+    case EventKind::rotation_arrived:
+      return msg::EVENT_ROTATION_ARRIVED;
+    case EventKind::rotation_blocked:
+      return msg::EVENT_ROTATION_BLOCKED;
+    case EventKind::fault:
+      return msg::EVENT_FAULT;
+  }
+  return msg::EVENT_FAULT;
+}
+
+bool is_valid_command(msg::CommandType command) {
+  return static_cast<std::uint32_t>(command) <= static_cast<std::uint32_t>(msg::RELEASE_LEASE);
+}
+
+std::string command_name(msg::CommandType command) {
+  switch (command) {
+    case msg::INITIALIZE:
+      return "INITIALIZE";
+    case msg::MOVE:
+      return "MOVE";
+    case msg::SET_CLOSING_FORCE:
+      return "SET_CLOSING_FORCE";
+    case msg::SET_OPENING_FORCE:
+      return "SET_OPENING_FORCE";
+    case msg::ROTATE:
+      return "ROTATE";
+    case msg::READ_REGISTER:
+      return "READ_REGISTER";
+    case msg::SET_CAN_ID:
+      return "SET_CAN_ID";
+    case msg::SET_BAUD_RATE:
+      return "SET_BAUD_RATE";
+    case msg::ENABLE_INIT_FEEDBACK:
+      return "ENABLE_INIT_FEEDBACK";
+    case msg::GRASP:
+      return "GRASP";
+    case msg::RELEASE:
+      return "RELEASE";
+    case msg::STOP:
+      return "STOP";
+    case msg::SCAN:
+      return "SCAN";
+    case msg::ACQUIRE_LEASE:
+      return "ACQUIRE_LEASE";
+    case msg::RENEW_LEASE:
+      return "RENEW_LEASE";
+    case msg::RELEASE_LEASE:
+      return "RELEASE_LEASE";
+  }
+  return "command " + std::to_string(static_cast<std::uint32_t>(command));
+}
+
+std::string_view result_code_name(msg::ResultCode code) {
+  switch (code) {
+    case msg::OK:
+      return "OK";
+    case msg::INVALID_ARGUMENT:
+      return "INVALID_ARGUMENT";
+    case msg::UNKNOWN_HAND:
+      return "UNKNOWN_HAND";
+    case msg::TIMEOUT:
+      return "TIMEOUT";
+    case msg::BUS_DOWN:
+      return "BUS_DOWN";
+    case msg::BUSY:
+      return "BUSY";
+    case msg::NOT_INITIALIZED:
+      return "NOT_INITIALIZED";
+    case msg::DENIED:
+      return "DENIED";
+    case msg::CANCELLED:
+      return "CANCELLED";
+    case msg::FAILED:
+      return "FAILED";
+  }
+  return "UNKNOWN_RESULT";
+}
+
+std::string describe_failure(hand::CommandError error, msg::CommandType command,
+                             std::string_view bus, std::uint8_t can_id) {
+  const std::string what = command_name(command);
+  const std::string hand = "hand " + std::to_string(can_id) + " on bus '" + std::string(bus) + "'";
+  switch (error) {
+    case hand::CommandError::invalid_argument:
+      return what + " rejected by the hand layer as invalid for " + hand;
+    case hand::CommandError::unknown_hand:
+      return "no " + hand;
+    case hand::CommandError::timeout:
+      return hand + " did not answer " + what + " in time";
+    case hand::CommandError::bus_down:
+      return "bus '" + std::string(bus) + "' is down";
+    case hand::CommandError::busy:
+      return hand + " has too many commands waiting; " + what + " was not queued";
+    case hand::CommandError::not_initialized:
+      return hand + " is not initialized; send INITIALIZE before " + what;
+    case hand::CommandError::cancelled:
+      return what + " to " + hand + " was cancelled (superseded, stopped, or shutdown)";
+    case hand::CommandError::failed:
+      return hand + " answered, but " + what + " did not succeed";
+  }
+  return what + " failed";
+}
+
+void fill_status(msg::HandStatus& out, const hand::HandState& state, const StatusContext& context) {
+  out.service(std::string(context.service));
+  out.bus(std::string(context.bus));
+  out.can_id(state.can_id);
+  out.name(state.name);
+  out.online(state.online);
+  out.initialized(state.initialized);
+  out.grip(to_msg(state.grip));
+  out.position(state.position);
+  out.target_position(state.target_position);
+  out.closing_force(state.closing_force);
+  out.opening_force(state.opening_force);
+  out.rotation(state.rotation);
+  out.rotation_target(state.rotation_target);
+  out.rotation_state(to_msg(state.rotation_state));
+  out.firmware_version(state.firmware_version);
+  out.firmware_version_text(state.firmware_version != 0
+                                ? protocol::firmware_version_string(state.firmware_version)
+                                : std::string{});
+  out.last_error(state.last_error ? to_result_code(*state.last_error) : msg::OK);
+  out.last_error_message(state.last_error_message);
+  out.lease_holder(std::string(context.lease_holder));
+  out.timestamp_ns(context.timestamp_ns);
+  out.update_seq(context.update_seq);
+}
+
+void fill_event(msg::HandEvent& out, const hand::HandEvent& event, std::string_view service,
+                std::string_view bus, std::string_view hand_name, std::uint64_t event_seq,
+                std::uint64_t timestamp_ns) {
+  out.hand().service(std::string(service));
+  out.hand().bus(std::string(bus));
+  out.hand().can_id(event.can_id);
+  out.name(std::string(hand_name));
+  out.kind(to_msg(event.kind));
+  out.position(event.position);
+  out.target(event.target);
+  out.value(event.value);
+  out.message(event.message);
+  out.timestamp_ns(timestamp_ns);
+  out.event_seq(event_seq);
+}
+
+std::uint64_t wall_clock_ns() {
+  return static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                        std::chrono::system_clock::now().time_since_epoch())
+                                        .count());
+}
+
+}  // namespace dh3::dds

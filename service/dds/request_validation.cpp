@@ -1,0 +1,224 @@
+#include "dds/request_validation.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <optional>
+
+#include "dds/conversions.hpp"
+#include "protocol/registers.hpp"
+
+namespace dh3::dds {
+namespace {
+
+using hand::CommandKind;
+
+struct Range {
+  std::int64_t min = 0;
+  std::int64_t max = 0;
+  const char* what = "";
+};
+
+/// The range a command's value must fall in, nullopt if the value is ignored.
+std::optional<Range> value_range(msg::CommandType command) {
+  switch (command) {
+    case msg::MOVE:
+    case msg::RELEASE:
+      return Range{limits::POSITION_MIN, limits::POSITION_MAX, "position (percent, 100 = open)"};
+    case msg::ROTATE:
+      return Range{limits::ROTATION_MIN, limits::ROTATION_MAX, "rotation (percent of 90 degrees)"};
+    case msg::SET_CLOSING_FORCE:
+    case msg::SET_OPENING_FORCE:
+    case msg::GRASP:
+      return Range{limits::FORCE_MIN, limits::FORCE_MAX, "force (percent)"};
+    case msg::SET_CAN_ID:
+      return Range{limits::CAN_ID_MIN, limits::CAN_ID_MAX, "CAN ID"};
+    case msg::SET_BAUD_RATE:
+      return Range{limits::BAUD_INDEX_MIN, limits::BAUD_INDEX_MAX,
+                   "baud rate index (0 = 500 kbps ... 5 = 100 kbps)"};
+    case msg::ACQUIRE_LEASE:
+    case msg::RENEW_LEASE:
+      return Range{limits::LEASE_TTL_MIN_MS, limits::LEASE_TTL_MAX_MS, "lease time to live (ms)"};
+    default:
+      return std::nullopt;
+  }
+}
+
+Failure<Rejection> reject(msg::ResultCode code, std::string message) {
+  return fail(Rejection{code, std::move(message)});
+}
+
+bool is_admin(msg::CommandType command) {
+  return command == msg::SET_CAN_ID || command == msg::SET_BAUD_RATE;
+}
+
+/// CAN ID 0 reaches whichever hand is there: only for the CAN ID register
+/// (design.md reading 10).
+bool allows_id_zero(const msg::CommandRequest& request) {
+  return request.command() == msg::SET_CAN_ID ||
+         (request.command() == msg::READ_REGISTER &&
+          request.register_code() == protocol::reg::kCanId.code());
+}
+
+hand::Command to_hand_command(const msg::CommandRequest& request) {
+  hand::Command command;
+  command.value = request.value();
+  switch (request.command()) {
+    case msg::INITIALIZE:
+      command.kind = CommandKind::initialize;
+      break;
+    case msg::MOVE:
+      command.kind = CommandKind::move_to;
+      break;
+    case msg::SET_CLOSING_FORCE:
+      command.kind = CommandKind::set_closing_force;
+      break;
+    case msg::SET_OPENING_FORCE:
+      command.kind = CommandKind::set_opening_force;
+      break;
+    case msg::ROTATE:
+      command.kind = CommandKind::rotate_to;
+      break;
+    case msg::READ_REGISTER:
+      command.kind = CommandKind::read_register;
+      command.reg = protocol::Register::from_code(request.register_code());
+      command.value = 0;
+      break;
+    case msg::SET_CAN_ID:
+      command.kind = CommandKind::write_register;
+      command.reg = protocol::reg::kCanId;
+      break;
+    case msg::SET_BAUD_RATE:
+      command.kind = CommandKind::write_register;
+      command.reg = protocol::reg::kBaudRate;
+      break;
+    case msg::ENABLE_INIT_FEEDBACK:
+      // The document enables it by writing 0 (the hand answers 0xA5).
+      command.kind = CommandKind::write_register;
+      command.reg = protocol::reg::kInitFeedback;
+      command.value = 0;
+      break;
+    case msg::GRASP:
+      command.kind = CommandKind::grasp;
+      break;
+    case msg::RELEASE:
+      command.kind = CommandKind::release;
+      break;
+    case msg::STOP:
+      command.kind = CommandKind::stop;
+      command.value = 0;
+      break;
+    default:
+      break;  // not a hand command; never called for those
+  }
+  if (request.timeout_ms() != 0) {
+    command.timeout = std::chrono::milliseconds(request.timeout_ms());
+  }
+  return command;
+}
+
+RequestAction action_of(msg::CommandType command) {
+  switch (command) {
+    case msg::SCAN:
+      return RequestAction::scan;
+    case msg::ACQUIRE_LEASE:
+      return RequestAction::acquire_lease;
+    case msg::RENEW_LEASE:
+      return RequestAction::renew_lease;
+    case msg::RELEASE_LEASE:
+      return RequestAction::release_lease;
+    default:
+      return RequestAction::hand_command;
+  }
+}
+
+}  // namespace
+
+Result<ValidRequest, Rejection> validate_request(const msg::CommandRequest& request,
+                                                 const HandDirectory& directory, bool allow_admin) {
+  const auto& client = request.client_id();
+  if (client.empty()) return reject(msg::INVALID_ARGUMENT, "client_id is empty");
+  if (client.size() > limits::MAX_NAME_LENGTH) {
+    return reject(
+        msg::INVALID_ARGUMENT,
+        "client_id is longer than " + std::to_string(limits::MAX_NAME_LENGTH) + " characters");
+  }
+  const auto& address = request.hand();
+  if (address.service().empty()) {
+    return reject(msg::INVALID_ARGUMENT, "hand.service is empty; name the service to command");
+  }
+  const msg::CommandType command = request.command();
+  if (!is_valid_command(command)) {
+    return reject(msg::INVALID_ARGUMENT,
+                  "unknown command " + std::to_string(static_cast<std::uint32_t>(command)));
+  }
+  const std::string name = command_name(command);
+  if (address.bus().empty()) return reject(msg::INVALID_ARGUMENT, "hand.bus is empty");
+  if (request.timeout_ms() > limits::REQUEST_TIMEOUT_MAX_MS) {
+    return reject(msg::INVALID_ARGUMENT, "timeout_ms " + std::to_string(request.timeout_ms()) +
+                                             " is over the maximum of " +
+                                             std::to_string(limits::REQUEST_TIMEOUT_MAX_MS));
+  }
+
+  const RequestAction action = action_of(command);
+  const std::uint16_t can_id = address.can_id();
+  if (action != RequestAction::scan) {
+    if (can_id > limits::CAN_ID_MAX) {
+      return reject(msg::INVALID_ARGUMENT,
+                    "can_id " + std::to_string(can_id) + " is out of range (1-255)");
+    }
+    if (can_id == 0 && !allows_id_zero(request)) {
+      return reject(msg::INVALID_ARGUMENT,
+                    "can_id 0 addresses whichever hand is on the bus and is only for reading "
+                    "or setting the CAN ID; " +
+                        name + " needs a hand's CAN ID (1-255)");
+    }
+  }
+  if (const auto range = value_range(command);
+      range && (request.value() < range->min || request.value() > range->max)) {
+    return reject(msg::INVALID_ARGUMENT, name + " value " + std::to_string(request.value()) +
+                                             " is out of range for " + range->what + " (" +
+                                             std::to_string(range->min) + "-" +
+                                             std::to_string(range->max) + ")");
+  }
+  if (command == msg::READ_REGISTER &&
+      !protocol::is_known(protocol::Register::from_code(request.register_code()))) {
+    char code[8];
+    std::snprintf(code, sizeof code, "0x%04X", static_cast<unsigned>(request.register_code()));
+    return reject(msg::INVALID_ARGUMENT,
+                  std::string("register ") + code + " is not in the DH-3 register map");
+  }
+
+  const auto bus = directory.find_bus(address.bus());
+  if (!bus) {
+    return reject(msg::UNKNOWN_HAND, "service '" + address.service() + "' has no bus '" +
+                                         address.bus() + "' (its buses: " + directory.bus_names() +
+                                         ")");
+  }
+  if (action != RequestAction::scan && can_id != 0 &&
+      !directory.has_hand(*bus, static_cast<std::uint8_t>(can_id))) {
+    return reject(msg::UNKNOWN_HAND, "no hand " + std::to_string(can_id) + " on bus '" +
+                                         address.bus() + "' of service '" + address.service() +
+                                         "'");
+  }
+  if (is_admin(command) && !allow_admin) {
+    return reject(msg::DENIED, name +
+                                   " is administrative (the hand must be rebooted after it) and "
+                                   "service '" +
+                                   address.service() +
+                                   "' does not allow it; start it with --allow-admin");
+  }
+
+  ValidRequest valid;
+  valid.action = action;
+  valid.bus = *bus;
+  valid.can_id = static_cast<std::uint8_t>(can_id);
+  if (action == RequestAction::hand_command) {
+    valid.command = to_hand_command(request);
+    valid.needs_lease = command != msg::READ_REGISTER;
+  } else if (action == RequestAction::acquire_lease || action == RequestAction::renew_lease) {
+    valid.lease_ttl = std::chrono::milliseconds(request.value());
+  }
+  return valid;
+}
+
+}  // namespace dh3::dds

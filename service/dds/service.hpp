@@ -1,0 +1,76 @@
+#pragma once
+// dh3-service's DDS side: one participant that publishes every hand's status,
+// the hands' events and the service's description, and answers command
+// requests by handing them to the bus schedulers. The only part of the service
+// that knows Fast DDS; this header keeps it out of its users.
+//
+// Threads: each bus's scheduler runs its own loop; status, event and reply
+// samples are written from there. Requests are validated on the DDS listener
+// thread and submitted straight to the scheduler (never blocking). A timer
+// thread ends expired leases.
+
+#include <chrono>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bus/bus.hpp"
+#include "common/clock.hpp"
+#include "common/result.hpp"
+#include "hand/bus_scheduler.hpp"
+
+namespace dh3::dds {
+
+/// Where the participant talks (mirrors dh3::contract::TransportOptions).
+struct TransportSettings {
+  /// IPv4 addresses of the interfaces to use; empty = loopback only; {"*"} = all.
+  std::vector<std::string> interfaces;
+  /// No shared memory: everything over UDP (containers without a shared /dev/shm).
+  bool udp_only = false;
+};
+
+struct ServiceOptions {
+  std::string name = "dh3";  ///< answers requests whose hand.service is this
+  int domain = 0;
+  TransportSettings transport;
+  bool allow_admin = false;  ///< SET_CAN_ID and SET_BAUD_RATE are refused unless set
+  std::string version;       ///< published in the service info
+  std::string host;          ///< published in the service info
+  /// How long stop() waits for subscribers to acknowledge the last samples.
+  Duration shutdown_ack_timeout = std::chrono::seconds(2);
+};
+
+/// One bus the service runs: the open bus, the hands expected on it (empty:
+/// discover them) and the scheduler's tuning.
+struct BusSetup {
+  std::string name;
+  std::unique_ptr<bus::Bus> bus;
+  std::vector<hand::HandConfig> hands;
+  hand::SchedulerOptions scheduler;
+};
+
+class Service {
+ public:
+  /// Creates the participant, topics and writers; nothing runs yet. Fails with
+  /// a message if DDS cannot be set up (e.g. a bad interface address).
+  [[nodiscard]] static Result<std::unique_ptr<Service>, std::string> create(
+      ServiceOptions options, std::vector<BusSetup> buses, const Clock& clock);
+  ~Service();
+  Service(const Service&) = delete;
+  Service& operator=(const Service&) = delete;
+
+  /// Publishes the service info and every configured hand's status, starts the
+  /// buses' loops and begins answering requests.
+  void start();
+  /// Orderly stop: new requests are answered CANCELLED, the buses stop (their
+  /// pending commands end CANCELLED), every hand is published offline, and the
+  /// last samples are given shutdown_ack_timeout to be acknowledged. Idempotent.
+  void stop();
+
+ private:
+  class Impl;
+  explicit Service(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace dh3::dds

@@ -1,0 +1,256 @@
+#pragma once
+// What the dh3-service integration tests share: a DDS domain and service name
+// of their own (so concurrent ctest runs do not meet), the service and dh3-sim
+// as child processes, config files, and a recording TCP proxy that captures
+// the exact bytes the service sends to a transfer box.
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "support/dds_test_client.hpp"
+#include "support/process.hpp"
+
+namespace dh3::test {
+
+/// One DDS domain per test process: ctest runs every test in its own process.
+inline int test_domain() {
+  return 10 + static_cast<int>(::getpid() % 200);
+}
+
+/// A service name no other test process uses.
+inline std::string test_service_name() {
+  return "svc" + std::to_string(::getpid());
+}
+
+/// A file that exists as long as this object does.
+class TempFile {
+ public:
+  explicit TempFile(const std::string& content, const std::string& suffix = ".yaml") {
+    static std::atomic<int> counter{0};
+    path_ =
+        "/tmp/dh3-test-" + std::to_string(::getpid()) + "-" + std::to_string(++counter) + suffix;
+    std::ofstream(path_) << content;
+  }
+  ~TempFile() { std::remove(path_.c_str()); }
+  TempFile(const TempFile&) = delete;
+  TempFile& operator=(const TempFile&) = delete;
+  [[nodiscard]] const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
+/// dh3-service as a child process on this test's domain, under this test's
+/// service name. Its logs (stderr) show in the test output.
+class ServiceProcess {
+ public:
+  explicit ServiceProcess(std::vector<std::string> args,
+                          const std::string& name = test_service_name())
+      : name_(name),
+        process_(DH3_SERVICE_PATH, with_defaults(std::move(args), name), Process::Stdin::dev_null) {
+  }
+
+  [[nodiscard]] bool started() const { return process_.started(); }
+  [[nodiscard]] const std::string& name() const { return name_; }
+  Process& process() { return process_; }
+
+  /// Sends `signal_number` and waits for the exit; the exit code, or nullopt
+  /// if it did not exit normally in time.
+  std::optional<int> stop(int signal_number = SIGTERM,
+                          std::chrono::milliseconds timeout = std::chrono::seconds(20)) {
+    process_.send_signal(signal_number);
+    const auto status = process_.wait_exit(timeout);
+    if (!status || !WIFEXITED(*status)) return std::nullopt;
+    return WEXITSTATUS(*status);
+  }
+
+ private:
+  static std::vector<std::string> with_defaults(std::vector<std::string> args,
+                                                const std::string& name) {
+    args.insert(args.begin(), {"--domain", std::to_string(test_domain()), "--name", name});
+    return args;
+  }
+  std::string name_;
+  Process process_;
+};
+
+/// dh3-sim as a child process: a transfer box on a free loopback port with
+/// the control channel on its stdin.
+class SimProcess {
+ public:
+  explicit SimProcess(std::vector<std::string> args)
+      : process_(DH3_SIM_PATH, listen_args(std::move(args))) {
+    if (auto line = process_.wait_for_line("listening ", std::chrono::seconds(10))) {
+      const auto colon = line->rfind(':');
+      port_ = static_cast<std::uint16_t>(std::stoi(line->substr(colon + 1)));
+    }
+  }
+  [[nodiscard]] std::uint16_t port() const { return port_; }
+  [[nodiscard]] std::string bus_spec() const { return "tcp:127.0.0.1:" + std::to_string(port_); }
+
+  /// Runs a control command; its answer line ("ok ..." or "error ...").
+  std::string control(const std::string& command) {
+    if (!process_.write_line(command)) return "error: dh3-sim's stdin is closed";
+    for (;;) {
+      auto line = process_.read_line(std::chrono::seconds(10));
+      if (!line) return "error: no answer from dh3-sim";
+      if (line->starts_with("ok") || line->starts_with("error")) return *line;
+    }
+  }
+
+ private:
+  static std::vector<std::string> listen_args(std::vector<std::string> args) {
+    args.insert(args.begin(), {"--listen", "127.0.0.1:0"});
+    return args;
+  }
+  Process process_;
+  std::uint16_t port_ = 0;
+};
+
+/// A TCP proxy on a free loopback port in front of a transfer box: every byte
+/// the service sends is recorded before it is passed on, so a test sees the
+/// exact frames on the wire. Serves one connection at a time.
+class RecordingProxy {
+ public:
+  explicit RecordingProxy(std::uint16_t backend_port) : backend_port_(backend_port) {
+    listen_fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t length = sizeof address;
+    if (::bind(listen_fd_, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0 ||
+        ::listen(listen_fd_, 4) != 0 ||
+        ::getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&address), &length) != 0) {
+      return;
+    }
+    port_ = ntohs(address.sin_port);
+    thread_ = std::thread([this] { run(); });
+  }
+  ~RecordingProxy() {
+    stop_ = true;
+    if (thread_.joinable()) thread_.join();
+    if (listen_fd_ >= 0) ::close(listen_fd_);
+  }
+  RecordingProxy(const RecordingProxy&) = delete;
+  RecordingProxy& operator=(const RecordingProxy&) = delete;
+
+  [[nodiscard]] std::uint16_t port() const { return port_; }
+  [[nodiscard]] std::string bus_spec() const { return "tcp:127.0.0.1:" + std::to_string(port_); }
+
+  /// Every byte the service sent so far.
+  std::vector<std::uint8_t> sent() {
+    std::lock_guard lock(mutex_);
+    return sent_;
+  }
+
+ private:
+  static int connect_to(std::uint16_t port) {
+    const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    address.sin_port = htons(port);
+    if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
+      ::close(fd);
+      return -1;
+    }
+    const int one = 1;
+    ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+    return fd;
+  }
+
+  static bool forward(int from, int to, std::vector<std::uint8_t>* record, std::mutex& mutex) {
+    std::uint8_t buffer[4096];
+    const ssize_t got = ::read(from, buffer, sizeof buffer);
+    if (got <= 0) return false;
+    if (record != nullptr) {
+      std::lock_guard lock(mutex);
+      record->insert(record->end(), buffer, buffer + got);
+    }
+    for (ssize_t done = 0; done < got;) {
+      const ssize_t written = ::write(to, buffer + done, static_cast<std::size_t>(got - done));
+      if (written <= 0) return false;
+      done += written;
+    }
+    return true;
+  }
+
+  void run() {
+    while (!stop_) {
+      pollfd accept_poll{listen_fd_, POLLIN, 0};
+      if (::poll(&accept_poll, 1, 20) <= 0) continue;
+      const int client = ::accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC);
+      if (client < 0) continue;
+      const int one = 1;
+      ::setsockopt(client, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+      const int backend = connect_to(backend_port_);
+      if (backend < 0) {
+        ::close(client);
+        continue;
+      }
+      while (!stop_) {
+        pollfd fds[2] = {{client, POLLIN, 0}, {backend, POLLIN, 0}};
+        if (::poll(fds, 2, 20) <= 0) continue;
+        if ((fds[0].revents & (POLLIN | POLLHUP | POLLERR)) != 0 &&
+            !forward(client, backend, &sent_, mutex_)) {
+          break;
+        }
+        if ((fds[1].revents & (POLLIN | POLLHUP | POLLERR)) != 0 &&
+            !forward(backend, client, nullptr, mutex_)) {
+          break;
+        }
+      }
+      ::close(client);
+      ::close(backend);
+    }
+  }
+
+  std::uint16_t backend_port_;
+  int listen_fd_ = -1;
+  std::uint16_t port_ = 0;
+  std::atomic<bool> stop_{false};
+  std::mutex mutex_;
+  std::vector<std::uint8_t> sent_;
+  std::thread thread_;
+};
+
+/// "FF FE FD FC 01 06 02 01 00 3C 00 00 00 FB" for each 14-byte frame in `bytes`.
+inline std::vector<std::string> frames_as_hex(const std::vector<std::uint8_t>& bytes) {
+  std::vector<std::string> frames;
+  for (std::size_t at = 0; at + 14 <= bytes.size(); at += 14) {
+    std::string text;
+    for (std::size_t i = 0; i < 14; ++i) {
+      char byte[4];
+      std::snprintf(byte, sizeof byte, i == 0 ? "%02X" : " %02X", bytes[at + i]);
+      text += byte;
+    }
+    frames.push_back(std::move(text));
+  }
+  return frames;
+}
+
+/// A client on this test's domain that waited for `service` to answer.
+inline std::unique_ptr<DdsTestClient> connected_client(const std::string& service,
+                                                       const std::string& name = "dh3-test") {
+  auto client = std::make_unique<DdsTestClient>(test_domain(), name);
+  if (!client->ok() || !client->wait_for_service(service)) return nullptr;
+  return client;
+}
+
+}  // namespace dh3::test

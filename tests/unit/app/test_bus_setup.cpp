@@ -1,0 +1,60 @@
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "app/bus_setup.hpp"
+
+namespace dh3::app {
+namespace {
+
+using ::testing::ElementsAre;
+
+BusSettings bus(std::string spec, std::vector<HandSettings> hands = {}) {
+  BusSettings settings;
+  settings.name = "b";
+  settings.spec = std::move(spec);
+  settings.hands = std::move(hands);
+  return settings;
+}
+
+TEST(BusSetup, BareSimSimulatesTheListedHands) {
+  EXPECT_THAT(simulated_ids(bus("sim", {{4, "", {}, {}}, {9, "", {}, {}}})), ElementsAre(4, 9));
+  EXPECT_THAT(simulated_ids(bus("sim")), ElementsAre(1));
+  EXPECT_THAT(simulated_ids(bus("sim:2,3", {{4, "", {}, {}}})), ElementsAre(2, 3));
+}
+
+TEST(BusSetup, ExpectedHandsComeFromTheListOrTheSimulator) {
+  const auto listed = expected_hands(bus("tcp:127.0.0.1:9", {{7, "left", {}, {}}}));
+  ASSERT_EQ(listed.size(), 1U);
+  EXPECT_EQ(listed[0].can_id, 7);
+  EXPECT_EQ(listed[0].name, "left");
+  const auto simulated = expected_hands(bus("sim:1,2"));
+  ASSERT_EQ(simulated.size(), 2U);
+  EXPECT_EQ(simulated[1].can_id, 2);
+  // A real bus without a list: the scheduler discovers the hands.
+  EXPECT_TRUE(expected_hands(bus("tcp:127.0.0.1:9")).empty());
+}
+
+TEST(BusSetup, OpensSimBusesWithTheirHands) {
+  ServiceConfig config;
+  config.allow_admin = true;
+  config.buses.push_back(bus("sim", {{3, "x", 40, {}}}));
+  auto setups = open_buses(config, SystemClock::instance());
+  ASSERT_TRUE(setups.ok()) << setups.error();
+  ASSERT_EQ(setups->size(), 1U);
+  EXPECT_EQ((*setups)[0].bus->spec(), "sim:3");
+  EXPECT_TRUE((*setups)[0].scheduler.allow_admin);
+  ASSERT_EQ((*setups)[0].hands.size(), 1U);
+  EXPECT_EQ((*setups)[0].hands[0].name, "x");
+}
+
+TEST(BusSetup, UnreachableBoxStillOpensAndRetries) {
+  ServiceConfig config;
+  // Port 9 on loopback: nothing listens; the bus comes up as link-down.
+  config.buses.push_back(bus("tcp:127.0.0.1:9"));
+  auto setups = open_buses(config, SystemClock::instance());
+  ASSERT_TRUE(setups.ok()) << setups.error();
+  EXPECT_EQ((*setups)[0].bus->spec(), "tcp:127.0.0.1:9");
+}
+
+}  // namespace
+}  // namespace dh3::app
