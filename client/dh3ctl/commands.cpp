@@ -1,0 +1,503 @@
+#include "commands.hpp"
+
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <ctime>
+#include <functional>
+#include <future>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "dh3/client.hpp"
+#include "dh3/registers.hpp"
+#include "output.hpp"
+
+#ifndef DH3_VERSION
+#define DH3_VERSION "0.0.0"
+#endif
+
+namespace dh3::ctl {
+namespace {
+
+struct Globals {
+  int domain = 0;
+  double timeout_s = 10.0;
+  bool json = false;
+  std::vector<std::string> interfaces;
+  bool udp_only = false;
+  std::string xml_file;
+  std::string xml_profile;
+  std::vector<std::string> discovery_servers;
+  std::string security_dir;
+  std::string security_identity = "operator";
+};
+
+/// What one command line asked for, beyond the globals.
+struct Args {
+  std::string hand;
+  std::string target;  ///< scan: SERVICE or SERVICE/BUS
+  std::string reg;
+  std::int32_t value = 0;
+  std::int32_t second = 0;
+  bool has_second = false;
+  bool watch = false;
+  bool yes = false;
+  int count = 0;  ///< events, status --watch: stop after this many lines (0: never)
+};
+
+struct Context {
+  [[nodiscard]] Timeout timeout() const {
+    return std::chrono::milliseconds(static_cast<std::int64_t>(globals.timeout_s * 1000.0));
+  }
+
+  /// Prints a failure the way every command does; returns the exit code.
+  int fail(std::string_view command, std::string_view target, Code code,
+           const std::string& message) {
+    if (globals.json) {
+      Reply reply;
+      reply.code = code;
+      reply.message = message;
+      out << reply_json(command, target, reply) << std::endl;
+    }
+    err << "dh3ctl: " << command;
+    if (!target.empty()) err << " " << target;
+    err << ": " << to_string(code) << ": " << message << std::endl;
+    return kExitFailed;
+  }
+
+  /// Prints a reply: `text` on success (or the JSON object), the reason otherwise.
+  int report(std::string_view command, std::string_view target, const Reply& reply,
+             const std::string& text) {
+    if (!reply.ok()) return fail(command, target, reply.code, reply.message);
+    if (globals.json) {
+      out << reply_json(command, target, reply) << std::endl;
+    } else {
+      out << text << std::endl;
+    }
+    return kExitOk;
+  }
+
+  /// The hand `spec` names. A full SERVICE/BUS/ID needs no lookup unless
+  /// `need_status`: the call itself waits for the service, and a bad value is
+  /// refused at once instead of after a wait.
+  std::optional<Hand> hand(std::string_view command, const std::string& spec,
+                           bool need_status = false) {
+    if (!need_status) {
+      if (auto parsed = parse_hand_spec(spec); parsed && parsed->is_full()) {
+        return client.hand(parsed->address());
+      }
+    }
+    auto found = client.wait_for_hand(spec, timeout());
+    if (!found) {
+      fail(command, spec, found.code(), found.message());
+      return std::nullopt;
+    }
+    return *found;
+  }
+
+  /// Waits, a tenth of a second at a time, until `done` or an interrupt.
+  void wait_until_interrupted(std::mutex& mutex, std::condition_variable& cv,
+                              const std::function<bool()>& done) {
+    std::unique_lock lock(mutex);
+    while (!interrupted && !done()) cv.wait_for(lock, std::chrono::milliseconds(100));
+  }
+
+  Client& client;
+  const Globals& globals;
+  std::ostream& out;
+  std::ostream& err;
+  const std::atomic<bool>& interrupted;
+};
+
+std::string hex(std::uint32_t value, int digits) {
+  char text[16];
+  std::snprintf(text, sizeof text, "0x%0*X", digits, value);
+  return text;
+}
+
+int cmd_list(Context& c) {
+  if (auto found = c.client.wait_for_service({}, c.timeout()); !found) {
+    return c.fail("list", "", found.code(), found.message());
+  }
+  c.client.wait_for_statuses(c.timeout());  // what is there after the wait is listed
+  const auto services = c.client.services();
+  const auto hands = c.client.hands();
+  if (c.globals.json) {
+    for (const auto& service : services) c.out << to_json(service) << "\n";
+    for (const auto& hand : hands) c.out << to_json(hand) << "\n";
+    c.out << std::flush;
+    return kExitOk;
+  }
+  for (const auto& service : services) c.out << "service " << service_line(service) << "\n";
+  c.out << status_table(hands) << std::flush;
+  return kExitOk;
+}
+
+void print_statuses(Context& c, const std::vector<HandStatus>& hands) {
+  if (c.globals.json) {
+    for (const auto& hand : hands) c.out << to_json(hand) << "\n";
+  } else {
+    c.out << status_table(hands);
+  }
+  c.out << std::flush;
+}
+
+int watch_statuses(Context& c, std::optional<HandAddress> only, int count) {
+  const bool redraw = !c.globals.json && ::isatty(STDOUT_FILENO) == 1;
+  std::mutex mutex;
+  std::condition_variable cv;
+  bool changed = true;
+  int updates = 0;
+  auto subscription = c.client.subscribe_status(
+      [&](const HandStatus& status) {
+        std::lock_guard lock(mutex);
+        ++updates;
+        changed = true;
+        // Not a terminal: a stream of lines, one per status sample.
+        if (!redraw) {
+          c.out << (c.globals.json ? to_json(status) : status_line(status)) << std::endl;
+        }
+        cv.notify_all();
+      },
+      only);
+  const auto done = [&] { return count > 0 && updates >= count; };
+  while (!c.interrupted && !done()) {
+    c.wait_until_interrupted(mutex, cv, [&] { return changed || done(); });
+    std::unique_lock lock(mutex);
+    if (!changed || !redraw) continue;
+    changed = false;
+    lock.unlock();
+    std::vector<HandStatus> hands;
+    for (auto& status : c.client.hands()) {
+      if (!only || status.address == *only) hands.push_back(std::move(status));
+    }
+    const std::time_t now = std::time(nullptr);
+    char clock[32];
+    std::strftime(clock, sizeof clock, "%H:%M:%S", std::localtime(&now));
+    // Home and clear, then the table: a redraw, not a scroll.
+    c.out << "\033[H\033[2J"
+          << "dh3ctl status --watch  domain " << c.globals.domain << "  " << clock
+          << "  (Ctrl-C to stop)\n\n"
+          << status_table(hands) << std::flush;
+    // At most ten redraws a second: a moving hand changes faster than anyone reads.
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  subscription.unsubscribe();
+  return kExitOk;
+}
+
+int cmd_status(Context& c, const Args& a) {
+  std::optional<HandAddress> only;
+  if (!a.hand.empty()) {
+    auto hand = c.hand("status", a.hand, true);
+    if (!hand) return kExitFailed;
+    only = hand->address();
+  } else {
+    if (auto found = c.client.wait_for_service({}, c.timeout()); !found) {
+      return c.fail("status", "", found.code(), found.message());
+    }
+    c.client.wait_for_statuses(c.timeout());
+  }
+  if (a.watch) return watch_statuses(c, only, a.count);
+  std::vector<HandStatus> hands;
+  if (only) {
+    if (auto status = c.client.status(*only)) hands.push_back(*status);
+  } else {
+    hands = c.client.hands();
+  }
+  print_statuses(c, hands);
+  return kExitOk;
+}
+
+int cmd_events(Context& c, const Args& a) {
+  std::optional<HandAddress> only;
+  std::string which = "every hand";
+  if (!a.hand.empty()) {
+    auto hand = c.hand("events", a.hand, true);
+    if (!hand) return kExitFailed;
+    only = hand->address();
+    which = only->to_string();
+  }
+  std::mutex mutex;
+  std::condition_variable cv;
+  int seen = 0;
+  auto subscription = c.client.subscribe(
+      [&](const HandEvent& event) {
+        std::lock_guard lock(mutex);
+        if (a.count > 0 && seen >= a.count) return;
+        ++seen;
+        c.out << (c.globals.json ? to_json(event) : event_line(event)) << std::endl;
+        cv.notify_all();
+      },
+      only);
+  // Events are a stream: only those after the service matched us arrive.
+  // Waiting for a ready service means none after this line is missed.
+  if (auto found = c.client.wait_for_service(only ? only->service : "", c.timeout()); !found) {
+    c.err << "dh3ctl: events: " << found.message() << "; listening anyway" << std::endl;
+  }
+  if (!c.globals.json) {
+    std::lock_guard lock(mutex);
+    c.out << "watching events of " << which << " (Ctrl-C to stop)" << std::endl;
+  }
+  c.wait_until_interrupted(mutex, cv, [&] { return a.count > 0 && seen >= a.count; });
+  subscription.unsubscribe();
+  return kExitOk;
+}
+
+int cmd_scan(Context& c, const Args& a) {
+  std::string service;
+  std::string bus;
+  if (!a.target.empty()) {
+    const auto slash = a.target.find('/');
+    service = a.target.substr(0, slash);
+    if (slash != std::string::npos) bus = a.target.substr(slash + 1);
+  }
+  if (c.client.read_only()) {
+    // A scan is a command request too; and without service info a read-only
+    // client does not even know the buses.
+    return c.fail("scan", a.target, Code::denied,
+                  "not permitted to publish command requests (read-only identity)");
+  }
+  if (auto found = c.client.wait_for_service(service, c.timeout()); !found) {
+    return c.fail("scan", a.target, found.code(), found.message());
+  }
+  struct Job {
+    std::string target;
+    std::future<Reply> reply;
+  };
+  std::vector<Job> jobs;
+  for (const auto& info : c.client.services()) {
+    if (!info.ready || (!service.empty() && info.name != service)) continue;
+    for (const auto& b : info.buses) {
+      if (!bus.empty() && b.name != bus) continue;
+      jobs.push_back(
+          Job{info.name + "/" + b.name, c.client.scan_async(info.name, b.name, c.timeout())});
+    }
+  }
+  if (jobs.empty()) {
+    return c.fail("scan", a.target, Code::unknown_hand,
+                  "no bus '" + bus + "' in service '" + service + "'");
+  }
+  int exit_code = kExitOk;
+  for (auto& job : jobs) {
+    const Reply reply = job.reply.get();
+    std::string text = job.target + ": found";
+    if (reply.found_ids.empty()) text += " no hands";
+    for (const auto id : reply.found_ids) text += " " + std::to_string(id);
+    if (c.report("scan", job.target, reply, text) != kExitOk) exit_code = kExitFailed;
+  }
+  return exit_code;
+}
+
+/// Commands on one hand that send one request and print its reply.
+int cmd_hand(Context& c, const std::string& command, const Args& a) {
+  auto hand = c.hand(command, a.hand);
+  if (!hand) return kExitFailed;
+  const std::string target = hand->address().to_string();
+  const Timeout t = c.timeout();
+  if (command == "init") {
+    return c.report(command, target, hand->initialize(t), target + ": initialized");
+  }
+  if (command == "move") {
+    return c.report(command, target, hand->move_to(a.value, t),
+                    target + ": moved to " + std::to_string(a.value));
+  }
+  if (command == "rotate") {
+    return c.report(command, target, hand->rotate_to(a.value, t),
+                    target + ": rotated to " + std::to_string(a.value));
+  }
+  if (command == "force") {
+    std::optional<std::int32_t> opening;
+    if (a.has_second) opening = a.second;
+    std::string text = target + ": closing force " + std::to_string(a.value);
+    if (opening) text += ", opening force " + std::to_string(*opening);
+    return c.report(command, target, hand->set_force(a.value, opening, t), text);
+  }
+  if (command == "grasp") {
+    const Reply reply = hand->grasp(a.value, t);
+    return c.report(command, target, reply,
+                    target + ": " + std::string(to_string(reply.grasp)) + " at position " +
+                        std::to_string(reply.value));
+  }
+  if (command == "release") {
+    return c.report(command, target, hand->release(a.value, t),
+                    target + ": released to " + std::to_string(a.value));
+  }
+  if (command == "stop") return c.report(command, target, hand->stop(t), target + ": stopped");
+  if (command == "read") {
+    const auto code = parse_register(a.reg);
+    if (!code) {
+      return c.fail(command, target, Code::invalid_argument,
+                    "unknown register '" + a.reg + "' (a name such as position, or 0xNNNN)");
+    }
+    const Reply reply = hand->read(*code, t);
+    const auto name = register_name(*code);
+    return c.report(command, target, reply,
+                    target + ": " + (name.empty() ? std::string() : std::string(name) + " ") + "(" +
+                        hex(*code, 4) + ") = " + std::to_string(reply.value));
+  }
+  if (command == "version") {
+    const Reply reply = hand->read(reg::firmware_version, t);
+    return c.report(command, target, reply,
+                    target + ": firmware " + firmware_version_text(reply.value) + " (raw " +
+                        hex(static_cast<std::uint32_t>(reply.value), 8) + ")");
+  }
+  if (command == "set-can-id") {
+    return c.report(command, target, hand->set_can_id(a.value, t),
+                    target + ": CAN ID set to " + std::to_string(a.value) +
+                        "; reboot the hand for it to take effect");
+  }
+  if (command == "set-baud") {
+    return c.report(command, target, hand->set_baud_rate(a.value, t),
+                    target + ": baud rate index set to " + std::to_string(a.value) +
+                        "; reboot the hand for it to take effect");
+  }
+  return c.fail(command, target, Code::invalid_argument, "unknown command");
+}
+
+}  // namespace
+
+int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err,
+        const std::atomic<bool>& interrupted) {
+  CLI::App app{
+      "dh3ctl: drive DH-3 hands on a DDS domain through their dh3-service.\n"
+      "HAND is SERVICE/BUS/ID (e.g. cell/bus0/2), BUS/ID, SERVICE/NAME, ID or NAME;\n"
+      "the short forms must name exactly one hand."};
+  app.name("dh3ctl");
+  app.require_subcommand(1);
+  app.fallthrough();  // global options after the command too: dh3ctl list --json
+  Globals g;
+  app.add_option("-d,--domain", g.domain, "DDS domain id (default 0)")->check(CLI::Range(0, 232));
+  app.add_option("-t,--timeout", g.timeout_s,
+                 "seconds to wait for the service or hand, and for each reply (default 10)")
+      ->check(CLI::PositiveNumber);
+  app.add_flag("--json", g.json, "one JSON object per line, for scripts");
+  app.add_option("-i,--interface", g.interfaces,
+                 "IPv4 address of a network interface for DDS (repeatable), or * for all; "
+                 "default loopback only");
+  app.add_flag("--udp-only", g.udp_only, "no shared-memory transport, UDP only");
+  app.add_option("--xml", g.xml_file,
+                 "Fast DDS XML profiles file (its participant profile "
+                 "replaces --interface and --udp-only)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--profile", g.xml_profile, "participant profile name in --xml");
+  app.add_option(
+      "--discovery-server", g.discovery_servers,
+      "a Fast DDS discovery server as HOST[:PORT] (repeatable; the n-th is server id n); "
+      "default: ROS_DISCOVERY_SERVER, else multicast discovery");
+  app.add_option("--security-dir", g.security_dir,
+                 "DDS Security: directory of credentials as deploy/security/make-test-pki.sh "
+                 "lays them out")
+      ->check(CLI::ExistingDirectory);
+  app.add_option("--security-identity", g.security_identity,
+                 "DDS Security: the identity (folder) in --security-dir to use (default "
+                 "operator; monitor: read-only)");
+  app.set_version_flag("--version", DH3_VERSION);
+
+  Args a;
+  const auto hand_arg = [&a](CLI::App* sub) {
+    sub->add_option("HAND", a.hand, "the hand: SERVICE/BUS/ID, BUS/ID, SERVICE/NAME, ID or NAME")
+        ->required();
+  };
+  const auto value_arg = [&a](CLI::App* sub, const char* name, const char* what) {
+    sub->add_option(name, a.value, what)->required();
+  };
+
+  app.add_subcommand("list", "services and their hands, with the hands' latest status");
+  auto* status = app.add_subcommand("status", "latest status of HAND, or of every hand");
+  status->add_option("HAND", a.hand, "the hand (default: every hand)");
+  status->add_flag("-w,--watch", a.watch,
+                   "keep showing statuses: a table redrawn in place on a terminal, one line per "
+                   "update otherwise; Ctrl-C to stop");
+  status->add_option("--count", a.count, "with --watch: stop after N status updates");
+  hand_arg(app.add_subcommand("init", "initialize HAND (replies once it finished)"));
+  auto* move = app.add_subcommand("move", "move HAND's fingers to POS percent (100 = open)");
+  hand_arg(move);
+  value_arg(move, "POS", "position, 0-100");
+  auto* rotate = app.add_subcommand("rotate", "rotate HAND to PCT percent of 90 degrees");
+  hand_arg(rotate);
+  value_arg(rotate, "PCT", "rotation, 0-100");
+  auto* force = app.add_subcommand("force", "set HAND's closing force, and its opening force");
+  hand_arg(force);
+  value_arg(force, "CLOSE", "closing (gripping) force, 20-100 percent");
+  auto* open_opt = force->add_option("OPEN", a.second, "opening force, 20-100 percent");
+  auto* grasp = app.add_subcommand("grasp", "close HAND with FORCE: prints GRASPED or MISSED");
+  hand_arg(grasp);
+  value_arg(grasp, "FORCE", "closing force, 20-100 percent");
+  auto* release = app.add_subcommand("release", "open HAND to POS (replies once arrived)");
+  hand_arg(release);
+  value_arg(release, "POS", "position, 0-100");
+  hand_arg(app.add_subcommand("stop", "stop HAND where it is; pending motion is cancelled"));
+  auto* events = app.add_subcommand("events", "print events of every hand, or of HAND");
+  events->add_option("HAND", a.hand, "the hand (default: every hand)");
+  events->add_option("--count", a.count, "stop after N events");
+  hand_arg(app.add_subcommand("version", "read HAND's firmware version"));
+  auto* scan = app.add_subcommand("scan", "probe buses for hands now");
+  scan->add_option("TARGET", a.target, "SERVICE or SERVICE/BUS (default: every bus)");
+  auto* read = app.add_subcommand("read", "read one of HAND's registers");
+  hand_arg(read);
+  read->add_option("REGISTER", a.reg,
+                   "a name (position, closing_force, grip_status, can_id, firmware_version, ...) "
+                   "or a code such as 0x0602")
+      ->required();
+  auto* set_id = app.add_subcommand(
+      "set-can-id", "administrative: give HAND a new CAN ID (the hand must be rebooted after)");
+  hand_arg(set_id);
+  value_arg(set_id, "ID", "new CAN ID, 1-255");
+  set_id->add_flag("--yes", a.yes, "confirm");
+  auto* set_baud = app.add_subcommand(
+      "set-baud", "administrative: set HAND's CAN baud rate (the hand must be rebooted after)");
+  hand_arg(set_baud);
+  value_arg(set_baud, "INDEX", "0 = 500 kbps, 1 = 400, 2 = 250, 3 = 200, 4 = 125, 5 = 100 kbps");
+  set_baud->add_flag("--yes", a.yes, "confirm");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    const int code = app.exit(error, out, err);
+    return code == 0 ? kExitOk : kExitUsage;
+  }
+  a.has_second = open_opt->count() > 0;
+  const std::string command = app.get_subcommands().front()->get_name();
+
+  if ((command == "set-can-id" || command == "set-baud") && !a.yes) {
+    err << "dh3ctl: " << command
+        << " changes a setting stored in the hand, which must then be rebooted; add --yes to "
+           "confirm"
+        << std::endl;
+    return kExitUsage;
+  }
+
+  ClientOptions options;
+  options.domain = g.domain;
+  options.participant_name = "dh3ctl";
+  options.interfaces = g.interfaces;
+  options.udp_only = g.udp_only;
+  options.xml_profile_file = g.xml_file;
+  options.xml_profile = g.xml_profile;
+  options.discovery_servers = g.discovery_servers;
+  options.security_dir = g.security_dir;
+  options.security_identity = g.security_identity;
+  options.default_timeout =
+      std::chrono::milliseconds(static_cast<std::int64_t>(g.timeout_s * 1000.0));
+  Client client(options);
+  if (!client.connected()) {
+    err << "dh3ctl: " << client.error() << std::endl;
+    return kExitFailed;
+  }
+  Context context{client, g, out, err, interrupted};
+  if (command == "list") return cmd_list(context);
+  if (command == "status") return cmd_status(context, a);
+  if (command == "events") return cmd_events(context, a);
+  if (command == "scan") return cmd_scan(context, a);
+  return cmd_hand(context, command, a);
+}
+
+}  // namespace dh3::ctl

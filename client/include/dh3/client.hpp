@@ -1,0 +1,250 @@
+#pragma once
+// libdh3client: find DH-3 hands on a DDS domain and drive them.
+//
+//   dh3::Client client({.domain = 0});
+//   auto hand = client.wait_for_hand("cell/bus0/1", std::chrono::seconds(5));
+//   if (!hand) { std::cerr << hand.message() << "\n"; return 1; }
+//   if (auto r = hand->initialize(); !r) std::cerr << dh3::to_string(r.code) << ": " << r.message;
+//   auto grasp = hand->grasp(40);           // grasp.grasp == GraspOutcome::grasped or missed
+//   auto later = hand->move_to_async(100);  // std::future<Reply>
+//
+// Every command has a blocking form and an asynchronous one (a std::future).
+// Each has a timeout (zero: the client's default_timeout) and always ends: with
+// the service's reply, or with the client's own code (NO_SERVICE, NO_REPLY,
+// SERVICE_LOST, NOT_CONNECTED) and a message. Nothing in the data path throws.
+//
+// Threads: a Client and its Hands may be used from any number of threads at
+// once. Event and status callbacks run on one thread of the client, in the
+// order samples arrived; they may call into the client (even blocking calls,
+// which only delay later callbacks).
+//
+// When a service leaves the domain (stopped, killed, network lost) its pending
+// calls end with SERVICE_LOST and its hands are reported offline; calls made
+// while it is away wait (within their timeout) for it to return. When it comes
+// back under the same name the same Hand objects work again.
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <future>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "dh3/address.hpp"
+#include "dh3/export.hpp"
+#include "dh3/types.hpp"
+
+namespace dh3 {
+
+namespace detail {
+class ClientCore;
+struct SubscriptionState;
+}  // namespace detail
+
+/// Zero: use the client's default_timeout.
+using Timeout = std::chrono::milliseconds;
+
+struct ClientOptions {
+  /// DDS domain id, 0-232.
+  int domain = 0;
+  /// The DDS participant's name (seen by tools that list participants).
+  std::string participant_name = "dh3-client";
+  /// A Fast DDS XML profiles file. When given, its participant profile (the one
+  /// named by `xml_profile`, or the file's default profile) decides the
+  /// participant's QoS and transports; `interfaces` and `udp_only` are ignored.
+  std::string xml_profile_file;
+  std::string xml_profile;
+  /// IPv4 addresses of the network interfaces to use; empty = loopback only
+  /// (the project's default: nothing leaves the machine unless asked); {"*"} = all.
+  std::vector<std::string> interfaces;
+  /// No shared-memory transport: UDP only (containers, network namespaces).
+  bool udp_only = false;
+  /// Fast DDS discovery servers, each "HOST[:PORT]" (port 11811 by default);
+  /// the n-th entry is the server started with id n, an empty entry skips an
+  /// id. Empty: ROS_DISCOVERY_SERVER's servers if that is set, otherwise
+  /// simple (multicast) discovery. The interfaces must reach the servers.
+  std::vector<std::string> discovery_servers;
+  /// DDS Security: a directory of credentials in the layout
+  /// deploy/security/make-test-pki.sh writes (identity_ca.pem,
+  /// permissions_ca.pem, governance.p7s, IDENTITY/{cert.pem,key.pem,
+  /// permissions.p7s}). Empty: no security (unless an XML profile enables it).
+  /// A secured client sees only services with credentials of the same CAs.
+  std::string security_dir;
+  /// Which identity's folder in `security_dir` this client uses. An identity
+  /// whose permissions do not allow command requests (the test PKI's
+  /// "monitor") still connects: it sees statuses and events, and its commands
+  /// end at once with DENIED (see Client::read_only()).
+  std::string security_identity = "operator";
+  /// The timeout of calls and waits that are given none (Timeout{0}).
+  std::chrono::milliseconds default_timeout{10'000};
+};
+
+/// Keeps a callback registered; unsubscribes when destroyed. After
+/// unsubscribe() returns the callback is not running and will not run again
+/// (unless unsubscribe() was called from inside that same callback, which is
+/// allowed: it then returns at once and the callback is not called again).
+class DH3_CLIENT_API Subscription {
+ public:
+  Subscription() = default;
+  ~Subscription();
+  Subscription(Subscription&& other) noexcept;
+  Subscription& operator=(Subscription&& other) noexcept;
+  Subscription(const Subscription&) = delete;
+  Subscription& operator=(const Subscription&) = delete;
+
+  void unsubscribe();
+  [[nodiscard]] bool active() const;
+
+ private:
+  friend class Client;
+  friend class Hand;
+  explicit Subscription(std::shared_ptr<detail::SubscriptionState> state);
+  std::shared_ptr<detail::SubscriptionState> state_;
+};
+
+using EventCallback = std::function<void(const HandEvent&)>;
+using StatusCallback = std::function<void(const HandStatus&)>;
+
+/// A handle on one hand. Cheap to copy; every copy drives the same hand through
+/// the same client. A Hand outliving its Client answers NOT_CONNECTED.
+class DH3_CLIENT_API Hand {
+ public:
+  [[nodiscard]] const HandAddress& address() const { return address_; }
+
+  /// The latest status, nullopt until the service published one.
+  [[nodiscard]] std::optional<HandStatus> status() const;
+  [[nodiscard]] bool online() const;
+  /// Waits until the hand's latest status satisfies `pred` (checked at once,
+  /// then on every new status); returns that status, nullopt on timeout.
+  ///   hand.wait_until([](const dh3::HandStatus& s) { return s.grip == dh3::GripState::caught; })
+  std::optional<HandStatus> wait_until(const std::function<bool(const HandStatus&)>& pred,
+                                       Timeout timeout = Timeout::zero()) const;
+
+  /// Initializes the hand; the reply comes once initialization finished.
+  std::future<Reply> initialize_async(Timeout timeout = Timeout::zero());
+  Reply initialize(Timeout timeout = Timeout::zero());
+  /// Moves the fingers to `position` percent (0 closed - 100 open).
+  std::future<Reply> move_to_async(std::int32_t position, Timeout timeout = Timeout::zero());
+  Reply move_to(std::int32_t position, Timeout timeout = Timeout::zero());
+  /// Rotates to `percent` of 90 degrees.
+  std::future<Reply> rotate_to_async(std::int32_t percent, Timeout timeout = Timeout::zero());
+  Reply rotate_to(std::int32_t percent, Timeout timeout = Timeout::zero());
+  /// Sets the closing (gripping) force and, when given, the opening force, in
+  /// percent (20-100). With both, the first failure is the reply.
+  std::future<Reply> set_force_async(std::int32_t closing, std::optional<std::int32_t> opening,
+                                     Timeout timeout = Timeout::zero());
+  Reply set_force(std::int32_t closing, std::optional<std::int32_t> opening = std::nullopt,
+                  Timeout timeout = Timeout::zero());
+  /// Closes with `force` percent: reply.grasp is GRASPED (stopped on an
+  /// object) or MISSED (closed on nothing); reply.value the final position.
+  std::future<Reply> grasp_async(std::int32_t force, Timeout timeout = Timeout::zero());
+  Reply grasp(std::int32_t force, Timeout timeout = Timeout::zero());
+  /// Opens to `position`; the reply comes once arrived.
+  std::future<Reply> release_async(std::int32_t position, Timeout timeout = Timeout::zero());
+  Reply release(std::int32_t position, Timeout timeout = Timeout::zero());
+  /// Holds the current position; pending motion ends CANCELLED.
+  std::future<Reply> stop_async(Timeout timeout = Timeout::zero());
+  Reply stop(Timeout timeout = Timeout::zero());
+  /// Reads a register (dh3::reg::position, ...); reply.value is what was read.
+  std::future<Reply> read_async(std::uint16_t register_code, Timeout timeout = Timeout::zero());
+  Reply read(std::uint16_t register_code, Timeout timeout = Timeout::zero());
+  /// Administrative (the service must allow it; the hand needs a reboot after).
+  std::future<Reply> set_can_id_async(std::int32_t can_id, Timeout timeout = Timeout::zero());
+  Reply set_can_id(std::int32_t can_id, Timeout timeout = Timeout::zero());
+  /// Administrative: baud rate index 0 (500 kbps) - 5 (100 kbps).
+  std::future<Reply> set_baud_rate_async(std::int32_t index, Timeout timeout = Timeout::zero());
+  Reply set_baud_rate(std::int32_t index, Timeout timeout = Timeout::zero());
+
+  /// Probes this hand's whole bus for hands now; reply.found_ids lists them.
+  std::future<Reply> scan_bus_async(Timeout timeout = Timeout::zero());
+  Reply scan_bus(Timeout timeout = Timeout::zero());
+
+  /// Leases: while this client holds one, other clients' motion and write
+  /// commands to the hand are DENIED. A lease ends on release, on expiry, or
+  /// when this client leaves the domain.
+  std::future<Reply> acquire_lease_async(std::chrono::milliseconds ttl,
+                                         Timeout timeout = Timeout::zero());
+  Reply acquire_lease(std::chrono::milliseconds ttl, Timeout timeout = Timeout::zero());
+  std::future<Reply> renew_lease_async(std::chrono::milliseconds ttl,
+                                       Timeout timeout = Timeout::zero());
+  Reply renew_lease(std::chrono::milliseconds ttl, Timeout timeout = Timeout::zero());
+  std::future<Reply> release_lease_async(Timeout timeout = Timeout::zero());
+  Reply release_lease(Timeout timeout = Timeout::zero());
+
+  /// Calls `callback` for each event of this hand from now on.
+  Subscription subscribe(EventCallback callback);
+
+ private:
+  friend class Client;
+  Hand(std::shared_ptr<detail::ClientCore> core, HandAddress address);
+  std::shared_ptr<detail::ClientCore> core_;
+  HandAddress address_;
+};
+
+class DH3_CLIENT_API Client {
+ public:
+  /// Joins the DDS domain. Never throws: check connected() and error().
+  explicit Client(ClientOptions options = {});
+  /// Leaves the domain; pending calls end NOT_CONNECTED, callbacks stop.
+  ~Client();
+  Client(const Client&) = delete;
+  Client& operator=(const Client&) = delete;
+
+  /// False if the DDS participant could not be created; error() says why.
+  [[nodiscard]] bool connected() const;
+  [[nodiscard]] std::string error() const;
+  /// True when this client may not send commands: DDS Security refused it the
+  /// command request writer or the reply reader (a read-only identity).
+  /// Statuses, events and hand lookups work; every command ends at once with
+  /// DENIED. Services are then known from their statuses and events only (no
+  /// ServiceInfo unless the identity may read it).
+  [[nodiscard]] bool read_only() const;
+  /// This client's id in requests (its participant's GUID prefix in hex).
+  [[nodiscard]] std::string client_id() const;
+  [[nodiscard]] int domain() const;
+  [[nodiscard]] std::chrono::milliseconds default_timeout() const;
+
+  /// Every service seen on the domain, by name (ready says which are here now).
+  [[nodiscard]] std::vector<ServiceInfo> services() const;
+  [[nodiscard]] std::optional<ServiceInfo> service(std::string_view name) const;
+  /// The latest status of every hand seen (late joiners get them at once).
+  [[nodiscard]] std::vector<HandStatus> hands() const;
+  [[nodiscard]] std::optional<HandStatus> status(const HandAddress& address) const;
+
+  /// Waits until the named service (empty: any service) is ready, i.e. calls
+  /// to it go out at once. NO_SERVICE on timeout.
+  Found<ServiceInfo> wait_for_service(std::string_view name = {},
+                                      Timeout timeout = Timeout::zero());
+  /// Waits until every ready service's hands (as its info lists them) have a
+  /// status here; true if so before the timeout.
+  bool wait_for_statuses(Timeout timeout = Timeout::zero());
+
+  /// A hand by address; no lookup, no waiting.
+  Hand hand(const HandAddress& address);
+  /// A hand by any form parse_hand_spec() accepts, among the hands known now.
+  Found<Hand> find_hand(std::string_view spec);
+  /// Waits until `spec` names exactly one hand whose status this client has.
+  /// NO_SERVICE if its service never appeared, UNKNOWN_HAND if the service is
+  /// here but has no such hand, INVALID_ARGUMENT for bad or ambiguous specs.
+  Found<Hand> wait_for_hand(std::string_view spec, Timeout timeout = Timeout::zero());
+
+  /// Probes a bus for hands now; reply.found_ids lists those that answered.
+  std::future<Reply> scan_async(const std::string& service, const std::string& bus,
+                                Timeout timeout = Timeout::zero());
+  Reply scan(const std::string& service, const std::string& bus, Timeout timeout = Timeout::zero());
+
+  /// Calls `callback` for every event of every hand (or of `only`) from now on.
+  Subscription subscribe(EventCallback callback, std::optional<HandAddress> only = std::nullopt);
+  /// Calls `callback` for every new status sample (including the late-joiner
+  /// ones already received, delivered first) of every hand or of `only`.
+  Subscription subscribe_status(StatusCallback callback,
+                                std::optional<HandAddress> only = std::nullopt);
+
+ private:
+  std::shared_ptr<detail::ClientCore> core_;
+};
+
+}  // namespace dh3

@@ -1,0 +1,247 @@
+#pragma once
+// What dh3::Client and dh3::Hand share: the DDS participant and everything the
+// client knows (services, hand statuses, pending calls, subscriptions).
+//
+// Threads and who does what:
+//   - Fast DDS listener threads deliver samples, matches and participant
+//     changes; they update the state under `mutex_` and never write to DDS.
+//   - One internal "io" thread writes every request and ends calls whose
+//     deadline passed. Only it writes, so closing the client never races a
+//     write (it is joined before the DDS entities are deleted).
+//   - One dispatcher thread runs user callbacks (events, statuses), in order.
+//     User code never runs on a DDS thread, so a callback that makes a
+//     blocking call cannot hold up the very reply it waits for.
+//
+// A service "incarnation" is the DDS participant that serves it (its GUID
+// prefix). When two participants claim one name, the one whose ServiceInfo
+// says it started later is current: discovery order says nothing (the new
+// instance of a killed service may be discovered before the client hears the
+// last of the old one). The service is ready once that participant has matched our request
+// writer, reply reader and event reader: a call is written only then (a
+// request written earlier would be lost: the topics are volatile), and a
+// program that waited for a ready service gets every event from then on. When the incarnation
+// leaves the domain, or a newer one of the same name appears (a restart), the calls written to the
+// old one end SERVICE_LOST and its hands go offline; calls not yet written wait for the next
+// incarnation until their deadline.
+//
+// Read-only clients: DDS Security may refuse an identity the request writer,
+// the reply reader or the service info reader (deploy/security's "monitor"
+// may only read statuses and events). Such a client stays connected: services
+// are known from their participants and status samples, a service is ready
+// once its event writer matched, and every command ends at once, locally,
+// with DENIED.
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <future>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <string>
+#include <string_view>
+#include <thread>
+#include <vector>
+
+#include "dh3/address.hpp"
+#include "dh3/client.hpp"
+#include "dh3/types.hpp"
+#include "dh3_idl/dh3.h"
+
+namespace dh3::detail {
+
+struct SubscriptionState {
+  std::mutex run_mutex;  ///< held while the callback runs
+  std::atomic<bool> active{true};
+  EventCallback on_event;
+  StatusCallback on_status;
+  std::optional<HandAddress> only;
+  std::weak_ptr<ClientCore> core;
+};
+
+/// Runs tasks on one thread in the order posted. Its state is shared with the
+/// thread, so the dispatcher may be stopped from one of its own tasks.
+class Dispatcher {
+ public:
+  Dispatcher();
+  ~Dispatcher();
+  Dispatcher(const Dispatcher&) = delete;
+  Dispatcher& operator=(const Dispatcher&) = delete;
+
+  void post(std::function<void()> task);
+  /// Drops what is queued and ends the thread (joined, or detached when
+  /// called from a task).
+  void stop();
+  [[nodiscard]] bool on_dispatcher_thread() const;
+
+ private:
+  struct State {
+    std::mutex mutex;
+    std::condition_variable wake;
+    std::deque<std::function<void()>> tasks;
+    bool stop = false;
+  };
+  std::shared_ptr<State> state_;
+  std::thread thread_;
+  std::thread::id thread_id_;
+};
+
+/// Endpoints DDS Security's access control may refuse a client (a read-only
+/// identity). Tests pass one to ClientCore to take the refusal path without
+/// credentials; the library itself always passes none.
+struct Refusals {
+  bool request_writer = false;
+  bool reply_reader = false;
+  bool info_reader = false;
+};
+
+class ClientCore : public std::enable_shared_from_this<ClientCore> {
+ public:
+  using Done = std::function<void(Reply)>;
+
+  explicit ClientCore(ClientOptions options, Refusals simulated = {});
+  ~ClientCore();
+  ClientCore(const ClientCore&) = delete;
+  ClientCore& operator=(const ClientCore&) = delete;
+
+  /// Leaves the domain: pending calls end NOT_CONNECTED, callbacks stop. Idempotent.
+  void close();
+
+  [[nodiscard]] bool connected() const;
+  [[nodiscard]] std::string error() const { return error_; }
+  [[nodiscard]] const std::string& client_id() const { return client_id_; }
+  /// No command request writer or no reply reader: commands end DENIED.
+  [[nodiscard]] bool read_only() const { return !can_command_; }
+  [[nodiscard]] const ClientOptions& options() const { return options_; }
+  [[nodiscard]] std::chrono::milliseconds effective(Timeout timeout) const {
+    return timeout > Timeout::zero() ? timeout : options_.default_timeout;
+  }
+
+  /// Sends a command; `done` runs exactly once, on some internal thread, and
+  /// must not block.
+  void call(const HandAddress& hand, msg::CommandType command, std::int32_t value,
+            std::uint16_t register_code, Timeout timeout, Done done);
+  std::future<Reply> call(const HandAddress& hand, msg::CommandType command, std::int32_t value,
+                          std::uint16_t register_code, Timeout timeout);
+  /// The local check call() makes first (limits of the contract).
+  [[nodiscard]] static std::optional<Reply> check(const HandAddress& hand, msg::CommandType command,
+                                                  std::int32_t value);
+
+  [[nodiscard]] std::vector<ServiceInfo> services() const;
+  [[nodiscard]] std::optional<ServiceInfo> service(std::string_view name) const;
+  [[nodiscard]] std::vector<HandStatus> hands() const;
+  [[nodiscard]] std::optional<HandStatus> status(const HandAddress& address) const;
+  [[nodiscard]] std::vector<KnownHand> known_hands() const;
+
+  Found<ServiceInfo> wait_for_service(std::string_view name, Timeout timeout);
+  bool wait_for_statuses(Timeout timeout);
+  Found<HandAddress> wait_for_hand(const HandSpec& spec, Timeout timeout);
+  std::optional<HandStatus> wait_status(const HandAddress& address,
+                                        const std::function<bool(const HandStatus&)>& pred,
+                                        Timeout timeout);
+
+  std::shared_ptr<SubscriptionState> subscribe_events(EventCallback callback,
+                                                      std::optional<HandAddress> only);
+  std::shared_ptr<SubscriptionState> subscribe_status(StatusCallback callback,
+                                                      std::optional<HandAddress> only);
+  void unsubscribe(const std::shared_ptr<SubscriptionState>& state);
+  [[nodiscard]] bool on_dispatcher_thread() const { return dispatcher_.on_dispatcher_thread(); }
+
+  // From the DDS listeners (client_core.cpp). `prefix`: a participant's GUID
+  // prefix in hex, as client_id_for() spells it.
+  void on_participant_found(const std::string& prefix, const std::string& name);
+  void on_participant_left(const std::string& prefix);
+  void on_request_reader_matched(const std::string& prefix, bool matched);
+  void on_reply_writer_matched(const std::string& prefix, bool matched);
+  void on_event_writer_matched(const std::string& prefix, bool matched);
+  void on_info(const std::string& prefix, const msg::ServiceInfo& info);
+  void on_status(const std::string& prefix, const msg::HandStatus& status);
+  void on_event(const std::string& prefix, const msg::HandEvent& event);
+  void on_reply(const msg::CommandReply& reply);
+
+ private:
+  struct Dds;
+  using Clock = std::chrono::steady_clock;
+
+  struct Pending {
+    HandAddress hand;
+    msg::CommandRequest request;
+    Clock::time_point deadline;
+    std::chrono::milliseconds timeout{};
+    Done done;
+    std::string sent_to;  ///< the incarnation it was written to; empty: not yet written
+  };
+  struct Participant {
+    std::string service;
+    bool alive = true;
+    bool has_info = false;         ///< its ServiceInfo arrived
+    std::uint64_t started_ns = 0;  ///< from its ServiceInfo
+  };
+  struct ServiceState {
+    std::string incarnation;  ///< current participant's prefix; empty until known
+    bool alive = false;
+    std::optional<ServiceInfo> info;
+  };
+  /// What a state change leads to, done after `mutex_` is released.
+  struct Actions {
+    std::vector<std::pair<Done, Reply>> completions;
+    bool wake_io = false;
+  };
+
+  bool set_up_dds(std::string& error, const Refusals& simulated);
+  void on_match(std::multiset<std::string>& set, const std::string& prefix, bool matched);
+  void io_loop();
+  void run(Actions& actions);
+
+  // All *_locked: `mutex_` held.
+  [[nodiscard]] bool ready_locked(const std::string& service) const;
+  [[nodiscard]] bool prefix_is_dead_locked(const std::string& prefix) const;
+  /// Records that `prefix` serves `service`; makes it the current incarnation
+  /// if the service has no live one. False if the participant is known dead.
+  bool note_participant_locked(const std::string& prefix, const std::string& service, Actions& out);
+  void make_current_locked(const std::string& service, const std::string& prefix, Actions& out);
+  void dispatch_locked(const std::string& service, Actions& out);
+  void lose_locked(const std::string& service, const std::string& why, Actions& out);
+  void post_status_locked(const HandStatus& status);
+  void post_event_locked(const HandEvent& event);
+  [[nodiscard]] ServiceInfo info_locked(const std::string& name, const ServiceState& s) const;
+  [[nodiscard]] std::vector<KnownHand> known_hands_locked() const;
+  [[nodiscard]] Reply expired_locked(const Pending& pending) const;
+
+  const ClientOptions options_;
+  std::string error_;
+  std::string client_id_;
+  std::unique_ptr<Dds> dds_;
+  // Set while the participant is set up and constant after. Atomic: the DDS
+  // listeners of the readers created first may already look at them.
+  std::atomic<bool> can_command_{true};      ///< request writer and reply reader exist
+  std::atomic<bool> has_info_reader_{true};  ///< ServiceInfo is readable
+  std::string denied_message_;  ///< why commands end DENIED; read only once constructed
+
+  mutable std::mutex mutex_;
+  std::condition_variable changed_;  ///< services, statuses, closing
+  std::condition_variable io_wake_;  ///< new request to write, new deadline, closing
+  bool closed_ = false;
+  bool io_kick_ = false;  ///< a new deadline for the io thread to see
+  std::uint64_t last_seq_ = 0;
+  std::map<std::uint64_t, Pending> pending_;
+  std::deque<std::uint64_t> to_write_;               ///< request_seqs for the io thread
+  std::map<std::string, Participant> participants_;  ///< service participants, by prefix
+  std::map<std::string, ServiceState, std::less<>> services_;
+  std::multiset<std::string> request_readers_;  ///< prefixes of matched request readers
+  std::multiset<std::string> reply_writers_;    ///< prefixes of matched reply writers
+  std::multiset<std::string> event_writers_;    ///< prefixes of matched event writers
+  std::map<HandAddress, HandStatus> statuses_;
+  std::vector<std::shared_ptr<SubscriptionState>> event_subs_;
+  std::vector<std::shared_ptr<SubscriptionState>> status_subs_;
+
+  Dispatcher dispatcher_;
+  std::thread io_thread_;
+};
+
+}  // namespace dh3::detail

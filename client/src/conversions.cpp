@@ -1,0 +1,301 @@
+#include "conversions.hpp"
+
+#include <chrono>
+#include <cstdio>
+
+namespace dh3::detail {
+
+Code to_code(msg::ResultCode code) {
+  switch (code) {
+    case msg::OK:
+      return Code::ok;
+    case msg::INVALID_ARGUMENT:
+      return Code::invalid_argument;
+    case msg::UNKNOWN_HAND:
+      return Code::unknown_hand;
+    case msg::TIMEOUT:
+      return Code::timeout;
+    case msg::BUS_DOWN:
+      return Code::bus_down;
+    case msg::BUSY:
+      return Code::busy;
+    case msg::NOT_INITIALIZED:
+      return Code::not_initialized;
+    case msg::DENIED:
+      return Code::denied;
+    case msg::CANCELLED:
+      return Code::cancelled;
+    case msg::FAILED:
+      return Code::failed;
+  }
+  // A value this client does not know (a newer service): not a success.
+  return Code::failed;
+}
+
+GraspOutcome to_public(msg::GraspOutcome outcome) {
+  switch (outcome) {
+    case msg::GRASPED:
+      return GraspOutcome::grasped;
+    case msg::MISSED:
+      return GraspOutcome::missed;
+    case msg::GRASP_NONE:
+      break;
+  }
+  return GraspOutcome::none;
+}
+
+GripState to_public(msg::GripState state) {
+  switch (state) {
+    case msg::GRIP_MOVING:
+      return GripState::moving;
+    case msg::GRIP_ARRIVED:
+      return GripState::arrived;
+    case msg::GRIP_CAUGHT:
+      return GripState::caught;
+    case msg::GRIP_NO_OBJECT:
+      return GripState::no_object;
+    case msg::GRIP_DROPPED:
+      return GripState::dropped;
+    case msg::GRIP_UNKNOWN:
+      break;
+  }
+  return GripState::unknown;
+}
+
+RotationState to_public(msg::RotationState state) {
+  switch (state) {
+    case msg::ROTATION_MOVING:
+      return RotationState::moving;
+    case msg::ROTATION_ARRIVED:
+      return RotationState::arrived;
+    case msg::ROTATION_BLOCKED:
+      return RotationState::blocked;
+    case msg::ROTATION_UNKNOWN:
+      break;
+  }
+  return RotationState::unknown;
+}
+
+EventKind to_public(msg::EventKind kind) {
+  switch (kind) {
+    case msg::EVENT_ONLINE:
+      return EventKind::online;
+    case msg::EVENT_OFFLINE:
+      return EventKind::offline;
+    case msg::EVENT_INITIALIZED:
+      return EventKind::initialized;
+    case msg::EVENT_INIT_FAILED:
+      return EventKind::init_failed;
+    case msg::EVENT_ARRIVED:
+      return EventKind::arrived;
+    case msg::EVENT_GRASPED:
+      return EventKind::grasped;
+    case msg::EVENT_MISSED:
+      return EventKind::missed;
+    case msg::EVENT_DROPPED:
+      return EventKind::dropped;
+    case msg::EVENT_ROTATION_ARRIVED:
+      return EventKind::rotation_arrived;
+    case msg::EVENT_ROTATION_BLOCKED:
+      return EventKind::rotation_blocked;
+    case msg::EVENT_FAULT:
+      break;
+  }
+  return EventKind::fault;
+}
+
+HandAddress to_public(const msg::HandAddress& address) {
+  return HandAddress{address.service(), address.bus(), address.can_id()};
+}
+
+msg::HandAddress to_msg(const HandAddress& address) {
+  msg::HandAddress out;
+  out.service(address.service);
+  out.bus(address.bus);
+  out.can_id(address.can_id);
+  return out;
+}
+
+HandStatus to_public(const msg::HandStatus& s) {
+  HandStatus out;
+  out.address = HandAddress{s.service(), s.bus(), s.can_id()};
+  out.name = s.name();
+  out.online = s.online();
+  out.initialized = s.initialized();
+  out.grip = to_public(s.grip());
+  out.position = s.position();
+  out.target_position = s.target_position();
+  out.closing_force = s.closing_force();
+  out.opening_force = s.opening_force();
+  out.rotation = s.rotation();
+  out.rotation_target = s.rotation_target();
+  out.rotation_state = to_public(s.rotation_state());
+  out.firmware_version = s.firmware_version();
+  out.firmware_version_text = s.firmware_version_text();
+  out.last_error = to_code(s.last_error());
+  out.last_error_message = s.last_error_message();
+  out.lease_holder = s.lease_holder();
+  out.timestamp_ns = s.timestamp_ns();
+  out.update_seq = s.update_seq();
+  return out;
+}
+
+HandEvent to_public(const msg::HandEvent& e) {
+  HandEvent out;
+  out.hand = to_public(e.hand());
+  out.name = e.name();
+  out.kind = to_public(e.kind());
+  out.position = e.position();
+  out.target = e.target();
+  out.value = e.value();
+  out.message = e.message();
+  out.timestamp_ns = e.timestamp_ns();
+  out.event_seq = e.event_seq();
+  return out;
+}
+
+ServiceInfo to_public(const msg::ServiceInfo& info) {
+  ServiceInfo out;
+  out.name = info.service();
+  out.version = info.version();
+  out.host = info.host();
+  out.admin_allowed = info.admin_allowed();
+  out.started_ns = info.started_ns();
+  for (const auto& bus : info.buses()) {
+    BusInfo b;
+    b.name = bus.name();
+    b.spec = bus.spec();
+    b.link_up = bus.link_up();
+    for (const auto& hand : bus.hands()) b.hands.push_back(HandInfo{hand.can_id(), hand.name()});
+    out.buses.push_back(std::move(b));
+  }
+  return out;
+}
+
+Reply to_reply(const msg::CommandReply& reply) {
+  Reply out;
+  out.code = to_code(reply.code());
+  out.message = reply.message();
+  if (out.code != Code::ok && out.message.empty()) {
+    out.message =
+        command_name(reply.command()) + " failed with " + std::string(to_string(out.code));
+  }
+  out.value = reply.value();
+  out.grasp = to_public(reply.grasp());
+  out.found_ids = reply.found_ids();
+  out.lease_holder = reply.lease_holder();
+  return out;
+}
+
+std::string command_name(msg::CommandType command) {
+  switch (command) {
+    case msg::INITIALIZE:
+      return "INITIALIZE";
+    case msg::MOVE:
+      return "MOVE";
+    case msg::SET_CLOSING_FORCE:
+      return "SET_CLOSING_FORCE";
+    case msg::SET_OPENING_FORCE:
+      return "SET_OPENING_FORCE";
+    case msg::ROTATE:
+      return "ROTATE";
+    case msg::READ_REGISTER:
+      return "READ_REGISTER";
+    case msg::SET_CAN_ID:
+      return "SET_CAN_ID";
+    case msg::SET_BAUD_RATE:
+      return "SET_BAUD_RATE";
+    case msg::ENABLE_INIT_FEEDBACK:
+      return "ENABLE_INIT_FEEDBACK";
+    case msg::GRASP:
+      return "GRASP";
+    case msg::RELEASE:
+      return "RELEASE";
+    case msg::STOP:
+      return "STOP";
+    case msg::SCAN:
+      return "SCAN";
+    case msg::ACQUIRE_LEASE:
+      return "ACQUIRE_LEASE";
+    case msg::RENEW_LEASE:
+      return "RENEW_LEASE";
+    case msg::RELEASE_LEASE:
+      return "RELEASE_LEASE";
+  }
+  return "command " + std::to_string(static_cast<std::uint32_t>(command));
+}
+
+namespace {
+
+struct Range {
+  std::int64_t min = 0;
+  std::int64_t max = 0;
+  const char* what = "";
+};
+
+std::optional<Range> value_range(msg::CommandType command) {
+  switch (command) {
+    case msg::MOVE:
+    case msg::RELEASE:
+      return Range{limits::POSITION_MIN, limits::POSITION_MAX, "position (percent, 100 = open)"};
+    case msg::ROTATE:
+      return Range{limits::ROTATION_MIN, limits::ROTATION_MAX, "rotation (percent of 90 degrees)"};
+    case msg::SET_CLOSING_FORCE:
+    case msg::SET_OPENING_FORCE:
+    case msg::GRASP:
+      return Range{limits::FORCE_MIN, limits::FORCE_MAX, "force (percent)"};
+    case msg::SET_CAN_ID:
+      return Range{limits::CAN_ID_MIN, limits::CAN_ID_MAX, "CAN ID"};
+    case msg::SET_BAUD_RATE:
+      return Range{limits::BAUD_INDEX_MIN, limits::BAUD_INDEX_MAX,
+                   "baud rate index (0 = 500 kbps ... 5 = 100 kbps)"};
+    case msg::ACQUIRE_LEASE:
+    case msg::RENEW_LEASE:
+      return Range{limits::LEASE_TTL_MIN_MS, limits::LEASE_TTL_MAX_MS, "lease time to live (ms)"};
+    default:
+      return std::nullopt;
+  }
+}
+
+Reply invalid(std::string message) {
+  Reply reply;
+  reply.code = Code::invalid_argument;
+  reply.message = std::move(message);
+  return reply;
+}
+
+}  // namespace
+
+std::optional<Reply> check_request(const msg::CommandRequest& request) {
+  const auto& hand = request.hand();
+  if (hand.service().empty()) return invalid("the hand's service name is empty");
+  if (hand.bus().empty()) return invalid("the hand's bus name is empty");
+  if (hand.service().size() > limits::MAX_NAME_LENGTH ||
+      hand.bus().size() > limits::MAX_NAME_LENGTH) {
+    return invalid("service and bus names are at most " + std::to_string(limits::MAX_NAME_LENGTH) +
+                   " characters");
+  }
+  const std::string name = command_name(request.command());
+  if (request.command() != msg::SCAN &&
+      (hand.can_id() < limits::CAN_ID_MIN || hand.can_id() > limits::CAN_ID_MAX)) {
+    return invalid(name + " needs a hand's CAN ID (" + std::to_string(limits::CAN_ID_MIN) + "-" +
+                   std::to_string(limits::CAN_ID_MAX) + "), not " + std::to_string(hand.can_id()));
+  }
+  if (const auto range = value_range(request.command());
+      range && (request.value() < range->min || request.value() > range->max)) {
+    return invalid(name + " value " + std::to_string(request.value()) + " is out of range for " +
+                   range->what + " (" + std::to_string(range->min) + "-" +
+                   std::to_string(range->max) + ")");
+  }
+  return std::nullopt;
+}
+
+std::string describe_duration(std::chrono::milliseconds duration) {
+  const auto ms = duration.count();
+  if (ms < 1000) return std::to_string(ms) + " ms";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g s", static_cast<double>(ms) / 1000.0);
+  return text;
+}
+
+}  // namespace dh3::detail

@@ -1,0 +1,41 @@
+#pragma once
+// Between the wire types (dh3::msg, generated from idl/dh3.idl) and the client
+// library's public types. Pure functions, so they are tested without DDS.
+
+#include <chrono>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "dh3/types.hpp"
+#include "dh3_idl/dh3.h"
+
+namespace dh3::detail {
+
+[[nodiscard]] Code to_code(msg::ResultCode code);
+[[nodiscard]] GraspOutcome to_public(msg::GraspOutcome outcome);
+[[nodiscard]] GripState to_public(msg::GripState state);
+[[nodiscard]] RotationState to_public(msg::RotationState state);
+[[nodiscard]] EventKind to_public(msg::EventKind kind);
+
+[[nodiscard]] HandAddress to_public(const msg::HandAddress& address);
+[[nodiscard]] msg::HandAddress to_msg(const HandAddress& address);
+[[nodiscard]] HandStatus to_public(const msg::HandStatus& status);
+[[nodiscard]] HandEvent to_public(const msg::HandEvent& event);
+[[nodiscard]] ServiceInfo to_public(const msg::ServiceInfo& info);
+/// The reply as the caller sees it; a reply that is not OK but came without a
+/// message gets one naming the code, so a user never sees an empty reason.
+[[nodiscard]] Reply to_reply(const msg::CommandReply& reply);
+
+/// "MOVE", "GRASP", ...; "command N" outside the enum.
+[[nodiscard]] std::string command_name(msg::CommandType command);
+
+/// Checks a request against the contract's limits before it is sent, so an
+/// out-of-range value is answered at once (the service checks again). The
+/// message names the value, the allowed range and what it is.
+[[nodiscard]] std::optional<Reply> check_request(const msg::CommandRequest& request);
+
+/// "4.5 s", "200 ms": durations in messages.
+[[nodiscard]] std::string describe_duration(std::chrono::milliseconds duration);
+
+}  // namespace dh3::detail

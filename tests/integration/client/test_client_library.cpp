@@ -1,0 +1,355 @@
+// dh3::Client and dh3::Hand against the real dh3-service on the simulator:
+// commands and their replies, errors with the service's code and message,
+// events, threads, concurrent clients, leases, and the service stopping,
+// dying and coming back while the client lives on.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <condition_variable>
+#include <csignal>
+#include <future>
+#include <mutex>
+#include <thread>
+
+#include "client_fixture.hpp"
+#include "dh3/registers.hpp"
+
+namespace dh3::test {
+namespace {
+
+using ::testing::AnyOf;
+using ::testing::HasSubstr;
+
+class ClientLibraryTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    service_ = std::make_unique<RunningService>(sim_config());
+    ASSERT_TRUE(service_->started());
+    ASSERT_TRUE(client_.connected()) << client_.error();
+    auto found = client_.wait_for_service(test_service_name(), kClientDeadline);
+    ASSERT_TRUE(found) << found.message();
+  }
+
+  Hand hand(std::uint16_t id) {
+    auto found = client_.wait_for_hand(hand_spec(id), kClientDeadline);
+    EXPECT_TRUE(found) << found.message();
+    return found ? *found : client_.hand(hand_address(id));
+  }
+
+  std::unique_ptr<RunningService> service_;
+  Client client_{client_options()};
+};
+
+/// Collects events from a callback; tests wait on what arrived.
+class EventLog {
+ public:
+  void add(const HandEvent& event) {
+    {
+      std::lock_guard lock(mutex_);
+      events_.push_back(event);
+    }
+    changed_.notify_all();
+  }
+  bool wait_for_kind(EventKind kind) {
+    std::unique_lock lock(mutex_);
+    return changed_.wait_for(lock, kClientDeadline, [&] {
+      return std::any_of(events_.begin(), events_.end(),
+                         [&](const HandEvent& e) { return e.kind == kind; });
+    });
+  }
+  std::vector<HandEvent> events() {
+    std::lock_guard lock(mutex_);
+    return events_;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::vector<HandEvent> events_;
+};
+
+TEST_F(ClientLibraryTest, ListsTheServiceAndItsHandsWithTheirStatus) {
+  ASSERT_TRUE(client_.wait_for_statuses(kClientDeadline));
+  const auto info = client_.service(test_service_name());
+  ASSERT_TRUE(info);
+  EXPECT_TRUE(info->ready);
+  ASSERT_EQ(info->buses.size(), 1U);
+  EXPECT_EQ(info->buses[0].name, "bus0");
+  const auto hands = client_.hands();
+  ASSERT_EQ(hands.size(), 3U);
+  for (const auto& status : hands) EXPECT_EQ(status.address.service, test_service_name());
+  const Hand one = hand(1);
+  EXPECT_TRUE(one.wait_until([](const HandStatus& s) { return s.online; }, kClientDeadline));
+}
+
+TEST_F(ClientLibraryTest, InitializeMoveGraspAndRelease) {
+  Hand one = hand(1);
+  const Reply init = one.initialize();
+  ASSERT_TRUE(init) << init.message;
+  EXPECT_TRUE(one.wait_until([](const HandStatus& s) { return s.initialized; }));
+
+  const Reply move = one.move_to(60);
+  ASSERT_TRUE(move) << move.message;
+  EXPECT_TRUE(one.wait_until([](const HandStatus& s) {
+    return s.position == 60 && s.grip == GripState::arrived;
+  })) << "never arrived at 60";
+
+  // Hand 1 has an object at 40: closing from 60 stops on it.
+  const Reply grasp = one.grasp(40);
+  ASSERT_TRUE(grasp) << grasp.message;
+  EXPECT_EQ(grasp.grasp, GraspOutcome::grasped);
+  EXPECT_GE(grasp.value, 35);
+  EXPECT_LE(grasp.value, 45);
+  EXPECT_TRUE(one.wait_until([](const HandStatus& s) { return s.grip == GripState::caught; }));
+
+  const Reply release = one.release(100);
+  ASSERT_TRUE(release) << release.message;
+  EXPECT_TRUE(one.wait_until([](const HandStatus& s) { return s.position == 100; }));
+}
+
+TEST_F(ClientLibraryTest, GraspOnNothingIsMissedWithTheFinalPosition) {
+  Hand two = hand(2);
+  ASSERT_TRUE(two.initialize());
+  const Reply grasp = two.grasp(30);
+  ASSERT_TRUE(grasp) << grasp.message;
+  EXPECT_EQ(grasp.grasp, GraspOutcome::missed);
+  EXPECT_EQ(grasp.value, 0);
+}
+
+TEST_F(ClientLibraryTest, ReadsRotatesAndSetsForces) {
+  Hand three = hand(3);
+  ASSERT_TRUE(three.initialize());
+  const Reply force = three.set_force(70, 30);
+  ASSERT_TRUE(force) << force.message;
+  EXPECT_TRUE(three.wait_until(
+      [](const HandStatus& s) { return s.closing_force == 70 && s.opening_force == 30; }));
+  EXPECT_EQ(three.read(reg::closing_force).value, 70);
+  EXPECT_EQ(three.read(reg::firmware_version).value, 0x04010200);
+  ASSERT_TRUE(three.rotate_to(50));
+  EXPECT_TRUE(three.wait_until([](const HandStatus& s) { return s.rotation == 50; }));
+  EXPECT_TRUE(three.stop());
+}
+
+TEST_F(ClientLibraryTest, ErrorsCarryTheServicesCodeAndMessage) {
+  Hand two = hand(2);
+  const Reply early = two.move_to(50);
+  EXPECT_EQ(early.code, Code::not_initialized);
+  EXPECT_THAT(early.message, HasSubstr("not initialized"));
+
+  const Reply unknown = client_.hand(hand_address(9)).initialize();
+  EXPECT_EQ(unknown.code, Code::unknown_hand);
+  EXPECT_THAT(unknown.message, HasSubstr("no hand 9"));
+
+  const Reply admin = two.set_can_id(5);
+  EXPECT_EQ(admin.code, Code::denied);
+  EXPECT_THAT(admin.message, HasSubstr("--allow-admin"));
+
+  const Reply bad_bus = client_.hand({test_service_name(), "nobus", 1}).stop();
+  EXPECT_EQ(bad_bus.code, Code::unknown_hand);
+  EXPECT_THAT(bad_bus.message, HasSubstr("no bus 'nobus'"));
+}
+
+TEST_F(ClientLibraryTest, ScanFindsTheHandsOnTheBus) {
+  const Reply scan = client_.scan(test_service_name(), "bus0");
+  ASSERT_TRUE(scan) << scan.message;
+  EXPECT_EQ(scan.found_ids, (std::vector<std::uint16_t>{1, 2, 3}));
+  const Reply from_hand = hand(2).scan_bus();
+  ASSERT_TRUE(from_hand) << from_hand.message;
+  EXPECT_EQ(from_hand.found_ids, (std::vector<std::uint16_t>{1, 2, 3}));
+}
+
+TEST_F(ClientLibraryTest, EventsReachTheCallback) {
+  Hand one = hand(1);
+  EventLog log;
+  auto subscription = one.subscribe([&log](const HandEvent& e) { log.add(e); });
+  ASSERT_TRUE(one.initialize());
+  EXPECT_TRUE(log.wait_for_kind(EventKind::initialized));
+  ASSERT_TRUE(one.grasp(40));
+  EXPECT_TRUE(log.wait_for_kind(EventKind::grasped));
+  for (const auto& event : log.events()) EXPECT_EQ(event.hand, hand_address(1));
+}
+
+TEST_F(ClientLibraryTest, TwoThreadsDriveTwoHandsAtOnce) {
+  std::atomic<int> failures{0};
+  const auto drive = [&](std::uint16_t id, std::int32_t low, std::int32_t high) {
+    Hand h = client_.hand(hand_address(id));
+    if (!h.initialize()) ++failures;
+    for (int i = 0; i < 5; ++i) {
+      const Reply a = h.move_to(low);
+      const Reply b = h.move_to(high);
+      if (!a || !b) ++failures;
+    }
+  };
+  std::thread first(drive, std::uint16_t{2}, 20, 80);
+  std::thread second(drive, std::uint16_t{3}, 10, 90);
+  first.join();
+  second.join();
+  EXPECT_EQ(failures, 0);
+  EXPECT_TRUE(hand(2).wait_until([](const HandStatus& s) { return s.target_position == 80; }));
+  EXPECT_TRUE(hand(3).wait_until([](const HandStatus& s) { return s.target_position == 90; }));
+}
+
+TEST_F(ClientLibraryTest, OneClientsRepliesNeverResolveAnothersCalls) {
+  // Two clients number their requests alike, and every reply goes to every
+  // client: each must get only its own answers.
+  Client other(client_options());
+  ASSERT_TRUE(other.wait_for_service(test_service_name(), kClientDeadline));
+  Hand mine = hand(1);
+  Hand theirs = other.hand(hand_address(1));
+  ASSERT_TRUE(mine.initialize());
+  ASSERT_TRUE(mine.set_force(70, 30));
+  std::atomic<int> wrong{0};
+  std::thread reader([&] {
+    for (int i = 0; i < 20; ++i) {
+      const Reply r = theirs.read(reg::firmware_version);
+      if (!r || r.value != 0x04010200) ++wrong;
+    }
+  });
+  for (int i = 0; i < 20; ++i) {
+    const Reply r = mine.read(reg::closing_force);
+    if (!r || r.value != 70) ++wrong;
+  }
+  reader.join();
+  EXPECT_EQ(wrong, 0);
+}
+
+TEST_F(ClientLibraryTest, ALeaseHolderKeepsOtherClientsOut) {
+  Client other(client_options());
+  ASSERT_TRUE(other.wait_for_service(test_service_name(), kClientDeadline));
+  Hand mine = hand(2);
+  Hand theirs = other.hand(hand_address(2));
+  ASSERT_TRUE(mine.initialize());
+  const Reply lease = mine.acquire_lease(std::chrono::seconds(30));
+  ASSERT_TRUE(lease) << lease.message;
+  const Reply denied = theirs.move_to(10);
+  EXPECT_EQ(denied.code, Code::denied);
+  EXPECT_EQ(denied.lease_holder, client_.client_id());
+  EXPECT_TRUE(mine.move_to(30));
+  ASSERT_TRUE(mine.release_lease());
+  const Reply allowed = theirs.move_to(10);
+  EXPECT_TRUE(allowed) << allowed.message;
+}
+
+TEST_F(ClientLibraryTest, ALateJoinerSeesTheLatestStatusAtOnce) {
+  ASSERT_TRUE(hand(1).initialize());
+  ASSERT_TRUE(hand(1).move_to(70));
+  ASSERT_TRUE(hand(1).wait_until([](const HandStatus& s) { return s.position == 70; }));
+  Client late(client_options());
+  auto found = late.wait_for_hand(hand_spec(1), kClientDeadline);
+  ASSERT_TRUE(found) << found.message();
+  const auto status = found->status();
+  ASSERT_TRUE(status);
+  EXPECT_TRUE(status->initialized);
+  EXPECT_EQ(status->position, 70);
+}
+
+/// The service is replaced while a call is pending: a long initialization
+/// keeps the call open.
+class ServiceLifecycleTest : public ::testing::Test {
+ protected:
+  Client client_{client_options()};
+};
+
+TEST_F(ServiceLifecycleTest, KilledServiceEndsPendingCallsAndTheSameHandWorksAfterRestart) {
+  auto service = std::make_unique<RunningService>(sim_config(/*init_time_ms=*/600000));
+  ASSERT_TRUE(service->started());
+  auto found = client_.wait_for_hand(hand_spec(1), kClientDeadline);
+  ASSERT_TRUE(found) << found.message();
+  Hand one = *found;
+  EventLog log;
+  auto subscription = one.subscribe([&log](const HandEvent& e) { log.add(e); });
+
+  auto pending = one.initialize_async(std::chrono::seconds(120));
+  // Requests from one client arrive in order: once another hand's read is
+  // answered, the service has the INITIALIZE (which takes ten minutes here).
+  const Reply probe = client_.hand(hand_address(3)).read(reg::position);
+  ASSERT_TRUE(probe) << probe.message;
+  service->process().process().send_signal(SIGKILL);
+  ASSERT_TRUE(service->process().process().wait_exit(kClientDeadline));
+  service.reset();
+
+  // A new instance of the same service: the client tells it from the dead one.
+  RunningService restarted(sim_config());
+  ASSERT_TRUE(restarted.started());
+  ASSERT_EQ(pending.wait_for(std::chrono::seconds(60)), std::future_status::ready);
+  const Reply lost = pending.get();
+  EXPECT_EQ(lost.code, Code::service_lost);
+  EXPECT_THAT(lost.message, HasSubstr("INITIALIZE"));
+
+  const Reply again = one.initialize();
+  EXPECT_TRUE(again) << again.message;
+  EXPECT_TRUE(one.wait_until([](const HandStatus& s) { return s.online && s.initialized; }));
+}
+
+TEST_F(ServiceLifecycleTest, StoppedServiceTakesItsHandsOfflineAndComesBack) {
+  auto service = std::make_unique<RunningService>(sim_config(/*init_time_ms=*/600000));
+  ASSERT_TRUE(service->started());
+  auto found = client_.wait_for_hand(hand_spec(2), kClientDeadline);
+  ASSERT_TRUE(found) << found.message();
+  Hand two = *found;
+  ASSERT_TRUE(two.wait_until([](const HandStatus& s) { return s.online; }));
+  EventLog log;
+  auto subscription = two.subscribe([&log](const HandEvent& e) { log.add(e); });
+
+  auto pending = two.initialize_async(std::chrono::seconds(120));
+  // Requests from one client arrive in order: once another hand's read is
+  // answered, the service has the INITIALIZE.
+  const Reply probe = client_.hand(hand_address(3)).read(reg::position);
+  ASSERT_TRUE(probe) << probe.message;
+  ASSERT_EQ(service->process().stop(SIGTERM), 0);
+  service.reset();
+
+  ASSERT_EQ(pending.wait_for(std::chrono::seconds(60)), std::future_status::ready);
+  const Reply ended = pending.get();
+  EXPECT_THAT(ended.code, AnyOf(Code::cancelled, Code::service_lost));
+  EXPECT_FALSE(ended.message.empty());
+  EXPECT_TRUE(two.wait_until([](const HandStatus& s) { return !s.online; }));
+  EXPECT_TRUE(log.wait_for_kind(EventKind::offline));
+  EXPECT_FALSE(client_.service(test_service_name())->ready);
+
+  // A call made while the service is away waits for it, within its timeout.
+  auto waiting = two.read_async(reg::firmware_version, std::chrono::seconds(60));
+  RunningService restarted(sim_config());
+  ASSERT_TRUE(restarted.started());
+  ASSERT_EQ(waiting.wait_for(std::chrono::seconds(60)), std::future_status::ready);
+  const Reply read = waiting.get();
+  EXPECT_TRUE(read) << read.message;
+  EXPECT_EQ(read.value, 0x04010200);
+  EXPECT_TRUE(two.wait_until([](const HandStatus& s) { return s.online; }));
+  EXPECT_TRUE(two.initialize());
+}
+
+TEST(EventWatcherExampleTest, PrintsTheEventsOfTheHandItWatches) {
+  RunningService service(sim_config());
+  ASSERT_TRUE(service.started());
+  Process watcher(EVENT_WATCHER_PATH, {"--domain", std::to_string(test_domain()), hand_spec(1)},
+                  Process::Stdin::dev_null);
+  ASSERT_TRUE(watcher.wait_for_line("watching events", kClientDeadline));
+  // It says so once the service has matched it: no event after this is lost.
+  Client client(client_options());
+  ASSERT_TRUE(client.wait_for_service(test_service_name(), kClientDeadline));
+  ASSERT_TRUE(client.hand(hand_address(1)).initialize());
+  const auto line = watcher.wait_for_line(hand_spec(1) + " INITIALIZED", kClientDeadline);
+  EXPECT_TRUE(line) << "no INITIALIZED event printed";
+  watcher.send_signal(SIGINT);
+  const auto status = watcher.wait_exit(kClientDeadline);
+  ASSERT_TRUE(status && WIFEXITED(*status));
+  EXPECT_EQ(WEXITSTATUS(*status), 0);
+}
+
+TEST(PickLoopExampleTest, GraspsAndReleasesTheHandItIsGiven) {
+  RunningService service(sim_config());
+  ASSERT_TRUE(service.started());
+  const Finished run =
+      run_program(PICK_LOOP_PATH, {"--domain", std::to_string(test_domain()), "--hand",
+                                   hand_spec(1), "--cycles", "2", "--force", "40"});
+  ASSERT_EQ(run.exit_code, 0) << run.text();
+  EXPECT_THAT(run.text(), HasSubstr("cycle 1: GRASPED"));
+  EXPECT_THAT(run.text(), HasSubstr("cycle 2: GRASPED"));
+  EXPECT_THAT(run.text(), HasSubstr("done: 2 cycles, 2 grasped"));
+}
+
+}  // namespace
+}  // namespace dh3::test

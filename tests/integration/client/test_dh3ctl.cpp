@@ -1,0 +1,131 @@
+// dh3ctl as a user runs it, as a child process against dh3-service on the
+// simulator: exit status, what it prints, --json, errors with the service's
+// message, events and status --watch.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <csignal>
+
+#include "client_fixture.hpp"
+
+namespace dh3::test {
+namespace {
+
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+using ::testing::StartsWith;
+
+class Dh3ctlTest : public ::testing::Test {
+ protected:
+  void SetUp() override { ASSERT_TRUE(service_.started()); }
+  RunningService service_{sim_config()};
+};
+
+TEST_F(Dh3ctlTest, ListShowsTheServiceAndEveryHand) {
+  const Finished run = dh3ctl({"list"});
+  ASSERT_EQ(run.exit_code, 0) << run.text();
+  EXPECT_THAT(run.text(), HasSubstr("service " + test_service_name()));
+  EXPECT_THAT(run.text(), HasSubstr("bus0 sim"));
+  for (std::uint16_t id = 1; id <= 3; ++id) EXPECT_THAT(run.text(), HasSubstr(hand_spec(id)));
+}
+
+TEST_F(Dh3ctlTest, InitMoveGraspStatusRelease) {
+  const Finished init = dh3ctl({"init", hand_spec(1)});
+  ASSERT_EQ(init.exit_code, 0) << init.text();
+  EXPECT_THAT(init.text(), HasSubstr(hand_spec(1) + ": initialized"));
+
+  const Finished move = dh3ctl({"move", hand_spec(1), "60"});
+  ASSERT_EQ(move.exit_code, 0) << move.text();
+  const Finished grasp = dh3ctl({"grasp", hand_spec(1), "40"});
+  ASSERT_EQ(grasp.exit_code, 0) << grasp.text();
+  EXPECT_THAT(grasp.text(), HasSubstr("GRASPED at position"));
+
+  const Finished status = dh3ctl({"--json", "status", hand_spec(1)});
+  ASSERT_EQ(status.exit_code, 0) << status.text();
+  ASSERT_EQ(status.lines.size(), 1U) << status.text();
+  EXPECT_THAT(status.lines[0], StartsWith(R"({"type":"status","hand":")" + hand_spec(1)));
+  EXPECT_THAT(status.lines[0], HasSubstr(R"("initialized":true)"));
+
+  const Finished release = dh3ctl({"release", hand_spec(1), "100"});
+  ASSERT_EQ(release.exit_code, 0) << release.text();
+}
+
+TEST_F(Dh3ctlTest, ShortHandNamesWorkWhenUnambiguous) {
+  const Finished init = dh3ctl({"init", "2"});
+  ASSERT_EQ(init.exit_code, 0) << init.text();
+  EXPECT_THAT(init.text(), HasSubstr(hand_spec(2)));
+  const Finished grasp = dh3ctl({"--json", "grasp", "bus0/2", "30"});
+  ASSERT_EQ(grasp.exit_code, 0) << grasp.text();
+  EXPECT_THAT(grasp.text(), HasSubstr(R"("grasp":"MISSED")"));
+}
+
+TEST_F(Dh3ctlTest, FailuresExitNonZeroWithTheServicesMessage) {
+  const Finished early = dh3ctl({"--json", "move", hand_spec(3), "50"});
+  EXPECT_EQ(early.exit_code, 1);
+  EXPECT_THAT(early.text(), AllOf(HasSubstr(R"("ok":false,"code":"NOT_INITIALIZED")"),
+                                  HasSubstr("not initialized")));
+  const Finished admin = dh3ctl({"--json", "set-can-id", hand_spec(3), "7", "--yes"});
+  EXPECT_EQ(admin.exit_code, 1);
+  EXPECT_THAT(admin.text(), HasSubstr(R"("code":"DENIED")"));
+  const Finished unknown = dh3ctl({"--json", "init", test_service_name() + "/bus0/9"});
+  EXPECT_EQ(unknown.exit_code, 1);
+  EXPECT_THAT(unknown.text(), HasSubstr(R"("code":"UNKNOWN_HAND")"));
+}
+
+TEST_F(Dh3ctlTest, VersionReadScanAndForce) {
+  const Finished version = dh3ctl({"version", hand_spec(1)});
+  ASSERT_EQ(version.exit_code, 0) << version.text();
+  EXPECT_THAT(version.text(), HasSubstr("firmware 4.1.2.0 (raw 0x04010200)"));
+  const Finished force = dh3ctl({"force", hand_spec(1), "65", "35"});
+  ASSERT_EQ(force.exit_code, 0) << force.text();
+  const Finished read = dh3ctl({"read", hand_spec(1), "closing_force"});
+  ASSERT_EQ(read.exit_code, 0) << read.text();
+  EXPECT_THAT(read.text(), HasSubstr("closing_force (0x0502) = 65"));
+  const Finished scan = dh3ctl({"scan"});
+  ASSERT_EQ(scan.exit_code, 0) << scan.text();
+  EXPECT_THAT(scan.text(), HasSubstr(test_service_name() + "/bus0: found 1 2 3"));
+}
+
+TEST_F(Dh3ctlTest, EventsPrintsWhatHappensToTheHand) {
+  Process events(DH3CTL_PATH, ctl_args({"events", hand_spec(1), "--count", "1"}),
+                 Process::Stdin::dev_null);
+  ASSERT_TRUE(events.wait_for_line("watching events", kClientDeadline));
+  ASSERT_EQ(dh3ctl({"init", hand_spec(1)}).exit_code, 0);
+  const auto line = events.read_line(kClientDeadline);
+  ASSERT_TRUE(line);
+  EXPECT_THAT(*line, HasSubstr(hand_spec(1)));
+  const auto status = events.wait_exit(kClientDeadline);
+  ASSERT_TRUE(status && WIFEXITED(*status));
+  EXPECT_EQ(WEXITSTATUS(*status), 0);
+}
+
+TEST_F(Dh3ctlTest, StatusWatchStreamsUpdatesUntilInterrupted) {
+  Process watch(DH3CTL_PATH, ctl_args({"--json", "status", hand_spec(2), "--watch"}),
+                Process::Stdin::dev_null);
+  // Not a terminal: one JSON line per status sample, the known one first.
+  const auto first = watch.wait_for_line("{", kClientDeadline);
+  ASSERT_TRUE(first);
+  EXPECT_THAT(*first, HasSubstr(R"("hand":")" + hand_spec(2)));
+  ASSERT_EQ(dh3ctl({"init", hand_spec(2)}).exit_code, 0);
+  bool saw_initialized = false;
+  while (!saw_initialized) {
+    const auto line = watch.read_line(kClientDeadline);
+    ASSERT_TRUE(line) << "no status update showed the hand initialized";
+    saw_initialized = line->find(R"("initialized":true)") != std::string::npos;
+  }
+  watch.send_signal(SIGINT);
+  const auto status = watch.wait_exit(kClientDeadline);
+  ASSERT_TRUE(status && WIFEXITED(*status));
+  EXPECT_EQ(WEXITSTATUS(*status), 0);
+}
+
+TEST(Dh3ctlWithoutServiceTest, NoServiceExitsNonZeroAndSaysSo) {
+  const Finished run = run_program(
+      DH3CTL_PATH, {"--domain", std::to_string(test_domain()), "--timeout", "1", "--json", "list"});
+  EXPECT_EQ(run.exit_code, 1);
+  EXPECT_THAT(run.text(), HasSubstr(R"("code":"NO_SERVICE")"));
+}
+
+}  // namespace
+}  // namespace dh3::test

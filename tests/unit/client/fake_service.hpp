@@ -1,0 +1,213 @@
+#pragma once
+// A stand-in for dh3-service on the wire, for testing the client library
+// without the service: a raw Fast DDS participant, named as dh3-service names
+// its own ("dh3-service <name>"), that publishes a service info and hand
+// statuses, and answers each command request with whatever replies the test's
+// handler returns (none, several, other clients' ids...). It can also publish
+// events. Deleting it takes its participant off the domain, as a stopped
+// service does.
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+#include <functional>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "dh3_idl/dh3.h"
+#include "dh3_idl/dh3PubSubTypes.h"
+#include "dh3_participant.hpp"
+#include "dh3_qos.hpp"
+#include "dh3_security.hpp"
+
+namespace dh3::test {
+
+/// The reply dh3-service would send to `request`: its ids echoed, code OK,
+/// value echoed.
+inline msg::CommandReply reply_to(const msg::CommandRequest& request,
+                                  msg::ResultCode code = msg::OK) {
+  msg::CommandReply reply;
+  reply.client_id(request.client_id());
+  reply.request_seq(request.request_seq());
+  reply.hand(request.hand());
+  reply.command(request.command());
+  reply.code(code);
+  reply.value(request.value());
+  return reply;
+}
+
+class FakeService {
+ public:
+  using Handler = std::function<std::vector<msg::CommandReply>(const msg::CommandRequest&)>;
+
+  /// A service `name` with hands `ids` on bus "bus0"; answers every request
+  /// OK until set_handler() says otherwise. With `security_dir` it uses DDS
+  /// Security with that directory's "service" identity (make-test-pki.sh).
+  FakeService(int domain, std::string name, std::vector<std::uint16_t> ids = {1, 2},
+              const std::string& security_dir = {})
+      : name_(std::move(name)), ids_(std::move(ids)) {
+    handler_ = [](const msg::CommandRequest& r) { return std::vector{reply_to(r)}; };
+    namespace fdds = eprosima::fastdds::dds;
+    auto qos = contract::participant_qos("dh3-service " + name_, {});
+    if (!security_dir.empty()) {
+      contract::enable_security(qos, contract::security_files_in(security_dir, "service"));
+    }
+    participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(
+        static_cast<fdds::DomainId_t>(domain), qos, nullptr, fdds::StatusMask::none());
+    if (participant_ == nullptr) return;
+    const auto topic = [this](const std::string& topic_name, fdds::TopicDataType* type) {
+      fdds::TypeSupport support(type);
+      support.register_type(participant_);
+      return participant_->create_topic(topic_name, support.get_type_name(),
+                                        fdds::TOPIC_QOS_DEFAULT);
+    };
+    auto* status = topic(topics::HAND_STATUS, new msg::HandStatusPubSubType());
+    auto* event = topic(topics::HAND_EVENT, new msg::HandEventPubSubType());
+    auto* info = topic(topics::SERVICE_INFO, new msg::ServiceInfoPubSubType());
+    auto* request = topic(topics::COMMAND_REQUEST, new msg::CommandRequestPubSubType());
+    auto* reply = topic(topics::COMMAND_REPLY, new msg::CommandReplyPubSubType());
+    auto* publisher = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+    auto* subscriber = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+    using contract::TopicRole;
+    status_writer_ =
+        publisher->create_datawriter(status, contract::writer_qos(TopicRole::hand_status));
+    event_writer_ =
+        publisher->create_datawriter(event, contract::writer_qos(TopicRole::hand_event));
+    info_writer_ =
+        publisher->create_datawriter(info, contract::writer_qos(TopicRole::service_info));
+    reply_writer_ = publisher->create_datawriter(reply, contract::writer_qos(TopicRole::reply));
+
+    msg::ServiceInfo service_info;
+    service_info.service(name_);
+    service_info.version("fake");
+    service_info.host("test");
+    // A later instance says it started later: that is how clients tell a
+    // restart from an old instance still around.
+    service_info.started_ns(
+        static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                       std::chrono::system_clock::now().time_since_epoch())
+                                       .count()));
+    msg::BusInfo bus;
+    bus.name("bus0");
+    bus.spec("sim");
+    bus.link_up(true);
+    for (const auto id : ids_) {
+      msg::HandInfo hand;
+      hand.can_id(id);
+      hand.name("hand" + std::to_string(id));
+      bus.hands().push_back(hand);
+    }
+    service_info.buses().push_back(bus);
+    info_writer_->write(&service_info);
+    for (const auto id : ids_) publish_status(id, true);
+
+    // Last, as dh3-service does: requests are taken once everything runs.
+    subscriber->create_datareader(request, contract::reader_qos(TopicRole::request), &listener_,
+                                  fdds::StatusMask::data_available());
+  }
+
+  ~FakeService() {
+    if (participant_ == nullptr) return;
+    participant_->delete_contained_entities();
+    eprosima::fastdds::dds::DomainParticipantFactory::get_instance()->delete_participant(
+        participant_);
+  }
+  FakeService(const FakeService&) = delete;
+  FakeService& operator=(const FakeService&) = delete;
+
+  [[nodiscard]] bool ok() const { return participant_ != nullptr && reply_writer_ != nullptr; }
+  [[nodiscard]] const std::string& name() const { return name_; }
+
+  void set_handler(Handler handler) {
+    std::lock_guard lock(mutex_);
+    handler_ = std::move(handler);
+  }
+
+  void publish_status(std::uint16_t id, bool online, std::int32_t position = 100) {
+    msg::HandStatus status;
+    status.service(name_);
+    status.bus("bus0");
+    status.can_id(id);
+    status.name("hand" + std::to_string(id));
+    status.online(online);
+    status.position(position);
+    status.update_seq(++update_seq_);
+    status_writer_->write(&status);
+  }
+
+  void publish_event(std::uint16_t id, msg::EventKind kind, std::int32_t value = 0) {
+    msg::HandEvent event;
+    event.hand().service(name_);
+    event.hand().bus("bus0");
+    event.hand().can_id(id);
+    event.kind(kind);
+    event.value(value);
+    event.event_seq(++event_seq_);
+    event_writer_->write(&event);
+  }
+
+  /// Sends a reply of the test's making (not in answer to anything).
+  void send_reply(msg::CommandReply reply) { reply_writer_->write(&reply); }
+
+  /// Waits until `count` requests arrived; all received so far.
+  std::vector<msg::CommandRequest> wait_requests(std::size_t count,
+                                                 std::chrono::milliseconds timeout) {
+    std::unique_lock lock(mutex_);
+    changed_.wait_for(lock, timeout, [&] { return requests_.size() >= count; });
+    return requests_;
+  }
+
+ private:
+  class Listener final : public eprosima::fastdds::dds::DataReaderListener {
+   public:
+    explicit Listener(FakeService& fake) : fake_(fake) {}
+    void on_data_available(eprosima::fastdds::dds::DataReader* reader) override {
+      msg::CommandRequest request;
+      eprosima::fastdds::dds::SampleInfo info;
+      while (reader->take_next_sample(&request, &info) ==
+             eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+        if (!info.valid_data || request.hand().service() != fake_.name_) continue;
+        std::vector<msg::CommandReply> replies;
+        {
+          std::lock_guard lock(fake_.mutex_);
+          fake_.requests_.push_back(request);
+          replies = fake_.handler_(request);
+        }
+        fake_.changed_.notify_all();
+        for (auto& reply : replies) fake_.reply_writer_->write(&reply);
+      }
+    }
+
+   private:
+    FakeService& fake_;
+  };
+
+  std::string name_;
+  std::vector<std::uint16_t> ids_;
+  eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
+  eprosima::fastdds::dds::DataWriter* status_writer_ = nullptr;
+  eprosima::fastdds::dds::DataWriter* event_writer_ = nullptr;
+  eprosima::fastdds::dds::DataWriter* info_writer_ = nullptr;
+  eprosima::fastdds::dds::DataWriter* reply_writer_ = nullptr;
+  Listener listener_{*this};
+  std::uint64_t update_seq_ = 0;
+  std::uint64_t event_seq_ = 0;
+
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  Handler handler_;
+  std::vector<msg::CommandRequest> requests_;
+};
+
+}  // namespace dh3::test

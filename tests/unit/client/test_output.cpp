@@ -1,0 +1,158 @@
+// What dh3ctl prints: JSON one object per line that scripts can parse, and
+// tables and lines people can read.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "output.hpp"
+
+namespace dh3::ctl {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::Not;
+using ::testing::StartsWith;
+
+TEST(JsonTest, StringsAreEscaped) {
+  EXPECT_EQ(json_string("plain"), "\"plain\"");
+  EXPECT_EQ(json_string("a \"quote\" and \\ back"), R"("a \"quote\" and \\ back")");
+  EXPECT_EQ(json_string("line\nbreak\ttab"), R"("line\nbreak\ttab")");
+  EXPECT_EQ(json_string(std::string("nul\0x", 5)), R"("nul\u0000x")");
+  EXPECT_EQ(json_string("\x1b[H"), R"("\u001b[H")");
+  EXPECT_EQ(json_string("Grüße"), "\"Grüße\"");  // UTF-8 passes through
+}
+
+TEST(JsonTest, ObjectKeepsMembersInOrder) {
+  JsonObject o;
+  o.add("s", "x")
+      .add("i", std::int32_t{-3})
+      .add("b", false)
+      .add("ids", std::vector<std::uint16_t>{1, 2});
+  EXPECT_EQ(o.str(), R"({"s":"x","i":-3,"b":false,"ids":[1,2]})");
+  EXPECT_EQ(JsonObject().str(), "{}");
+}
+
+TEST(JsonTest, ReplyObjectSaysCodeMessageAndWhatTheCommandReturned) {
+  Reply grasp;
+  grasp.grasp = GraspOutcome::missed;
+  grasp.value = 0;
+  EXPECT_EQ(reply_json("grasp", "cell/bus0/1", grasp),
+            R"({"type":"reply","command":"grasp","hand":"cell/bus0/1","ok":true,"code":"OK",)"
+            R"("message":"","value":0,"grasp":"MISSED"})");
+
+  Reply denied;
+  denied.code = Code::denied;
+  denied.message = "hand 1 is leased by client 'x'";
+  denied.lease_holder = "x";
+  const std::string line = reply_json("move", "cell/bus0/1", denied);
+  EXPECT_THAT(line, HasSubstr(R"("ok":false,"code":"DENIED")"));
+  EXPECT_THAT(line, HasSubstr(R"("message":"hand 1 is leased by client 'x'")"));
+  EXPECT_THAT(line, HasSubstr(R"("lease_holder":"x")"));
+  EXPECT_THAT(line, Not(HasSubstr("\n")));
+
+  Reply scan;
+  scan.found_ids = {1, 2, 3};
+  EXPECT_THAT(reply_json("scan", "cell/bus0", scan), HasSubstr(R"("found_ids":[1,2,3])"));
+}
+
+HandStatus sample_status() {
+  HandStatus s;
+  s.address = {"cell", "bus0", 1};
+  s.name = "left";
+  s.online = true;
+  s.initialized = true;
+  s.grip = GripState::caught;
+  s.position = 42;
+  s.target_position = 0;
+  s.closing_force = 40;
+  s.opening_force = 50;
+  s.rotation = 10;
+  s.update_seq = 7;
+  return s;
+}
+
+TEST(JsonTest, StatusObjectIsOneLineWithEveryField) {
+  const std::string line = to_json(sample_status());
+  EXPECT_THAT(line, StartsWith(R"({"type":"status","hand":"cell/bus0/1","service":"cell",)"));
+  EXPECT_THAT(line, HasSubstr(R"("grip":"CAUGHT","position":42,"target_position":0)"));
+  EXPECT_THAT(line, HasSubstr(R"("online":true,"initialized":true)"));
+  EXPECT_THAT(line, HasSubstr(R"("update_seq":7)"));
+  EXPECT_THAT(line, Not(HasSubstr("\n")));
+}
+
+TEST(JsonTest, EventAndServiceObjects) {
+  HandEvent e;
+  e.hand = {"cell", "bus0", 2};
+  e.kind = EventKind::grasped;
+  e.message = "caught";
+  EXPECT_THAT(to_json(e), HasSubstr(R"("type":"event","hand":"cell/bus0/2")"));
+  EXPECT_THAT(to_json(e), HasSubstr(R"("kind":"GRASPED")"));
+
+  ServiceInfo info;
+  info.name = "cell";
+  info.ready = true;
+  info.buses.push_back(BusInfo{"bus0", "sim:1,2", true, {{1, "left"}, {2, ""}}});
+  EXPECT_THAT(to_json(info),
+              HasSubstr(R"("buses":[{"name":"bus0","spec":"sim:1,2","link_up":true,)"
+                        R"("hands":[{"can_id":1,"name":"left"},{"can_id":2,"name":""}]}])"));
+}
+
+TEST(TextTest, StatusTableAlignsColumnsUnderTheHeader) {
+  auto second = sample_status();
+  second.address.can_id = 12;
+  second.name.clear();
+  second.online = false;
+  second.service_lost = true;
+  second.position = -1;
+  second.last_error = Code::timeout;
+  second.last_error_message = "no answer";
+  const std::string table = status_table({sample_status(), second});
+  std::vector<std::string> lines;
+  for (std::size_t at = 0; at < table.size();) {
+    const auto end = table.find('\n', at);
+    lines.push_back(table.substr(at, end - at));
+    at = end + 1;
+  }
+  ASSERT_EQ(lines.size(), 3U);
+  EXPECT_THAT(lines[0], StartsWith("HAND"));
+  // Every column starts at the same offset in every line.
+  const auto column = [](const std::string& line, std::size_t n) {
+    std::size_t at = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      at = line.find_first_not_of(' ', line.find(' ', at));
+    }
+    return at;
+  };
+  for (std::size_t c = 1; c < 6; ++c) {
+    EXPECT_EQ(column(lines[0], c), column(lines[1], c)) << "column " << c;
+    EXPECT_EQ(column(lines[0], c), column(lines[2], c)) << "column " << c;
+  }
+  EXPECT_THAT(lines[1], HasSubstr("CAUGHT"));
+  EXPECT_THAT(lines[1], HasSubstr("40/50"));
+  EXPECT_THAT(lines[2], HasSubstr("lost"));
+  EXPECT_THAT(lines[2], HasSubstr("TIMEOUT: no answer"));
+}
+
+TEST(TextTest, EventAndServiceLines) {
+  HandEvent e;
+  e.hand = {"cell", "bus0", 2};
+  e.name = "right";
+  e.kind = EventKind::dropped;
+  e.position = 55;
+  e.message = "object lost";
+  EXPECT_EQ(event_line(e), "cell/bus0/2 (right) DROPPED position 55 target 0 value 0: object lost");
+
+  ServiceInfo info;
+  info.name = "cell";
+  info.host = "ctrl";
+  info.version = "0.1.0";
+  info.ready = true;
+  info.buses.push_back(BusInfo{"bus0", "sim:1,2", true, {{1, "left"}, {2, ""}}});
+  EXPECT_EQ(service_line(info),
+            "cell on ctrl (version 0.1.0, admin refused): bus0 sim:1,2 link up, hands 1(left) 2");
+  EXPECT_THAT(status_line(sample_status()),
+              HasSubstr("cell/bus0/1 (left) online initialized position 42"));
+}
+
+}  // namespace
+}  // namespace dh3::ctl
