@@ -1,0 +1,221 @@
+#!/usr/bin/env bash
+# A TEST public-key infrastructure for DDS Security (OMG DDS Security 1.1, as
+# Fast DDS 2.9's builtin PKI-DH, Access-Permissions and AES-GCM-GMAC plugins
+# read it). For trying security out and for the test suite; a real cell needs
+# its own CAs, kept offline, and its own review of the permissions.
+#
+#   deploy/security/make-test-pki.sh [--force] [--days N] [--domains MIN-MAX] [DIR]
+#
+# DIR defaults to $XDG_RUNTIME_DIR/dh3-pki, or build/pki in the source tree
+# (ignored by git) when XDG_RUNTIME_DIR is unset. The script refuses any DIR
+# inside the source tree except under a build*/ folder: private keys never end
+# up where git could pick them up.
+#
+# What it writes (private keys 0600, directories 0700):
+#
+#   DIR/identity_ca.pem            identity CA certificate (trust anchor for PKI-DH)
+#   DIR/permissions_ca.pem         permissions CA certificate (signs governance and permissions)
+#   DIR/governance.xml, .p7s       the domain governance, and the same signed (S/MIME)
+#   DIR/ca/*.key.pem               the two CAs' private keys
+#   DIR/<identity>/cert.pem        identity certificate, signed by the identity CA
+#   DIR/<identity>/key.pem         its private key
+#   DIR/<identity>/permissions.xml, .p7s   its permissions, and the same signed
+#
+# for the identities
+#   service   dh3-service: publishes status, events, service info and replies,
+#             subscribes to command requests
+#   operator  a client that drives hands: publishes command requests,
+#             subscribes to status, events, service info and replies
+#   monitor   read-only: subscribes to status and events, nothing else
+#
+# Governance: no unauthenticated participants, join access control, discovery,
+# liveliness and RTPS messages encrypted; every topic with read and write
+# access control and its data and metadata encrypted.
+#
+# The dh3::contract::security_files_in(DIR, IDENTITY) helper
+# (idl/dh3_security.hpp) and deploy/dds/secure.xml expect this layout.
+set -euo pipefail
+
+repo=$(cd "$(dirname "$0")/../.." && pwd -P)
+days=365
+domains=0-232
+force=0
+dir=
+
+usage() { sed -n '2,/^set -euo/p' "$0" | sed -e '/^set -euo/d' -e 's/^# \{0,1\}//'; }
+while (($#)); do
+  case $1 in
+    --force) force=1 ;;
+    --days) days=${2:?--days needs a number}; shift ;;
+    --domains) domains=${2:?--domains needs MIN-MAX}; shift ;;
+    -h | --help) usage; exit 0 ;;
+    -*) echo "make-test-pki: unknown option $1" >&2; exit 2 ;;
+    *) [[ -z $dir ]] || { echo "make-test-pki: one DIR only" >&2; exit 2; }; dir=$1 ;;
+  esac
+  shift
+done
+[[ $days =~ ^[1-9][0-9]*$ ]] || { echo "make-test-pki: --days must be a positive number" >&2; exit 2; }
+[[ $domains =~ ^([0-9]+)-([0-9]+)$ ]] || { echo "make-test-pki: --domains must be MIN-MAX" >&2; exit 2; }
+domain_min=${BASH_REMATCH[1]} domain_max=${BASH_REMATCH[2]}
+((domain_min <= domain_max && domain_max <= 232)) ||
+  { echo "make-test-pki: --domains must be within 0-232, MIN <= MAX" >&2; exit 2; }
+command -v openssl >/dev/null || { echo "make-test-pki: openssl is not installed" >&2; exit 1; }
+
+if [[ -z $dir ]]; then
+  if [[ -n ${XDG_RUNTIME_DIR:-} ]]; then dir=$XDG_RUNTIME_DIR/dh3-pki; else dir=$repo/build/pki; fi
+fi
+# Resolved (symbolic links too) before anything is created.
+dir=$(realpath -m "$dir")
+
+# Inside the source tree only under a top-level build*/ folder (the root
+# .gitignore's /build*/): anywhere else a key could be committed.
+case $dir/ in
+  "$repo"/build*/*) ;;
+  "$repo"/*)
+    echo "make-test-pki: refusing to write private keys into the source tree ($dir);" \
+      "give a directory outside it, or under build*/" >&2
+    exit 2
+    ;;
+esac
+if [[ -e $dir/identity_ca.pem && $force -eq 0 ]]; then
+  echo "make-test-pki: $dir already holds a PKI; --force replaces it" >&2
+  exit 2
+fi
+
+umask 077
+mkdir -p "$dir"
+chmod 700 "$dir"
+mkdir -p "$dir/ca"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+org="dh3 test PKI"
+# Certificates of both CAs and all identities: ECDSA on P-256 with SHA-256,
+# which PKI-DH supports (as it does RSA-2048).
+new_key() { openssl genpkey -algorithm EC -pkeyopt ec_paramgen_curve:P-256 -out "$1" 2>/dev/null; }
+
+make_ca() {  # make_ca NAME COMMON_NAME KEY_USAGE
+  new_key "$dir/ca/$1.key.pem"
+  openssl req -x509 -new -key "$dir/ca/$1.key.pem" -sha256 -days "$days" \
+    -subj "/O=$org/CN=$2" \
+    -addext "basicConstraints=critical,CA:TRUE" \
+    -addext "keyUsage=critical,$3" \
+    -out "$dir/$1.pem"
+  chmod 644 "$dir/$1.pem"
+}
+
+make_identity() {  # make_identity NAME COMMON_NAME
+  local out=$dir/$1
+  mkdir -p "$out"
+  new_key "$out/key.pem"
+  openssl req -new -key "$out/key.pem" -subj "/O=$org/CN=$2" -out "$work/$1.csr"
+  printf '%s\n' "basicConstraints=CA:FALSE" "keyUsage=critical,digitalSignature,keyAgreement" \
+    >"$work/$1.ext"
+  openssl x509 -req -in "$work/$1.csr" -CA "$dir/identity_ca.pem" \
+    -CAkey "$dir/ca/identity_ca.key.pem" -set_serial "0x$(openssl rand -hex 12)" \
+    -days "$days" -sha256 -extfile "$work/$1.ext" -out "$out/cert.pem" 2>/dev/null
+  chmod 644 "$out/cert.pem"
+}
+
+# S/MIME, clear-signed with the permissions CA, as DDS Security requires for
+# governance and permissions documents.
+sign() {  # sign XML_FILE
+  openssl smime -sign -text -in "$1" -out "${1%.xml}.p7s" \
+    -signer "$dir/permissions_ca.pem" -inkey "$dir/ca/permissions_ca.key.pem"
+  chmod 644 "$1" "${1%.xml}.p7s"
+}
+
+make_ca identity_ca "dh3 identity CA" keyCertSign,cRLSign
+# The permissions CA signs documents itself (S/MIME), so it needs digitalSignature.
+make_ca permissions_ca "dh3 permissions CA" keyCertSign,cRLSign,digitalSignature
+make_identity service "dh3 service"
+make_identity operator "dh3 operator"
+make_identity monitor "dh3 monitor"
+
+# Topic names: idl/dh3.idl, module dh3::topics.
+status=dh3/hand_status
+event=dh3/hand_event
+info=dh3/service_info
+request=dh3/command_request
+reply=dh3/command_reply
+
+domains_xml="<domains><id_range><min>$domain_min</min><max>$domain_max</max></id_range></domains>"
+
+cat >"$dir/governance.xml" <<EOF
+<?xml version="1.0" encoding="UTF-8"?>
+<!-- dh3 test governance: only authenticated participants, everything encrypted. -->
+<dds xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance"
+     xsi:noNamespaceSchemaLocation="http://www.omg.org/spec/DDS-Security/20170801/omg_shared_ca_governance.xsd">
+  <domain_access_rules>
+    <domain_rule>
+      $domains_xml
+      <allow_unauthenticated_participants>false</allow_unauthenticated_participants>
+      <enable_join_access_control>true</enable_join_access_control>
+      <discovery_protection_kind>ENCRYPT</discovery_protection_kind>
+      <liveliness_protection_kind>ENCRYPT</liveliness_protection_kind>
+      <rtps_protection_kind>ENCRYPT</rtps_protection_kind>
+      <topic_access_rules>
+        <topic_rule>
+          <topic_expression>*</topic_expression>
+          <enable_discovery_protection>true</enable_discovery_protection>
+          <enable_liveliness_protection>true</enable_liveliness_protection>
+          <enable_read_access_control>true</enable_read_access_control>
+          <enable_write_access_control>true</enable_write_access_control>
+          <metadata_protection_kind>ENCRYPT</metadata_protection_kind>
+          <data_protection_kind>ENCRYPT</data_protection_kind>
+        </topic_rule>
+      </topic_access_rules>
+    </domain_rule>
+  </domain_access_rules>
+</dds>
+EOF
+sign "$dir/governance.xml"
+
+not_before=$(date -u -d '1 day ago' +%Y-%m-%dT%H:%M:%S)
+not_after=$(date -u -d "$days days" +%Y-%m-%dT%H:%M:%S)
+
+topics_xml() {  # topics_xml TOPIC...
+  local t
+  printf '<topics>'
+  for t in "$@"; do printf '<topic>%s</topic>' "$t"; done
+  printf '</topics>'
+}
+
+permissions() {  # permissions IDENTITY PUBLISH_TOPICS SUBSCRIBE_TOPICS (space-separated; may be empty)
+  local id=$1 subject publish="" subscribe=""
+  # The grant names the certificate's subject exactly as RFC 2253 prints it.
+  subject=$(openssl x509 -in "$dir/$id/cert.pem" -noout -subject -nameopt RFC2253 | sed 's/^subject=//')
+  # shellcheck disable=SC2086  # word splitting of the topic lists is wanted
+  [[ -n $2 ]] && publish="<publish>$(topics_xml $2)</publish>"
+  # shellcheck disable=SC2086
+  [[ -n $3 ]] && subscribe="<subscribe>$(topics_xml $3)</subscribe>"
+  cat >"$dir/$id/permissions.xml" <<EOF
+<?xml version="1.0" encoding="UTF-8"?>
+<!-- dh3 test permissions for "$id". Everything not allowed here is denied. -->
+<dds xmlns:xsi="http://www.w3.org/2001/XMLSchema-instance"
+     xsi:noNamespaceSchemaLocation="http://www.omg.org/spec/DDS-Security/20170801/omg_shared_ca_permissions.xsd">
+  <permissions>
+    <grant name="dh3_$id">
+      <subject_name>$subject</subject_name>
+      <validity>
+        <not_before>$not_before</not_before>
+        <not_after>$not_after</not_after>
+      </validity>
+      <allow_rule>
+        $domains_xml${publish:+
+        $publish}${subscribe:+
+        $subscribe}
+      </allow_rule>
+      <default>DENY</default>
+    </grant>
+  </permissions>
+</dds>
+EOF
+  sign "$dir/$id/permissions.xml"
+}
+
+permissions service "$status $event $info $reply" "$request"
+permissions operator "$request" "$status $event $info $reply"
+permissions monitor "" "$status $event"
+
+echo "make-test-pki: test PKI for domains $domain_min-$domain_max in $dir (identities: service, operator, monitor)"

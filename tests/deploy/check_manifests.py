@@ -1,0 +1,369 @@
+#!/usr/bin/env python3
+"""Checks deploy/'s container, Compose and Kubernetes files without running them.
+
+    check_manifests.py SOURCE_DIR CHECK_CONFIG [--stage STAGE_DIR]
+
+- every YAML file under deploy/ parses;
+- every file they (and the Dockerfile) name exists;
+- every dh3-service configuration they carry (files, ConfigMaps) is accepted
+  by dh3-service's own parser (CHECK_CONFIG, tests/deploy/check_config.cpp);
+- what they say about each other agrees: the health check's service name and
+  domain are the config's, the discovery server's address is where the server
+  listens, the image's user is the manifests' user, containers are UDP only;
+- with --stage (build-in-image.sh's output), every program the manifests run
+  is in the image: installed by the build stage, or by a runtime package.
+
+Prints one line per problem and exits 1 if there is any.
+"""
+import ipaddress
+import os
+import re
+import shlex
+import subprocess
+import sys
+import tempfile
+
+import yaml
+
+problems = []
+
+
+def problem(text):
+    problems.append(text)
+    print("PROBLEM: " + text)
+
+
+def load_all(path):
+    with open(path, encoding="utf-8") as f:
+        return [d for d in yaml.safe_load_all(f) if d is not None]
+
+
+def main():
+    args = sys.argv[1:]
+    stage = None
+    if "--stage" in args:
+        i = args.index("--stage")
+        stage = args[i + 1]
+        del args[i : i + 2]
+    if len(args) != 2:
+        print(__doc__)
+        return 2
+    src, check_config = args
+    deploy = os.path.join(src, "deploy")
+
+    # 1. Every YAML file parses.
+    yaml_files = []
+    for root, _, files in os.walk(deploy):
+        for name in files:
+            if name.endswith((".yaml", ".yml")):
+                yaml_files.append(os.path.join(root, name))
+    docs = {}
+    for path in sorted(yaml_files):
+        try:
+            docs[path] = load_all(path)
+        except yaml.YAMLError as error:
+            problem(f"{path}: not valid YAML: {error}")
+    print(f"parsed {len(docs)} YAML files")
+
+    configs = {}  # label -> YAML text of a dh3-service config
+    programs = set()  # programs the image must provide
+
+    for path in sorted(os.listdir(os.path.join(deploy, "config"))):
+        if path.endswith(".yaml"):
+            full = os.path.join(deploy, "config", path)
+            with open(full, encoding="utf-8") as f:
+                configs[full] = f.read()
+
+    dockerfile_uid = check_dockerfile(src, programs)
+    check_compose(src, docs, configs, programs)
+    check_kubernetes(src, docs, configs, programs, dockerfile_uid)
+    check_readme(src)
+    check_configs(check_config, configs)
+    if stage:
+        check_stage(src, stage, programs)
+
+    if problems:
+        print(f"{len(problems)} problem(s)")
+        return 1
+    print("manifests: no problems")
+    return 0
+
+
+def config_of(text):
+    return yaml.safe_load(text) or {}
+
+
+def check_dockerfile(src, programs):
+    path = os.path.join(src, "deploy/container/Dockerfile")
+    with open(path, encoding="utf-8") as f:
+        text = f.read()
+    # Join continuation lines, drop comments.
+    logical = re.sub(r"\\\n", " ", "\n".join(l for l in text.splitlines() if not l.lstrip().startswith("#")))
+    lines = [l.strip() for l in logical.splitlines() if l.strip()]
+    stages = []
+    uid = None
+    for line in lines:
+        word, _, rest = line.partition(" ")
+        word = word.upper()
+        if word == "FROM":
+            image = rest.split()[0]
+            stages.append(image)
+            if not image.startswith("debian:bookworm"):
+                problem(f"Dockerfile: stage from {image}, not Debian bookworm")
+        elif word == "COPY":
+            parts = shlex.split(rest)
+            if any(p.startswith("--from") for p in parts):
+                continue
+            for source in parts[:-1]:
+                if not os.path.exists(os.path.join(src, source)):
+                    problem(f"Dockerfile: COPY {source}: no such file in the source tree")
+        elif word == "USER":
+            user = rest.split(":")[0]
+            if not user.isdigit() or int(user) == 0:
+                problem(f"Dockerfile: USER {rest} is not a numeric non-root user")
+            else:
+                uid = int(user)
+        elif word in ("ENTRYPOINT", "HEALTHCHECK"):
+            exec_form = re.search(r"\[(.*)\]", rest)
+            if not exec_form:
+                problem(f"Dockerfile: {word} is not in exec form")
+                continue
+            first = yaml.safe_load("[" + exec_form.group(1) + "]")[0]
+            programs.add(first)
+    if len(stages) != 2:
+        problem(f"Dockerfile: {len(stages)} stages, expected build and runtime")
+    runs = [l for l in lines if l.upper().startswith("RUN ")]
+    for needed in ("deploy/install-deps.sh", "deploy/container/build-in-image.sh",
+                   "install-deps.sh --runtime"):
+        if not any(needed in r for r in runs):
+            problem(f"Dockerfile: no RUN step runs {needed}")
+    if not any(l.upper().startswith("HEALTHCHECK ") for l in lines):
+        problem("Dockerfile: no HEALTHCHECK")
+    print(f"Dockerfile: stages {stages}, user {uid}")
+    return uid
+
+
+def check_compose(src, docs, configs, programs):
+    path = os.path.join(src, "deploy/container/compose.yaml")
+    base = os.path.dirname(path)
+    compose = docs.get(path, [{}])[0]
+    services = compose.get("services", {})
+    for name in ("discovery", "service", "pick"):
+        if name not in services:
+            problem(f"compose: no service '{name}'")
+    subnets = [ipaddress.ip_network(c["subnet"])
+               for n in compose.get("networks", {}).values()
+               for c in (n or {}).get("ipam", {}).get("config", [])]
+    addresses = {}
+    for name, svc in services.items():
+        build = svc.get("build")
+        if build:
+            context = os.path.normpath(os.path.join(base, build.get("context", ".")))
+            if not os.path.isdir(context):
+                problem(f"compose {name}: build context {context} missing")
+            if not os.path.isfile(os.path.join(context, build.get("dockerfile", "Dockerfile"))):
+                problem(f"compose {name}: Dockerfile {build.get('dockerfile')} missing")
+        for volume in svc.get("volumes", []):
+            host, target = volume.split(":")[0:2]
+            host_path = os.path.normpath(os.path.join(base, host))
+            if not os.path.exists(host_path):
+                problem(f"compose {name}: volume source {host} missing")
+            elif target == "/etc/dh3/dh3.yaml":
+                with open(host_path, encoding="utf-8") as f:
+                    configs[f"compose {name}: {host}"] = f.read()
+                svc["_config"] = config_of(configs[f"compose {name}: {host}"])
+        for net in (svc.get("networks") or {}).values():
+            if net and "ipv4_address" in net:
+                address = ipaddress.ip_address(net["ipv4_address"])
+                addresses[name] = address
+                if not any(address in s for s in subnets):
+                    problem(f"compose {name}: {address} is outside the network's subnets")
+        entry = svc.get("entrypoint")
+        programs.add(entry[0] if entry else "dh3-service")
+
+    discovery = services.get("discovery", {})
+    command = discovery.get("command", [])
+    listen = command[command.index("-l") + 1] if "-l" in command else None
+    port = command[command.index("-p") + 1] if "-p" in command else "11811"
+    if listen != str(addresses.get("discovery")):
+        problem(f"compose discovery: listens on {listen}, its address is {addresses.get('discovery')}")
+    for name, svc in services.items():
+        env = svc.get("environment", {})
+        if name == "discovery":
+            continue
+        if env.get("ROS_DISCOVERY_SERVER") != f"{listen}:{port}":
+            problem(f"compose {name}: ROS_DISCOVERY_SERVER is {env.get('ROS_DISCOVERY_SERVER')},"
+                    f" the server listens on {listen}:{port}")
+    service = services.get("service", {})
+    config = service.get("_config", {})
+    if not config:
+        problem("compose service: no config mounted at /etc/dh3/dh3.yaml")
+    env = service.get("environment", {})
+    if str(env.get("DH3_SERVICE")) != str(config.get("name")) or \
+            str(env.get("DH3_DOMAIN")) != str(config.get("domain", 0)):
+        problem("compose service: DH3_SERVICE/DH3_DOMAIN differ from the config's name/domain")
+    dds = config.get("dds", {})
+    if dds.get("udp_only") is not True or dds.get("interfaces") != ["*"]:
+        problem("compose service: the config is not UDP only on every interface")
+    pick = services.get("pick", {})
+    pick_command = pick.get("command", [])
+    if "--udp-only" not in pick_command:
+        problem("compose pick: not --udp-only")
+    hand = pick_command[pick_command.index("--hand") + 1] if "--hand" in pick_command else ""
+    if hand.split("/")[0] != config.get("name"):
+        problem(f"compose pick: hand {hand} is not on service {config.get('name')}")
+    print(f"compose: services {sorted(services)}")
+
+
+def check_kubernetes(src, docs, configs, programs, uid):
+    kdir = os.path.join(src, "deploy/kubernetes")
+    kust = docs.get(os.path.join(kdir, "kustomization.yaml"), [{}])[0]
+    for resource in kust.get("resources", []):
+        if not os.path.isfile(os.path.join(kdir, resource)):
+            problem(f"kustomization: resource {resource} missing")
+    image_names = {i.get("name") for i in kust.get("images", [])}
+    objects = [d for p, ds in docs.items() if p.startswith(kdir) and "kustomization" not in p
+               for d in ds]
+    by_kind = {}
+    for o in objects:
+        if "kind" not in o or "apiVersion" not in o or "name" not in o.get("metadata", {}):
+            problem(f"kubernetes: an object without kind, apiVersion or metadata.name: {o}")
+            continue
+        by_kind.setdefault(o["kind"], {})[o["metadata"]["name"]] = o
+    config_maps = by_kind.get("ConfigMap", {})
+    services = by_kind.get("Service", {})
+    for name, cm in config_maps.items():
+        if "dh3.yaml" in cm.get("data", {}):
+            configs[f"ConfigMap {name}"] = cm["data"]["dh3.yaml"]
+    for name, deployment in by_kind.get("Deployment", {}).items():
+        spec = deployment["spec"]["template"]["spec"]
+        labels = deployment["spec"]["template"]["metadata"]["labels"]
+        if deployment["spec"]["selector"]["matchLabels"].items() - labels.items():
+            problem(f"Deployment {name}: selector does not match the pod's labels")
+        security = spec.get("securityContext", {})
+        if security.get("runAsNonRoot") is not True or security.get("runAsUser") != uid:
+            problem(f"Deployment {name}: not runAsNonRoot with the image's user {uid}")
+        volumes = {v["name"]: v for v in spec.get("volumes", [])}
+        for container in spec["containers"]:
+            where = f"Deployment {name} container {container['name']}"
+            if container.get("image") not in image_names:
+                problem(f"{where}: image {container.get('image')} is not the kustomization's")
+            resources = container.get("resources", {})
+            if not resources.get("requests") or not resources.get("limits"):
+                problem(f"{where}: no resource requests and limits")
+            programs.add((container.get("command") or ["dh3-service"])[0])
+            env = {e["name"]: e.get("value") for e in container.get("env", [])}
+            config = None
+            for mount in container.get("volumeMounts", []):
+                volume = volumes.get(mount["name"])
+                if volume is None:
+                    problem(f"{where}: mounts volume {mount['name']}, which the pod lacks")
+                    continue
+                cm_name = volume.get("configMap", {}).get("name")
+                if cm_name is None:
+                    continue
+                if cm_name not in config_maps:
+                    problem(f"{where}: ConfigMap {cm_name} is not defined")
+                elif mount["mountPath"] == "/etc/dh3":
+                    config = config_of(config_maps[cm_name]["data"].get("dh3.yaml", ""))
+            if (container.get("command") or ["dh3-service"])[0] != "dh3-service":
+                continue
+            if config is None:
+                problem(f"{where}: no ConfigMap with dh3.yaml mounted at /etc/dh3")
+                continue
+            for probe in ("livenessProbe", "readinessProbe"):
+                command = container.get(probe, {}).get("exec", {}).get("command")
+                if not command:
+                    problem(f"{where}: no {probe}")
+                else:
+                    programs.add(command[0])
+            if str(env.get("DH3_SERVICE")) != str(config.get("name")) or \
+                    str(env.get("DH3_DOMAIN")) != str(config.get("domain", 0)):
+                problem(f"{where}: DH3_SERVICE/DH3_DOMAIN differ from the config's name/domain")
+            if config.get("dds", {}).get("udp_only") is not True:
+                problem(f"{where}: the config is not UDP only (pods never share /dev/shm)")
+            server = env.get("ROS_DISCOVERY_SERVER")
+            if server:
+                host, _, port = server.partition(":")
+                parts = host.split(".")
+                svc = services.get(parts[0])
+                if svc is None or parts[1:3] != [svc["metadata"].get("namespace"), "svc"]:
+                    problem(f"{where}: ROS_DISCOVERY_SERVER {server} names no Service here")
+                elif int(port) not in [p["port"] for p in svc["spec"]["ports"]]:
+                    problem(f"{where}: ROS_DISCOVERY_SERVER port {port} is not the Service's")
+            elif not spec.get("hostNetwork"):
+                problem(f"{where}: neither a discovery server nor hostNetwork")
+            specs = [b.get("spec", "") for b in config.get("buses", [])]
+            if any(s.startswith("socketcan:") for s in specs) and not spec.get("hostNetwork"):
+                problem(f"{where}: a SocketCAN bus needs hostNetwork (CAN interfaces are netdevs)")
+            if spec.get("hostNetwork") and spec.get("dnsPolicy") != "ClusterFirstWithHostNet":
+                problem(f"{where}: hostNetwork without dnsPolicy ClusterFirstWithHostNet")
+    for name, svc in services.items():
+        selector = svc["spec"].get("selector", {})
+        if not any(selector.items() <= d["spec"]["template"]["metadata"]["labels"].items()
+                   for d in by_kind.get("Deployment", {}).values()):
+            problem(f"Service {name}: selects no Deployment's pods")
+    print(f"kubernetes: {sum(len(v) for v in by_kind.values())} objects")
+
+
+def check_readme(src):
+    path = os.path.join(src, "deploy/README-deployment.md")
+    if not os.path.isfile(path):
+        problem("deploy/README-deployment.md missing")
+        return
+    with open(path, encoding="utf-8") as f:
+        text = f.read()
+    named = set(re.findall(r"`((?:deploy|tests|idl)/[A-Za-z0-9_./-]+)`", text))
+    for name in sorted(named):
+        if not os.path.exists(os.path.join(src, name)):
+            problem(f"README-deployment.md names {name}, which does not exist")
+    print(f"README-deployment.md: {len(named)} paths named, checked")
+
+
+def check_configs(check_config, configs):
+    with tempfile.TemporaryDirectory() as tmp:
+        paths = []
+        for i, (label, text) in enumerate(sorted(configs.items())):
+            path = os.path.join(tmp, f"{i}.yaml")
+            with open(path, "w", encoding="utf-8") as f:
+                f.write(text)
+            paths.append((label, path))
+        for label, path in paths:
+            result = subprocess.run([check_config, path], capture_output=True, text=True)
+            line = result.stdout.strip().replace(path, label)
+            print(f"config {line}")
+            if result.returncode != 0:
+                problem(f"config {label}: dh3-service would not start: {line}")
+
+
+def runtime_packages(src):
+    with open(os.path.join(src, "deploy/install-deps.sh"), encoding="utf-8") as f:
+        text = f.read()
+    block = re.search(r"runtime_pkgs=\((.*?)\)", text, re.S)
+    return block.group(1).split() if block else []
+
+
+def check_stage(src, stage, programs):
+    runtime = runtime_packages(src)
+    for program in sorted(programs):
+        staged = os.path.join(stage, "usr/local/bin", program)
+        if os.access(staged, os.X_OK):
+            print(f"program {program}: built into the image")
+            continue
+        found = None
+        for d in ("/usr/bin", "/usr/sbin", "/bin"):
+            if os.access(os.path.join(d, program), os.X_OK):
+                found = os.path.join(d, program)
+                break
+        owner = None
+        if found:
+            result = subprocess.run(["dpkg", "-S", found], capture_output=True, text=True)
+            owner = result.stdout.split(":")[0] if result.returncode == 0 else None
+        if owner in runtime:
+            print(f"program {program}: from runtime package {owner}")
+        else:
+            problem(f"program {program}: neither built into the image nor in a runtime package")
+
+
+if __name__ == "__main__":
+    sys.exit(main())

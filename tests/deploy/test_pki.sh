@@ -1,0 +1,144 @@
+#!/usr/bin/env bash
+# deploy/security/make-test-pki.sh: the PKI it makes is what DDS Security needs
+# (certificates chain to their CA, documents are S/MIME-signed by the
+# permissions CA and verify), the permissions say what the README says, keys
+# stay private, and it never writes into the source tree.
+#   test_pki.sh SOURCE_DIR
+set -uo pipefail
+src=$1
+script=$src/deploy/security/make-test-pki.sh
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+failures=0
+fail() { echo "FAILED: $*"; failures=$((failures + 1)); }
+ok() { echo "ok: $*"; }
+
+pki=$work/pki
+"$script" "$pki" || { echo "FAILED: make-test-pki.sh exited $?"; exit 1; }
+
+for id in service operator monitor; do
+  if openssl verify -CAfile "$pki/identity_ca.pem" "$pki/$id/cert.pem" >/dev/null; then
+    ok "$id certificate chains to the identity CA"
+  else
+    fail "$id certificate does not verify against the identity CA"
+  fi
+  if openssl verify -CAfile "$pki/permissions_ca.pem" "$pki/$id/cert.pem" >/dev/null 2>&1; then
+    fail "$id certificate verifies against the permissions CA too (the CAs are not separate)"
+  fi
+  cert_key=$(openssl x509 -in "$pki/$id/cert.pem" -noout -pubkey)
+  own_key=$(openssl pkey -in "$pki/$id/key.pem" -pubout)
+  [[ $cert_key == "$own_key" ]] && ok "$id key belongs to its certificate" ||
+    fail "$id key does not belong to its certificate"
+  subject=$(openssl x509 -in "$pki/$id/cert.pem" -noout -subject -nameopt RFC2253 | sed 's/^subject=//')
+  grep -qF "<subject_name>$subject</subject_name>" "$pki/$id/permissions.xml" &&
+    ok "$id permissions name its certificate's subject ($subject)" ||
+    fail "$id permissions do not name '$subject'"
+done
+
+for doc in governance "service/permissions" "operator/permissions" "monitor/permissions"; do
+  if openssl smime -verify -in "$pki/$doc.p7s" -CAfile "$pki/permissions_ca.pem" -text \
+    -out "$work/signed.xml" 2>/dev/null; then
+    if cmp -s <(tr -d '\r' <"$work/signed.xml") "$pki/$doc.xml"; then
+      ok "$doc.p7s verifies with the permissions CA and carries $doc.xml"
+    else
+      fail "$doc.p7s verifies but does not carry $doc.xml"
+    fi
+  else
+    fail "$doc.p7s does not verify with the permissions CA"
+  fi
+  if openssl smime -verify -in "$pki/$doc.p7s" -CAfile "$pki/identity_ca.pem" -out /dev/null 2>/dev/null; then
+    fail "$doc.p7s verifies with the identity CA (it must be the permissions CA's)"
+  fi
+done
+# A changed document no longer verifies: the check above is not vacuous.
+sed 's/<default>DENY<\/default>/<default>ALLOW<\/default>/' "$pki/monitor/permissions.p7s" >"$work/tampered.p7s"
+if openssl smime -verify -in "$work/tampered.p7s" -CAfile "$pki/permissions_ca.pem" -out /dev/null 2>/dev/null; then
+  fail "a tampered permissions document still verifies"
+else
+  ok "a tampered permissions document does not verify"
+fi
+
+# The permissions and governance, read as XML.
+python3 - "$pki" <<'PY' || failures=$((failures + 1))
+import sys, xml.etree.ElementTree as ET
+pki = sys.argv[1]
+status, event, info, req, rep = ("dh3/hand_status", "dh3/hand_event", "dh3/service_info",
+                                 "dh3/command_request", "dh3/command_reply")
+want = {
+    "service": ({status, event, info, rep}, {req}),
+    "operator": ({req}, {status, event, info, rep}),
+    "monitor": (set(), {status, event}),
+}
+bad = 0
+for identity, (pub, sub) in want.items():
+    grant = ET.parse(f"{pki}/{identity}/permissions.xml").getroot().find("permissions/grant")
+    rule = grant.find("allow_rule")
+    got_pub = {t.text for t in rule.findall("publish/topics/topic")}
+    got_sub = {t.text for t in rule.findall("subscribe/topics/topic")}
+    ok = got_pub == pub and got_sub == sub and grant.findtext("default") == "DENY" \
+        and not grant.findall("deny_rule")
+    print(("ok: " if ok else "FAILED: ") + f"{identity} publishes {sorted(got_pub)}, subscribes {sorted(got_sub)}, default DENY")
+    bad += not ok
+rule = ET.parse(f"{pki}/governance.xml").getroot().find("domain_access_rules/domain_rule")
+checks = {
+    "allow_unauthenticated_participants": "false", "enable_join_access_control": "true",
+    "discovery_protection_kind": "ENCRYPT", "liveliness_protection_kind": "ENCRYPT",
+    "rtps_protection_kind": "ENCRYPT",
+    "topic_access_rules/topic_rule/topic_expression": "*",
+    "topic_access_rules/topic_rule/enable_discovery_protection": "true",
+    "topic_access_rules/topic_rule/enable_read_access_control": "true",
+    "topic_access_rules/topic_rule/enable_write_access_control": "true",
+    "topic_access_rules/topic_rule/metadata_protection_kind": "ENCRYPT",
+    "topic_access_rules/topic_rule/data_protection_kind": "ENCRYPT",
+}
+for path, value in checks.items():
+    got = rule.findtext(path)
+    if got != value:
+        print(f"FAILED: governance {path} is {got}, expected {value}")
+        bad += 1
+if not bad:
+    print("ok: governance: authenticated only, discovery and data protected and encrypted")
+sys.exit(1 if bad else 0)
+PY
+
+# Private keys and their folders are the owner's alone.
+while read -r mode path; do
+  case $path in
+    *key.pem) [[ $mode == 600 ]] || fail "$path has mode $mode, not 600" ;;
+  esac
+done < <(find "$pki" -type f -printf '%m %p\n')
+while read -r mode path; do
+  [[ $mode == 700 ]] || fail "folder $path has mode $mode, not 700"
+done < <(find "$pki" -type d -printf '%m %p\n')
+ok "private keys 0600, folders 0700"
+
+# Never into the source tree (outside build*/), never over an existing PKI.
+inside=$src/deploy/security/pki-test-$$
+if "$script" "$inside" >/dev/null 2>&1; then
+  fail "make-test-pki.sh wrote into the source tree ($inside)"
+  rm -rf "$inside"
+elif [[ -e $inside ]]; then
+  fail "make-test-pki.sh refused but created $inside"
+  rm -rf "$inside"
+else
+  ok "refuses a directory inside the source tree"
+fi
+if "$script" "$pki" >/dev/null 2>&1; then
+  fail "make-test-pki.sh replaced an existing PKI without --force"
+else
+  ok "keeps an existing PKI unless --force"
+fi
+"$script" --force "$pki" >/dev/null && ok "--force replaces it" || fail "--force did not replace it"
+
+# Keys copied into the tree by hand would still not be committed.
+if command -v git >/dev/null && git -C "$src" rev-parse --is-inside-work-tree >/dev/null 2>&1; then
+  for path in deploy/security/pki/service/key.pem deploy/security/ca.key.pem; do
+    git -C "$src" check-ignore -q "$path" && ok "git ignores $path" || fail "git would commit $path"
+  done
+fi
+
+if ((failures)); then
+  echo "$failures failure(s)"
+  exit 1
+fi
+echo "pki: all checks passed"

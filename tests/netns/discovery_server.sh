@@ -1,0 +1,152 @@
+#!/usr/bin/env bash
+# Discovery through a Fast DDS discovery server, across a router that passes
+# no multicast: dh3-service on one link, the clients on another, and the
+# discovery server (what `fastdds discovery -i 0 -l ADDR -p PORT` runs) on the
+# router between them, listening on both links. Link-local addresses; UDP only
+# (no shared memory), so everything crosses the veth links.
+#
+#   srv 169.254.40.2 --- 169.254.40.1 [rtr: forwards unicast, discovery server] 169.254.41.1 --- 169.254.41.2 cli
+#
+# 1. Without the server the client does not find the service: no multicast
+#    path, so simple discovery cannot work here.
+# 2. With it, dh3-service (its --discovery-server option, or
+#    ROS_DISCOVERY_SERVER), dh3ctl (--discovery-server, and
+#    ROS_DISCOVERY_SERVER) and a client-library program (ROS_DISCOVERY_SERVER)
+#    find each other through it, and commands work.
+#
+#   discovery_server.sh [--require-service-option] DH3_SERVICE DH3CTL PICK_LOOP
+# --require-service-option: fail if dh3-service has no --discovery-server
+# option (without it, the service is tested with ROS_DISCOVERY_SERVER only).
+# Exit 77 (ctest: skipped) with the reason when namespaces cannot be made.
+set -uo pipefail
+require_option=0
+if [[ ${1:-} == --require-service-option ]]; then require_option=1; shift; fi
+service_bin=$1 ctl_bin=$2 pick_bin=$3
+
+tag=ds$$
+srv=$tag-srv rtr=$tag-rtr cli=$tag-cli
+domain=$((10 + $$ % 200))
+port=$((20000 + $$ % 20000))
+srv_addr=169.254.40.2 srv_gw=169.254.40.1 cli_addr=169.254.41.2 cli_gw=169.254.41.1
+log_dir=$(mktemp -d)
+service_pid=
+server_pid=
+
+stop_service() {
+  if [[ -n $service_pid ]]; then
+    kill -TERM "$service_pid" 2>/dev/null
+    wait "$service_pid" 2>/dev/null
+    service_pid=
+  fi
+}
+cleanup() {
+  stop_service
+  [[ -n $server_pid ]] && kill "$server_pid" 2>/dev/null && wait "$server_pid" 2>/dev/null
+  for ns in "$srv" "$rtr" "$cli"; do ip netns del "$ns" 2>/dev/null; done
+  rm -rf "$log_dir"
+}
+trap cleanup EXIT
+
+skip() { echo "SKIP: $*"; exit 77; }
+fail() {
+  echo "FAILED: $*"
+  echo "--- dh3-service log"; tail -n 30 "$log_dir/service.log" 2>/dev/null
+  echo "--- discovery server log"; tail -n 10 "$log_dir/server.log" 2>/dev/null
+  exit 1
+}
+
+[[ $(id -u) -eq 0 ]] || skip "needs root to create network namespaces"
+command -v ip >/dev/null || skip "iproute2 (ip) is not installed"
+server_bin=$(command -v fast-discovery-server) || fail "fast-discovery-server (package fastdds-tools) is not installed"
+ip netns add "$srv" 2>"$log_dir/err" || skip "ip netns add failed: $(cat "$log_dir/err")"
+ip netns add "$rtr" && ip netns add "$cli" || fail "could not create namespaces"
+
+link() {  # link NS_A ADDR_A NS_B ADDR_B NAME
+  ip link add "$5a" type veth peer name "$5b" || fail "veth $5 failed"
+  ip link set "$5a" netns "$1" && ip link set "$5b" netns "$3"
+  ip -n "$1" addr add "$2/24" dev "$5a" && ip -n "$3" addr add "$4/24" dev "$5b"
+  ip -n "$1" link set "$5a" up multicast on && ip -n "$3" link set "$5b" up multicast on
+}
+for ns in "$srv" "$rtr" "$cli"; do ip -n "$ns" link set lo up; done
+link "$srv" "$srv_addr" "$rtr" "$srv_gw" "d${$}s"
+link "$cli" "$cli_addr" "$rtr" "$cli_gw" "d${$}c"
+# The router forwards unicast between the links; nothing forwards multicast.
+ip netns exec "$rtr" sysctl -qw net.ipv4.ip_forward=1 || fail "cannot enable forwarding"
+ip -n "$srv" route add default via "$srv_gw" && ip -n "$cli" route add default via "$cli_gw" ||
+  fail "cannot add routes"
+
+start_service() {  # start_service [ENV=VALUE] [OPTIONS...]
+  local env=()
+  [[ ${1:-} == *=* ]] && { env=("$1"); shift; }
+  ip netns exec "$srv" env "${env[@]}" "$service_bin" --domain "$domain" --name cell \
+    --bus sim:1,2,3 --interface "$srv_addr" --udp-only --log-level info "$@" \
+    >"$log_dir/service.log" 2>&1 &
+  service_pid=$!
+}
+ctl() {  # ctl ARGS...: dh3ctl on the client link
+  ip netns exec "$cli" "$ctl_bin" --domain "$domain" --interface "$cli_addr" --udp-only "$@"
+}
+step() {  # step DESCRIPTION ARGS...: dh3ctl with the server, output shown, fail on non-zero
+  local what=$1; shift
+  echo "== $what"
+  ctl --timeout 20 --discovery-server "$cli_gw:$port" "$@" || fail "$what"
+}
+
+echo "== without a discovery server the client does not find the service (no multicast path)"
+start_service
+if ctl --timeout 8 status cell/bus0/1 >"$log_dir/ctl.out" 2>&1; then
+  cat "$log_dir/ctl.out"
+  fail "the client found the service without a discovery server: the links pass multicast"
+fi
+grep -q NO_SERVICE "$log_dir/ctl.out" || { cat "$log_dir/ctl.out"; fail "expected NO_SERVICE"; }
+sed 's/^/  /' "$log_dir/ctl.out"
+stop_service
+
+echo "== discovery server id 0 on the router, $srv_gw:$port and $cli_gw:$port"
+ip netns exec "$rtr" "$server_bin" -i 0 -l "$srv_gw" -p "$port" -l "$cli_gw" -p "$port" \
+  >"$log_dir/server.log" 2>&1 &
+server_pid=$!
+for _ in $(seq 200); do
+  ip netns exec "$rtr" ss -H -uln "sport = :$port" | grep -q . && break
+  kill -0 "$server_pid" 2>/dev/null || fail "the discovery server exited"
+  sleep 0.05
+done
+ip netns exec "$rtr" ss -H -uln "sport = :$port" | grep -q . || fail "the discovery server does not listen on $port"
+
+has_option=0
+"$service_bin" --help 2>/dev/null | grep -q -- '--discovery-server' && has_option=1
+if ((has_option)); then
+  echo "== dh3-service with --discovery-server $srv_gw:$port"
+  start_service --discovery-server "$srv_gw:$port"
+else
+  ((require_option)) && fail "dh3-service has no --discovery-server option"
+  echo "NOTE: dh3-service has no --discovery-server option: tested with ROS_DISCOVERY_SERVER only"
+  echo "== dh3-service with ROS_DISCOVERY_SERVER=$srv_gw:$port"
+  start_service "ROS_DISCOVERY_SERVER=$srv_gw:$port"
+fi
+
+step "list through the server" list
+step "init hand 1" init cell/bus0/1
+step "move hand 1" move cell/bus0/1 60
+echo "== status of hand 1 (position 60)"
+ctl --timeout 20 --discovery-server "$cli_gw:$port" --json status cell/bus0/1 >"$log_dir/status.json" ||
+  fail "status of hand 1"
+cat "$log_dir/status.json"
+grep -q '"position":60' "$log_dir/status.json" || fail "hand 1 is not at 60"
+
+echo "== dh3ctl with ROS_DISCOVERY_SERVER=$cli_gw:$port"
+ip netns exec "$cli" env "ROS_DISCOVERY_SERVER=$cli_gw:$port" "$ctl_bin" --domain "$domain" \
+  --interface "$cli_addr" --udp-only --timeout 20 grasp cell/bus0/1 40 || fail "grasp via ROS_DISCOVERY_SERVER"
+
+echo "== client-library program (pick_loop) with ROS_DISCOVERY_SERVER=$cli_gw:$port"
+ip netns exec "$cli" env "ROS_DISCOVERY_SERVER=$cli_gw:$port" "$pick_bin" --domain "$domain" \
+  --interface "$cli_addr" --udp-only --hand cell/bus0/3 --cycles 2 || fail "pick loop"
+
+if ((has_option)); then
+  stop_service
+  echo "== dh3-service again, with ROS_DISCOVERY_SERVER=$srv_gw:$port instead of the option"
+  start_service "ROS_DISCOVERY_SERVER=$srv_gw:$port"
+  step "status of hand 2" status cell/bus0/2
+fi
+
+echo "discovery-server: all steps passed"
