@@ -228,12 +228,21 @@ int cmd_events(Context& c, const Args& a) {
   std::mutex mutex;
   std::condition_variable cv;
   int seen = 0;
+  // Events that come before the "watching" line is printed are held back and
+  // printed after it, so the line always comes first and nothing is lost.
+  bool announced = c.globals.json;
+  std::vector<std::string> held;
   auto subscription = c.client.subscribe(
       [&](const HandEvent& event) {
         std::lock_guard lock(mutex);
         if (a.count > 0 && seen >= a.count) return;
         ++seen;
-        c.out << (c.globals.json ? to_json(event) : event_line(event)) << std::endl;
+        std::string line = c.globals.json ? to_json(event) : event_line(event);
+        if (!announced) {
+          held.push_back(std::move(line));
+          return;
+        }
+        c.out << line << std::endl;
         cv.notify_all();
       },
       only);
@@ -245,6 +254,10 @@ int cmd_events(Context& c, const Args& a) {
   if (!c.globals.json) {
     std::lock_guard lock(mutex);
     c.out << "watching events of " << which << " (Ctrl-C to stop)" << std::endl;
+    for (const std::string& line : held) c.out << line << std::endl;
+    held.clear();
+    announced = true;
+    cv.notify_all();
   }
   c.wait_until_interrupted(mutex, cv, [&] { return a.count > 0 && seen >= a.count; });
   subscription.unsubscribe();

@@ -1,6 +1,7 @@
 #include "app/config.hpp"
 
 #include <arpa/inet.h>
+#include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -12,6 +13,8 @@
 #include <sstream>
 
 #include "bus/bus_spec.hpp"
+#include "dh3_discovery_servers.hpp"
+#include "dh3_security_files.hpp"
 
 namespace dh3::app {
 namespace {
@@ -53,6 +56,44 @@ std::optional<std::string> check_interface(std::string_view address) {
   in_addr parsed{};
   if (inet_pton(AF_INET, std::string(address).c_str(), &parsed) == 1) return std::nullopt;
   return "interface '" + std::string(address) + "' is not an IPv4 address (or \"*\" for all)";
+}
+
+std::optional<std::string> check_discovery_server(std::string_view entry) {
+  // One entry on its own: its position (the server id) cannot be wrong here,
+  // only its text; empty entries are allowed (they skip an id).
+  const auto list = contract::discovery_servers_from_entries({std::string(entry)});
+  if (!list.ok()) return list.error;
+  return std::nullopt;
+}
+
+std::optional<std::string> check_readable_file(std::string_view what, const std::string& path) {
+  if (path.empty()) return std::string(what) + " is empty";
+  if (::access(path.c_str(), R_OK) != 0) {
+    return "cannot read the " + std::string(what) + " '" + path + "'";
+  }
+  return std::nullopt;
+}
+
+// The identity names a sub-directory of the security directory: a plain name,
+// so that it cannot point elsewhere.
+std::optional<std::string> check_identity(std::string_view identity) {
+  if (identity.empty()) return std::string("the security identity is empty");
+  if (identity == "." || identity == ".." ||
+      identity.find_first_not_of(
+          "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_.") !=
+          std::string_view::npos) {
+    return "security identity '" + std::string(identity) +
+           "' is not a plain name (letters, digits, '-', '_', '.')";
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string> check_security(const std::string& dir, const std::string& identity) {
+  if (dir.empty()) return std::string("the security directory is empty");
+  if (auto bad = check_identity(identity)) return bad;
+  auto bad = contract::check_security_files(contract::security_files_in(dir, identity));
+  if (!bad.empty()) return bad + " (identity '" + identity + "' in '" + dir + "')";
+  return std::nullopt;
 }
 
 std::optional<std::string> check_spec(std::string_view spec) {
@@ -178,7 +219,9 @@ class FileParser {
 
   void parse_dds(const YAML::Node& dds, ServiceConfig& config) const {
     expect_map(dds, "dds");
-    check_keys(dds, "dds.", {"interfaces", "udp_only"});
+    check_keys(dds, "dds.",
+               {"interfaces", "udp_only", "discovery_servers", "xml_profile_file", "xml_profile",
+                "security"});
     if (auto list = dds["interfaces"]) {
       if (!list.IsSequence()) fail_at(list, "dds.interfaces", "expected a list of IPv4 addresses");
       for (std::size_t i = 0; i < list.size(); ++i) {
@@ -194,6 +237,49 @@ class FileParser {
       }
     }
     if (auto n = dds["udp_only"]) config.udp_only = boolean(n, "dds.udp_only");
+    if (auto list = dds["discovery_servers"]) {
+      if (!list.IsSequence()) {
+        fail_at(list, "dds.discovery_servers", "expected a list of HOST[:PORT] entries");
+      }
+      for (std::size_t i = 0; i < list.size(); ++i) {
+        const std::string key = "dds.discovery_servers[" + std::to_string(i) + "]";
+        // A null entry ("- ~" or "- ''") skips a server id, as in ROS_DISCOVERY_SERVER.
+        auto entry = list[i].IsNull() ? std::string() : scalar(list[i], key);
+        if (auto bad = check_discovery_server(entry)) fail_at(list[i], key, *bad);
+        config.discovery_servers.push_back(std::move(entry));
+      }
+    }
+    if (auto n = dds["xml_profile_file"]) {
+      config.xml_profile_file = scalar(n, "dds.xml_profile_file");
+      if (auto bad = check_readable_file("XML profiles file", config.xml_profile_file)) {
+        fail_at(n, "dds.xml_profile_file", *bad);
+      }
+    }
+    if (auto n = dds["xml_profile"]) {
+      config.xml_profile = scalar(n, "dds.xml_profile");
+      if (config.xml_profile.empty()) fail_at(n, "dds.xml_profile", "the profile name is empty");
+      if (config.xml_profile_file.empty()) {
+        fail_at(n, "dds.xml_profile", "a profile needs dds.xml_profile_file, the file defining it");
+      }
+    }
+    if (auto security = dds["security"]) parse_security(security, config);
+  }
+
+  void parse_security(const YAML::Node& security, ServiceConfig& config) const {
+    expect_map(security, "dds.security");
+    check_keys(security, "dds.security.", {"dir", "identity"});
+    const auto dir = security["dir"];
+    if (!dir) fail_at(security, "dds.security.dir", "missing (the directory with the credentials)");
+    config.security_dir = scalar(dir, "dds.security.dir");
+    if (auto n = security["identity"]) {
+      config.security_identity = scalar(n, "dds.security.identity");
+      if (auto bad = check_identity(config.security_identity)) {
+        fail_at(n, "dds.security.identity", *bad);
+      }
+    }
+    if (auto bad = check_security(config.security_dir, config.security_identity)) {
+      fail_at(dir, "dds.security.dir", *bad);
+    }
   }
 
   BusSettings parse_bus(const YAML::Node& node, std::size_t index, std::set<std::string>& names) {
@@ -389,6 +475,39 @@ Result<ServiceConfig, ConfigError> apply_command_line(ServiceConfig config,
       return error("--interface", "\"*\" (all interfaces) cannot be combined with addresses");
     }
     config.interfaces = line.interfaces;
+  }
+  if (!line.discovery_servers.empty()) {
+    for (const auto& entry : line.discovery_servers) {
+      if (auto bad = check_discovery_server(entry)) return error("--discovery-server", *bad);
+    }
+    config.discovery_servers = line.discovery_servers;
+  }
+  if (line.xml_profile_file) {
+    if (auto bad = check_readable_file("XML profiles file", *line.xml_profile_file)) {
+      return error("--xml", *bad);
+    }
+    config.xml_profile_file = *line.xml_profile_file;
+  }
+  if (line.xml_profile) {
+    if (line.xml_profile->empty()) return error("--profile", "the profile name is empty");
+    config.xml_profile = *line.xml_profile;
+  }
+  if (!config.xml_profile.empty() && config.xml_profile_file.empty()) {
+    return error("--profile",
+                 "a profile needs --xml FILE (or dds.xml_profile_file), the file "
+                 "defining it");
+  }
+  if (line.security_identity) {
+    if (auto bad = check_identity(*line.security_identity)) {
+      return error("--security-identity", *bad);
+    }
+    config.security_identity = *line.security_identity;
+  }
+  if (line.security_dir) config.security_dir = *line.security_dir;
+  if (line.security_dir || (line.security_identity && !config.security_dir.empty())) {
+    if (auto bad = check_security(config.security_dir, config.security_identity)) {
+      return error(line.security_dir ? "--security-dir" : "--security-identity", *bad);
+    }
   }
   if (!line.buses.empty()) {
     config.buses.clear();

@@ -11,6 +11,12 @@
 //   dds:
 //     interfaces: [127.0.0.1]  # IPv4 addresses of the NICs, or ["*"]; default loopback only
 //     udp_only: false          # no shared memory (containers, namespaces)
+//     discovery_servers: [10.0.0.2:11811]  # HOST[:PORT]; n-th is `fastdds discovery -i n`
+//     xml_profile_file: /etc/dh3/fastdds.xml  # participant QoS from a Fast DDS XML file
+//     xml_profile: dh3_udp     # the participant profile in it (default: its default)
+//     security:                # DDS Security (PKI-DH, Access-Permissions, AES-GCM-GMAC)
+//       dir: /etc/dh3/pki      # laid out as deploy/security/make-test-pki.sh writes it
+//       identity: service      # the sub-directory with this participant's credentials
 //   buses:
 //     - name: left             # default: the SocketCAN interface, else bus0, bus1, ...
 //       spec: tcp:192.168.1.50:8888
@@ -76,6 +82,13 @@ struct ServiceConfig {
   bool allow_admin = false;
   std::vector<std::string> interfaces;  ///< empty: loopback only
   bool udp_only = false;
+  /// "HOST[:PORT]" entries (dh3_discovery_servers.hpp); empty: ROS_DISCOVERY_SERVER
+  /// if set, else multicast discovery.
+  std::vector<std::string> discovery_servers;
+  std::string xml_profile_file;  ///< empty: the project's participant QoS
+  std::string xml_profile;       ///< empty: the file's default participant profile
+  std::string security_dir;      ///< empty: no DDS Security
+  std::string security_identity = "service";
   std::vector<BusSettings> buses;
 };
 
@@ -105,6 +118,11 @@ struct CommandLine {
   bool allow_admin = false;
   std::vector<std::string> interfaces;  ///< replace the file's when given
   bool udp_only = false;
+  std::vector<std::string> discovery_servers;  ///< replace the file's when given
+  std::optional<std::string> xml_profile_file;
+  std::optional<std::string> xml_profile;
+  std::optional<std::string> security_dir;
+  std::optional<std::string> security_identity;
 };
 
 /// Applies the command line to a configuration and checks the result.

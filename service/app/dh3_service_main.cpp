@@ -75,6 +75,25 @@ int main(int argc, char** argv) {
                  "default loopback only")
       ->allow_extra_args(false);
   cli.add_flag("--udp-only", line.udp_only, "no shared-memory transport, UDP only");
+  cli.add_option("--discovery-server", line.discovery_servers,
+                 "a Fast DDS discovery server as HOST[:PORT] (repeatable; the n-th is the "
+                 "server with id n; replaces the file's); default: ROS_DISCOVERY_SERVER if set")
+      ->allow_extra_args(false);
+  std::string xml_file;
+  std::string xml_profile;
+  std::string security_dir;
+  std::string security_identity;
+  auto* xml_option =
+      cli.add_option("--xml", xml_file, "Fast DDS XML profiles file for the participant's QoS");
+  auto* profile_option = cli.add_option(
+      "--profile", xml_profile, "participant profile in the --xml file (default: its default)");
+  auto* security_dir_option = cli.add_option(
+      "--security-dir", security_dir,
+      "enable DDS Security with the credentials in DIR (as deploy/security/make-test-pki.sh "
+      "lays them out)");
+  auto* security_identity_option =
+      cli.add_option("--security-identity", security_identity,
+                     "the identity (sub-directory of --security-dir) to use (default service)");
   cli.set_version_flag("--version", DH3_VERSION);
   try {
     cli.parse(argc, argv);
@@ -87,6 +106,10 @@ int main(int argc, char** argv) {
   if (*name_option) line.name = name;
   if (*domain_option) line.domain = domain;
   if (*level_option) line.log_level = log_level;
+  if (*xml_option) line.xml_profile_file = xml_file;
+  if (*profile_option) line.xml_profile = xml_profile;
+  if (*security_dir_option) line.security_dir = security_dir;
+  if (*security_identity_option) line.security_identity = security_identity;
 
   auto base =
       config_path.empty()
@@ -118,6 +141,11 @@ int main(int argc, char** argv) {
   options.domain = config->domain;
   options.transport.interfaces = config->interfaces;
   options.transport.udp_only = config->udp_only;
+  options.discovery_servers = config->discovery_servers;
+  options.xml_profile_file = config->xml_profile_file;
+  options.xml_profile = config->xml_profile;
+  options.security_dir = config->security_dir;
+  options.security_identity = config->security_identity;
   options.allow_admin = config->allow_admin;
   options.version = DH3_VERSION;
   options.host = host_name();

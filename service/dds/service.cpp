@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <condition_variable>
@@ -23,9 +24,11 @@
 #include "dds/hand_directory.hpp"
 #include "dds/lease_table.hpp"
 #include "dds/request_validation.hpp"
+#include "dh3_discovery.hpp"
 #include "dh3_idl/dh3PubSubTypes.h"
 #include "dh3_participant.hpp"
 #include "dh3_qos.hpp"
+#include "dh3_security.hpp"
 
 namespace dh3::dds {
 namespace fdds = eprosima::fastdds::dds;
@@ -56,6 +59,73 @@ msg::CommandReply make_reply(const ReplyHeader& header, msg::ResultCode code,
 
 std::string hand_text(std::string_view bus, std::uint8_t can_id) {
   return "hand " + std::to_string(can_id) + " on bus '" + std::string(bus) + "'";
+}
+
+bool has_property(const fdds::DomainParticipantQos& qos, const std::string& name) {
+  const auto& properties = qos.properties().properties();
+  return std::any_of(properties.begin(), properties.end(),
+                     [&](const auto& property) { return property.name() == name; });
+}
+
+/// The participant's QoS from the options: the XML profile or the project's
+/// transport default, then discovery servers, then DDS Security.
+Result<fdds::DomainParticipantQos, std::string> participant_qos_for(const ServiceOptions& options) {
+  const std::string participant_name = "dh3-service " + options.name;
+  auto* factory = fdds::DomainParticipantFactory::get_instance();
+  fdds::DomainParticipantQos qos;
+  if (!options.xml_profile_file.empty()) {
+    if (factory->load_XML_profiles_file(options.xml_profile_file) != ReturnCode_t::RETCODE_OK) {
+      return fail("cannot load the Fast DDS XML profiles file '" + options.xml_profile_file + "'");
+    }
+    if (options.xml_profile.empty()) {
+      qos = factory->get_default_participant_qos();
+    } else if (factory->get_participant_qos_from_profile(options.xml_profile, qos) !=
+               ReturnCode_t::RETCODE_OK) {
+      return fail("no participant profile '" + options.xml_profile + "' in '" +
+                  options.xml_profile_file + "'");
+    }
+    if (qos.name().to_string().empty()) qos.name(participant_name);
+    // The profile decides the transports; say so rather than ignore silently.
+    if (!options.transport.interfaces.empty() || options.transport.udp_only) {
+      spdlog::warn("the XML profile decides the transports: interfaces and udp_only are ignored");
+    }
+  } else if (!options.xml_profile.empty()) {
+    return fail(std::string("an XML profile name needs the XML profiles file that defines it"));
+  } else {
+    contract::TransportOptions transport;
+    transport.interfaces = options.transport.interfaces;
+    transport.udp_only = options.transport.udp_only;
+    qos = contract::participant_qos(participant_name, transport);
+  }
+  // The configured servers; without, ROS_DISCOVERY_SERVER's (as the client
+  // library does), unless an XML profile decides how the participant discovers.
+  const auto servers = options.xml_profile_file.empty()
+                           ? contract::choose_discovery_servers(options.discovery_servers)
+                           : contract::discovery_servers_from_entries(options.discovery_servers);
+  if (!servers.ok()) return fail(servers.error);
+  if (!contract::use_discovery_servers(qos, servers.servers)) {
+    return fail(std::string("cannot use the discovery servers given"));
+  }
+  for (const auto& server : servers.servers) {
+    spdlog::info("discovery server {}", server.to_string());
+  }
+  if (!options.security_dir.empty()) {
+    if (has_property(qos, "dds.sec.auth.plugin")) {
+      return fail(
+          std::string("the XML profile already enables DDS Security; give either it or a security "
+                      "directory, not both"));
+    }
+    if (options.security_identity.empty()) {
+      return fail(std::string("DDS Security: no identity given for the security directory"));
+    }
+    const auto files = contract::security_files_in(options.security_dir, options.security_identity);
+    if (auto bad = contract::check_security_files(files); !bad.empty()) {
+      return fail(bad + " (identity '" + options.security_identity + "' in '" +
+                  options.security_dir + "')");
+    }
+    contract::enable_security(qos, files);
+  }
+  return qos;
 }
 
 }  // namespace
@@ -217,17 +287,29 @@ class Service::Impl {
 // Set-up and tear-down
 
 Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups) {
-  contract::TransportOptions transport;
-  transport.interfaces = options_.transport.interfaces;
-  transport.udp_only = options_.transport.udp_only;
+  auto qos = participant_qos_for(options_);
+  if (!qos) return fail(qos.error());
   auto* factory = fdds::DomainParticipantFactory::get_instance();
-  participant_ = factory->create_participant(
-      static_cast<fdds::DomainId_t>(options_.domain),
-      contract::participant_qos("dh3-service " + options_.name, transport), &participant_listener_,
-      fdds::StatusMask::none());
+  participant_ = factory->create_participant(static_cast<fdds::DomainId_t>(options_.domain), *qos,
+                                             &participant_listener_, fdds::StatusMask::none());
   if (participant_ == nullptr) {
-    return fail("cannot create a DDS participant on domain " + std::to_string(options_.domain) +
-                " (check the domain id and the interface addresses)");
+    std::string error =
+        "cannot create a DDS participant on domain " + std::to_string(options_.domain);
+    if (!options_.security_dir.empty()) {
+      error += ": DDS Security did not accept the credentials of identity '" +
+               options_.security_identity + "' in '" + options_.security_dir +
+               "' (certificate, key and permissions must belong together, be signed by its "
+               "CAs and be valid now)";
+    } else if (has_property(*qos, "dds.sec.auth.plugin")) {
+      error += " (check the DDS Security credentials the XML profile names)";
+    } else {
+      error += " (check the domain id, the interface addresses and the XML profile)";
+    }
+    return fail(error);
+  }
+  if (!options_.security_dir.empty()) {
+    spdlog::info("DDS Security on: identity '{}' in '{}'", options_.security_identity,
+                 options_.security_dir);
   }
 
   auto make_topic = [this](const std::string& name, fdds::TopicDataType* type) {

@@ -33,6 +33,17 @@ struct ServiceOptions {
   std::string name = "dh3";  ///< answers requests whose hand.service is this
   int domain = 0;
   TransportSettings transport;
+  /// Fast DDS discovery servers as "HOST[:PORT]" (dh3_discovery_servers.hpp);
+  /// empty: ROS_DISCOVERY_SERVER's if set (unless an XML profile decides).
+  std::vector<std::string> discovery_servers;
+  /// A Fast DDS XML profiles file: the participant QoS comes from it (its
+  /// profile `xml_profile`, or its default) instead of `transport`.
+  std::string xml_profile_file;
+  std::string xml_profile;
+  /// DDS Security with the credentials of `security_identity` in this
+  /// directory (dh3_security_files.hpp); empty: no security.
+  std::string security_dir;
+  std::string security_identity = "service";
   bool allow_admin = false;  ///< SET_CAN_ID and SET_BAUD_RATE are refused unless set
   std::string version;       ///< published in the service info
   std::string host;          ///< published in the service info

@@ -307,17 +307,20 @@ def check_kubernetes(src, docs, configs, programs, uid):
 
 
 def check_readme(src):
-    path = os.path.join(src, "deploy/README-deployment.md")
+    """Every deploy/, tests/ or idl/ path the README names exists."""
+    path = os.path.join(src, "README.md")
     if not os.path.isfile(path):
-        problem("deploy/README-deployment.md missing")
+        problem("README.md missing")
         return
     with open(path, encoding="utf-8") as f:
         text = f.read()
+    if "## Deployment" not in text:
+        problem("README.md has no Deployment section")
     named = set(re.findall(r"`((?:deploy|tests|idl)/[A-Za-z0-9_./-]+)`", text))
     for name in sorted(named):
         if not os.path.exists(os.path.join(src, name)):
-            problem(f"README-deployment.md names {name}, which does not exist")
-    print(f"README-deployment.md: {len(named)} paths named, checked")
+            problem(f"README.md names {name}, which does not exist")
+    print(f"README.md: {len(named)} paths named, checked")
 
 
 def check_configs(check_config, configs):

@@ -1,7 +1,11 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 
 #include "app/config.hpp"
 
@@ -9,6 +13,7 @@ namespace dh3::app {
 namespace {
 
 using std::chrono::milliseconds;
+using ::testing::AllOf;
 using ::testing::HasSubstr;
 
 ServiceConfig parse_ok(const char* yaml) {
@@ -208,6 +213,156 @@ TEST(Config, BadCommandLineValuesNameTheOption) {
   line = {};
   line.name = std::string(65, 'n');
   EXPECT_THAT(error(line), HasSubstr("--name"));
+}
+
+/// A directory laid out as deploy/security/make-test-pki.sh writes it (the
+/// files' content does not matter to the configuration, only that they exist).
+class SecurityDir {
+ public:
+  explicit SecurityDir(const std::string& identity) {
+    char pattern[] = "/tmp/dh3-config-test-XXXXXX";
+    dir_ = ::mkdtemp(pattern);
+    std::filesystem::create_directories(dir_ / identity);
+    for (const char* file : {"identity_ca.pem", "permissions_ca.pem", "governance.p7s"}) {
+      std::ofstream(dir_ / file) << "x";
+    }
+    for (const char* file : {"cert.pem", "key.pem", "permissions.p7s"}) {
+      std::ofstream(dir_ / identity / file) << "x";
+    }
+    std::ofstream(dir_ / "profiles.xml") << "<dds/>";
+  }
+  ~SecurityDir() { std::filesystem::remove_all(dir_); }
+  SecurityDir(const SecurityDir&) = delete;
+  SecurityDir& operator=(const SecurityDir&) = delete;
+  [[nodiscard]] std::string path() const { return dir_.string(); }
+  [[nodiscard]] std::string xml() const { return (dir_ / "profiles.xml").string(); }
+  void remove(const std::string& relative) const { std::filesystem::remove(dir_ / relative); }
+
+ private:
+  std::filesystem::path dir_;
+};
+
+TEST(Config, DiscoveryServersXmlProfileAndSecurityAreRead) {
+  const SecurityDir pki("operator");
+  const std::string yaml =
+      "dds:\n"
+      "  discovery_servers: [127.0.0.1:11811, ~, 10.0.0.2]\n"
+      "  xml_profile_file: " +
+      pki.xml() +
+      "\n"
+      "  xml_profile: dh3_udp\n"
+      "  security: {dir: " +
+      pki.path() + ", identity: operator}\n";
+  auto config = parse_config(yaml, "cell.yaml");
+  ASSERT_TRUE(config.ok()) << config.error().message;
+  // The empty entry keeps its place: the third entry is server id 2.
+  EXPECT_THAT(config->discovery_servers, ::testing::ElementsAre("127.0.0.1:11811", "", "10.0.0.2"));
+  EXPECT_EQ(config->xml_profile_file, pki.xml());
+  EXPECT_EQ(config->xml_profile, "dh3_udp");
+  EXPECT_EQ(config->security_dir, pki.path());
+  EXPECT_EQ(config->security_identity, "operator");
+}
+
+TEST(Config, SecurityIdentityDefaultsToService) {
+  const SecurityDir pki("service");
+  auto config = parse_config("dds:\n  security:\n    dir: " + pki.path() + "\n", "cell.yaml");
+  ASSERT_TRUE(config.ok()) << config.error().message;
+  EXPECT_EQ(config->security_identity, "service");
+  EXPECT_TRUE(default_config().security_dir.empty());  // no security unless asked
+  EXPECT_TRUE(default_config().discovery_servers.empty());
+}
+
+TEST(Config, DdsDeploymentErrorsNameTheKeyAndTheLine) {
+  EXPECT_THAT(
+      parse_error("dds:\n  discovery_servers:\n    - 127.0.0.1:11811\n"
+                  "    - 127.0.0.1:99999\n"),
+      AllOf(HasSubstr("cell.yaml:4:"), HasSubstr("dds.discovery_servers[1]"), HasSubstr("port")));
+  EXPECT_THAT(parse_error("dds:\n  discovery_servers: 10.0.0.2\n"),
+              AllOf(HasSubstr("cell.yaml:2:"), HasSubstr("expected a list")));
+  EXPECT_THAT(parse_error("dds:\n  xml_profile_file: /nonexistent/dh3.xml\n"),
+              AllOf(HasSubstr("cell.yaml:2:"), HasSubstr("dds.xml_profile_file"),
+                    HasSubstr("/nonexistent/dh3.xml")));
+  EXPECT_THAT(parse_error("dds:\n  udp_only: true\n  xml_profile: dh3_udp\n"),
+              AllOf(HasSubstr("cell.yaml:3:"), HasSubstr("needs dds.xml_profile_file")));
+  EXPECT_THAT(
+      parse_error("dds:\n  security:\n    identity: service\n"),
+      AllOf(HasSubstr("cell.yaml:3:"), HasSubstr("dds.security.dir"), HasSubstr("missing")));
+  EXPECT_THAT(
+      parse_error("dds:\n  security: {dir: /tmp, mode: strict}\n"),
+      AllOf(HasSubstr("cell.yaml:2:"), HasSubstr("dds.security.mode"), HasSubstr("unknown key")));
+
+  const SecurityDir pki("service");
+  const auto error = [](const std::string& yaml) {
+    auto result = parse_config(yaml, "cell.yaml");
+    EXPECT_FALSE(result.ok()) << "accepted:\n" << yaml;
+    return result.ok() ? std::string{} : result.error().message;
+  };
+  // A missing credential is named, at the directory's line.
+  pki.remove("service/key.pem");
+  EXPECT_THAT(error("dds:\n  security:\n    dir: " + pki.path() + "\n"),
+              AllOf(HasSubstr("cell.yaml:3:"), HasSubstr("dds.security.dir"),
+                    HasSubstr("private key"), HasSubstr("service/key.pem")));
+  // An identity that is not there (the files of another one are).
+  EXPECT_THAT(error("dds:\n  security:\n    dir: " + pki.path() + "\n    identity: monitor\n"),
+              AllOf(HasSubstr("identity 'monitor'"), HasSubstr("monitor/cert.pem")));
+  // The identity is a sub-directory's name, not a path.
+  EXPECT_THAT(error("dds:\n  security:\n    dir: " + pki.path() + "\n    identity: ../etc\n"),
+              AllOf(HasSubstr("cell.yaml:4:"), HasSubstr("dds.security.identity"),
+                    HasSubstr("plain name")));
+}
+
+TEST(Config, CommandLineSetsDiscoveryServersXmlAndSecurity) {
+  const SecurityDir pki("monitor");
+  auto file = parse_config("dds:\n  discovery_servers: [10.0.0.9:11811]\n", "cell.yaml");
+  ASSERT_TRUE(file.ok()) << file.error().message;
+  file->buses = default_config().buses;
+  CommandLine line;
+  line.discovery_servers = {"127.0.0.1:11811", "127.0.0.1:11812"};
+  line.xml_profile_file = pki.xml();
+  line.xml_profile = "dh3_udp";
+  line.security_dir = pki.path();
+  line.security_identity = "monitor";
+  auto config = apply_command_line(std::move(*file), line);
+  ASSERT_TRUE(config.ok()) << config.error().message;
+  // --discovery-server replaces the file's list.
+  EXPECT_THAT(config->discovery_servers,
+              ::testing::ElementsAre("127.0.0.1:11811", "127.0.0.1:11812"));
+  EXPECT_EQ(config->xml_profile_file, pki.xml());
+  EXPECT_EQ(config->xml_profile, "dh3_udp");
+  EXPECT_EQ(config->security_dir, pki.path());
+  EXPECT_EQ(config->security_identity, "monitor");
+}
+
+TEST(Config, BadDeploymentOptionsNameTheOption) {
+  const auto error = [](CommandLine line) {
+    auto config = apply_command_line(default_config(), line);
+    EXPECT_FALSE(config.ok());
+    return config.ok() ? std::string{} : config.error().message;
+  };
+  const SecurityDir pki("service");
+  CommandLine line;
+  line.discovery_servers = {"10.0.0.1:0"};
+  EXPECT_THAT(error(line), AllOf(HasSubstr("--discovery-server"), HasSubstr("10.0.0.1:0")));
+  line = {};
+  line.discovery_servers = {"1.2.3"};
+  EXPECT_THAT(error(line), HasSubstr("--discovery-server"));
+  line = {};
+  line.xml_profile_file = "/nonexistent/dh3.xml";
+  EXPECT_THAT(error(line), AllOf(HasSubstr("--xml"), HasSubstr("/nonexistent/dh3.xml")));
+  line = {};
+  line.xml_profile = "dh3_udp";
+  EXPECT_THAT(error(line), AllOf(HasSubstr("--profile"), HasSubstr("--xml")));
+  line = {};
+  line.security_dir = pki.path();
+  line.security_identity = "operator";  // no such identity in the directory
+  EXPECT_THAT(error(line), AllOf(HasSubstr("--security-dir"), HasSubstr("operator/cert.pem")));
+  line = {};
+  line.security_dir = "/nonexistent/pki";
+  EXPECT_THAT(error(line), AllOf(HasSubstr("--security-dir"), HasSubstr("identity CA")));
+  line = {};
+  line.security_dir = pki.path();
+  line.security_identity = "a/b";
+  EXPECT_THAT(error(line), AllOf(HasSubstr("--security-identity"), HasSubstr("plain name")));
 }
 
 TEST(Config, BusNamesDefaultByPosition) {
