@@ -173,7 +173,13 @@ echo "== 1. the operator drives hand 1"
 operator --timeout 20 list || fail "the operator does not see the service"
 operator --timeout 20 init cell/bus0/1 || fail "the operator cannot initialize hand 1"
 operator --timeout 20 move cell/bus0/1 30 || fail "the operator cannot move hand 1"
-[[ $(position_of_hand_1) == 30 ]] || fail "hand 1 is not at 30 after the operator's move"
+# The move is answered when the hand echoes it; the fingers then need time.
+arrived=0
+for _ in $(seq 1 100); do
+  [[ $(position_of_hand_1) == 30 ]] && { arrived=1; break; }
+  sleep 0.2
+done
+((arrived)) || fail "hand 1 did not reach 30 after the operator's move"
 
 echo "== 2. the monitor sees status but cannot command"
 monitor --timeout 20 --json status cell/bus0/1 >"$work/monitor.json" 2>"$work/monitor.err" ||
