@@ -9,6 +9,7 @@
 
 #include "dh3/types.hpp"
 #include "dh3_idl/dh3.h"
+#include "dh3_names.hpp"
 
 namespace dh3::detail {
 
@@ -27,8 +28,7 @@ namespace dh3::detail {
 /// message gets one naming the code, so a user never sees an empty reason.
 [[nodiscard]] Reply to_reply(const msg::CommandReply& reply);
 
-/// "MOVE", "GRASP", ...; "command N" outside the enum.
-[[nodiscard]] std::string command_name(msg::CommandType command);
+using contract::command_name;
 
 /// Checks a request against the contract's limits before it is sent, so an
 /// out-of-range value is answered at once (the service checks again). The

@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "dh3_idl/dh3.h"
+#include "dh3_names.hpp"
 #include "hand/hand_types.hpp"
 
 namespace dh3::dds {
@@ -17,8 +18,7 @@ namespace dh3::dds {
 [[nodiscard]] msg::RotationState to_msg(hand::RotationState state);
 [[nodiscard]] msg::EventKind to_msg(hand::EventKind kind);
 
-/// "MOVE", "READ_REGISTER", ... ; "command 42" for values outside the enum.
-[[nodiscard]] std::string command_name(msg::CommandType command);
+using contract::command_name;
 /// "OK", "INVALID_ARGUMENT", ...
 [[nodiscard]] std::string_view result_code_name(msg::ResultCode code);
 /// True for the enum's values (a wire value may be anything).

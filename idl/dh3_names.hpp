@@ -1,0 +1,51 @@
+#pragma once
+// Names of the contract's enums as every participant prints them, so the
+// service's messages and the client's read alike.
+
+#include <cstdint>
+#include <string>
+
+#include "dh3_idl/dh3.h"
+
+namespace dh3::contract {
+
+/// "MOVE", "SET_CLOSING_FORCE", ...; "command N" for a value outside the enum.
+inline std::string command_name(msg::CommandType command) {
+  switch (command) {
+    case msg::INITIALIZE:
+      return "INITIALIZE";
+    case msg::MOVE:
+      return "MOVE";
+    case msg::SET_CLOSING_FORCE:
+      return "SET_CLOSING_FORCE";
+    case msg::SET_OPENING_FORCE:
+      return "SET_OPENING_FORCE";
+    case msg::ROTATE:
+      return "ROTATE";
+    case msg::READ_REGISTER:
+      return "READ_REGISTER";
+    case msg::SET_CAN_ID:
+      return "SET_CAN_ID";
+    case msg::SET_BAUD_RATE:
+      return "SET_BAUD_RATE";
+    case msg::ENABLE_INIT_FEEDBACK:
+      return "ENABLE_INIT_FEEDBACK";
+    case msg::GRASP:
+      return "GRASP";
+    case msg::RELEASE:
+      return "RELEASE";
+    case msg::STOP:
+      return "STOP";
+    case msg::SCAN:
+      return "SCAN";
+    case msg::ACQUIRE_LEASE:
+      return "ACQUIRE_LEASE";
+    case msg::RENEW_LEASE:
+      return "RENEW_LEASE";
+    case msg::RELEASE_LEASE:
+      return "RELEASE_LEASE";
+  }
+  return "command " + std::to_string(static_cast<std::uint32_t>(command));
+}
+
+}  // namespace dh3::contract
