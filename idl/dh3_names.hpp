@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 #include "dh3_idl/dh3.h"
 
@@ -46,6 +47,33 @@ inline std::string command_name(msg::CommandType command) {
       return "RELEASE_LEASE";
   }
   return "command " + std::to_string(static_cast<std::uint32_t>(command));
+}
+
+/// "OK", "INVALID_ARGUMENT", ...; "UNKNOWN_RESULT" for a value outside the enum.
+inline std::string_view result_code_name(msg::ResultCode code) {
+  switch (code) {
+    case msg::OK:
+      return "OK";
+    case msg::INVALID_ARGUMENT:
+      return "INVALID_ARGUMENT";
+    case msg::UNKNOWN_HAND:
+      return "UNKNOWN_HAND";
+    case msg::TIMEOUT:
+      return "TIMEOUT";
+    case msg::BUS_DOWN:
+      return "BUS_DOWN";
+    case msg::BUSY:
+      return "BUSY";
+    case msg::NOT_INITIALIZED:
+      return "NOT_INITIALIZED";
+    case msg::DENIED:
+      return "DENIED";
+    case msg::CANCELLED:
+      return "CANCELLED";
+    case msg::FAILED:
+      return "FAILED";
+  }
+  return "UNKNOWN_RESULT";
 }
 
 }  // namespace dh3::contract

@@ -3,6 +3,8 @@
 #include <chrono>
 #include <cstdio>
 
+#include "dh3_value_ranges.hpp"
+
 namespace dh3::detail {
 
 Code to_code(msg::ResultCode code) {
@@ -189,36 +191,6 @@ Reply to_reply(const msg::CommandReply& reply) {
 
 namespace {
 
-struct Range {
-  std::int64_t min = 0;
-  std::int64_t max = 0;
-  const char* what = "";
-};
-
-std::optional<Range> value_range(msg::CommandType command) {
-  switch (command) {
-    case msg::MOVE:
-    case msg::RELEASE:
-      return Range{limits::POSITION_MIN, limits::POSITION_MAX, "position (percent, 100 = open)"};
-    case msg::ROTATE:
-      return Range{limits::ROTATION_MIN, limits::ROTATION_MAX, "rotation (percent of 90 degrees)"};
-    case msg::SET_CLOSING_FORCE:
-    case msg::SET_OPENING_FORCE:
-    case msg::GRASP:
-      return Range{limits::FORCE_MIN, limits::FORCE_MAX, "force (percent)"};
-    case msg::SET_CAN_ID:
-      return Range{limits::CAN_ID_MIN, limits::CAN_ID_MAX, "CAN ID"};
-    case msg::SET_BAUD_RATE:
-      return Range{limits::BAUD_INDEX_MIN, limits::BAUD_INDEX_MAX,
-                   "baud rate index (0 = 500 kbps ... 5 = 100 kbps)"};
-    case msg::ACQUIRE_LEASE:
-    case msg::RENEW_LEASE:
-      return Range{limits::LEASE_TTL_MIN_MS, limits::LEASE_TTL_MAX_MS, "lease time to live (ms)"};
-    default:
-      return std::nullopt;
-  }
-}
-
 Reply invalid(std::string message) {
   Reply reply;
   reply.code = Code::invalid_argument;
@@ -243,11 +215,8 @@ std::optional<Reply> check_request(const msg::CommandRequest& request) {
     return invalid(name + " needs a hand's CAN ID (" + std::to_string(limits::CAN_ID_MIN) + "-" +
                    std::to_string(limits::CAN_ID_MAX) + "), not " + std::to_string(hand.can_id()));
   }
-  if (const auto range = value_range(request.command());
-      range && (request.value() < range->min || request.value() > range->max)) {
-    return invalid(name + " value " + std::to_string(request.value()) + " is out of range for " +
-                   range->what + " (" + std::to_string(range->min) + "-" +
-                   std::to_string(range->max) + ")");
+  if (auto out_of_range = contract::value_out_of_range(request)) {
+    return invalid(std::move(*out_of_range));
   }
   return std::nullopt;
 }

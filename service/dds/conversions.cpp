@@ -106,32 +106,6 @@ bool is_valid_command(msg::CommandType command) {
   return static_cast<std::uint32_t>(command) <= static_cast<std::uint32_t>(msg::RELEASE_LEASE);
 }
 
-std::string_view result_code_name(msg::ResultCode code) {
-  switch (code) {
-    case msg::OK:
-      return "OK";
-    case msg::INVALID_ARGUMENT:
-      return "INVALID_ARGUMENT";
-    case msg::UNKNOWN_HAND:
-      return "UNKNOWN_HAND";
-    case msg::TIMEOUT:
-      return "TIMEOUT";
-    case msg::BUS_DOWN:
-      return "BUS_DOWN";
-    case msg::BUSY:
-      return "BUSY";
-    case msg::NOT_INITIALIZED:
-      return "NOT_INITIALIZED";
-    case msg::DENIED:
-      return "DENIED";
-    case msg::CANCELLED:
-      return "CANCELLED";
-    case msg::FAILED:
-      return "FAILED";
-  }
-  return "UNKNOWN_RESULT";
-}
-
 std::string describe_failure(hand::CommandError error, msg::CommandType command,
                              std::string_view bus, std::uint8_t can_id) {
   const std::string what = command_name(command);

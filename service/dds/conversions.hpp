@@ -19,8 +19,7 @@ namespace dh3::dds {
 [[nodiscard]] msg::EventKind to_msg(hand::EventKind kind);
 
 using contract::command_name;
-/// "OK", "INVALID_ARGUMENT", ...
-[[nodiscard]] std::string_view result_code_name(msg::ResultCode code);
+using contract::result_code_name;
 /// True for the enum's values (a wire value may be anything).
 [[nodiscard]] bool is_valid_command(msg::CommandType command);
 

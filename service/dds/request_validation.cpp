@@ -5,43 +5,13 @@
 #include <optional>
 
 #include "dds/conversions.hpp"
+#include "dh3_value_ranges.hpp"
 #include "protocol/registers.hpp"
 
 namespace dh3::dds {
 namespace {
 
 using hand::CommandKind;
-
-struct Range {
-  std::int64_t min = 0;
-  std::int64_t max = 0;
-  const char* what = "";
-};
-
-/// The range a command's value must fall in, nullopt if the value is ignored.
-std::optional<Range> value_range(msg::CommandType command) {
-  switch (command) {
-    case msg::MOVE:
-    case msg::RELEASE:
-      return Range{limits::POSITION_MIN, limits::POSITION_MAX, "position (percent, 100 = open)"};
-    case msg::ROTATE:
-      return Range{limits::ROTATION_MIN, limits::ROTATION_MAX, "rotation (percent of 90 degrees)"};
-    case msg::SET_CLOSING_FORCE:
-    case msg::SET_OPENING_FORCE:
-    case msg::GRASP:
-      return Range{limits::FORCE_MIN, limits::FORCE_MAX, "force (percent)"};
-    case msg::SET_CAN_ID:
-      return Range{limits::CAN_ID_MIN, limits::CAN_ID_MAX, "CAN ID"};
-    case msg::SET_BAUD_RATE:
-      return Range{limits::BAUD_INDEX_MIN, limits::BAUD_INDEX_MAX,
-                   "baud rate index (0 = 500 kbps ... 5 = 100 kbps)"};
-    case msg::ACQUIRE_LEASE:
-    case msg::RENEW_LEASE:
-      return Range{limits::LEASE_TTL_MIN_MS, limits::LEASE_TTL_MAX_MS, "lease time to live (ms)"};
-    default:
-      return std::nullopt;
-  }
-}
 
 Failure<Rejection> reject(msg::ResultCode code, std::string message) {
   return fail(Rejection{code, std::move(message)});
@@ -173,12 +143,8 @@ Result<ValidRequest, Rejection> validate_request(const msg::CommandRequest& requ
                         name + " needs a hand's CAN ID (1-255)");
     }
   }
-  if (const auto range = value_range(command);
-      range && (request.value() < range->min || request.value() > range->max)) {
-    return reject(msg::INVALID_ARGUMENT, name + " value " + std::to_string(request.value()) +
-                                             " is out of range for " + range->what + " (" +
-                                             std::to_string(range->min) + "-" +
-                                             std::to_string(range->max) + ")");
+  if (auto out_of_range = contract::value_out_of_range(request)) {
+    return reject(msg::INVALID_ARGUMENT, std::move(*out_of_range));
   }
   if (command == msg::READ_REGISTER &&
       !protocol::is_known(protocol::Register::from_code(request.register_code()))) {
