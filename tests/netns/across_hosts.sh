@@ -9,39 +9,24 @@
 set -uo pipefail
 service_bin=$1 ctl_bin=$2 pick_bin=$3
 
+source "$(dirname "$0")/lib.sh"
 tag=dh3$$
 srv=$tag-srv cli_a=$tag-a cli_b=$tag-b
 domain=$((10 + $$ % 200))
 log_dir=$(mktemp -d)
 service_pid=
 
-cleanup() {
-  [[ -n $service_pid ]] && kill "$service_pid" 2>/dev/null && wait "$service_pid" 2>/dev/null
-  for ns in "$srv" "$cli_a" "$cli_b"; do ip netns del "$ns" 2>/dev/null; done
+on_exit() {
+  stop_process "$service_pid"
   rm -rf "$log_dir"
 }
-trap cleanup EXIT
-
-skip() { echo "SKIP: $*"; exit 77; }
-fail() {
-  echo "FAILED: $*"
+show_logs() {
   echo "--- dh3-service log"; tail -n 40 "$log_dir/service.log" 2>/dev/null
-  exit 1
 }
 
-[[ $(id -u) -eq 0 ]] || skip "needs root to create network namespaces"
-command -v ip >/dev/null || skip "iproute2 (ip) is not installed"
-ip netns add "$srv" 2>"$log_dir/err" || skip "ip netns add failed: $(cat "$log_dir/err")"
-ip netns add "$cli_a" && ip netns add "$cli_b" || fail "could not create client namespaces"
-
+require_namespaces
+add_hosts "$srv" "$cli_a" "$cli_b"
 # srv <-> a on 169.254.10.0/24, srv <-> b on 169.254.11.0/24
-link() {  # link NS_A ADDR_A NS_B ADDR_B NAME
-  ip link add "$5a" type veth peer name "$5b" || fail "veth $5 failed"
-  ip link set "$5a" netns "$1" && ip link set "$5b" netns "$3"
-  ip -n "$1" addr add "$2/24" dev "$5a" && ip -n "$3" addr add "$4/24" dev "$5b"
-  ip -n "$1" link set "$5a" up multicast on && ip -n "$3" link set "$5b" up multicast on
-}
-for ns in "$srv" "$cli_a" "$cli_b"; do ip -n "$ns" link set lo up; done
 link "$srv" 169.254.10.1 "$cli_a" 169.254.10.2 "v${$}a"
 link "$srv" 169.254.11.1 "$cli_b" 169.254.11.2 "v${$}b"
 ip netns exec "$cli_a" ping -c1 -W2 169.254.10.1 >/dev/null || fail "no link between namespaces"

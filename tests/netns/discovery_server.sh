@@ -14,15 +14,12 @@
 #    ROS_DISCOVERY_SERVER) and a client-library program (ROS_DISCOVERY_SERVER)
 #    find each other through it, and commands work.
 #
-#   discovery_server.sh [--require-service-option] DH3_SERVICE DH3CTL PICK_LOOP
-# --require-service-option: fail if dh3-service has no --discovery-server
-# option (without it, the service is tested with ROS_DISCOVERY_SERVER only).
+#   discovery_server.sh DH3_SERVICE DH3CTL PICK_LOOP
 # Exit 77 (ctest: skipped) with the reason when namespaces cannot be made.
 set -uo pipefail
-require_option=0
-if [[ ${1:-} == --require-service-option ]]; then require_option=1; shift; fi
 service_bin=$1 ctl_bin=$2 pick_bin=$3
 
+source "$(dirname "$0")/lib.sh"
 tag=ds$$
 srv=$tag-srv rtr=$tag-rtr cli=$tag-cli
 domain=$((10 + $$ % 200))
@@ -33,41 +30,22 @@ service_pid=
 server_pid=
 
 stop_service() {
-  if [[ -n $service_pid ]]; then
-    kill -TERM "$service_pid" 2>/dev/null
-    wait "$service_pid" 2>/dev/null
-    service_pid=
-  fi
+  stop_process "$service_pid"
+  service_pid=
 }
-cleanup() {
+on_exit() {
   stop_service
-  [[ -n $server_pid ]] && kill "$server_pid" 2>/dev/null && wait "$server_pid" 2>/dev/null
-  for ns in "$srv" "$rtr" "$cli"; do ip netns del "$ns" 2>/dev/null; done
+  stop_process "$server_pid"
   rm -rf "$log_dir"
 }
-trap cleanup EXIT
-
-skip() { echo "SKIP: $*"; exit 77; }
-fail() {
-  echo "FAILED: $*"
+show_logs() {
   echo "--- dh3-service log"; tail -n 30 "$log_dir/service.log" 2>/dev/null
   echo "--- discovery server log"; tail -n 10 "$log_dir/server.log" 2>/dev/null
-  exit 1
 }
 
-[[ $(id -u) -eq 0 ]] || skip "needs root to create network namespaces"
-command -v ip >/dev/null || skip "iproute2 (ip) is not installed"
+require_namespaces
 server_bin=$(command -v fast-discovery-server) || fail "fast-discovery-server (package fastdds-tools) is not installed"
-ip netns add "$srv" 2>"$log_dir/err" || skip "ip netns add failed: $(cat "$log_dir/err")"
-ip netns add "$rtr" && ip netns add "$cli" || fail "could not create namespaces"
-
-link() {  # link NS_A ADDR_A NS_B ADDR_B NAME
-  ip link add "$5a" type veth peer name "$5b" || fail "veth $5 failed"
-  ip link set "$5a" netns "$1" && ip link set "$5b" netns "$3"
-  ip -n "$1" addr add "$2/24" dev "$5a" && ip -n "$3" addr add "$4/24" dev "$5b"
-  ip -n "$1" link set "$5a" up multicast on && ip -n "$3" link set "$5b" up multicast on
-}
-for ns in "$srv" "$rtr" "$cli"; do ip -n "$ns" link set lo up; done
+add_hosts "$srv" "$rtr" "$cli"
 link "$srv" "$srv_addr" "$rtr" "$srv_gw" "d${$}s"
 link "$cli" "$cli_addr" "$rtr" "$cli_gw" "d${$}c"
 # The router forwards unicast between the links; nothing forwards multicast.
@@ -113,17 +91,8 @@ for _ in $(seq 200); do
 done
 ip netns exec "$rtr" ss -H -uln "sport = :$port" | grep -q . || fail "the discovery server does not listen on $port"
 
-has_option=0
-"$service_bin" --help 2>/dev/null | grep -q -- '--discovery-server' && has_option=1
-if ((has_option)); then
-  echo "== dh3-service with --discovery-server $srv_gw:$port"
-  start_service --discovery-server "$srv_gw:$port"
-else
-  ((require_option)) && fail "dh3-service has no --discovery-server option"
-  echo "NOTE: dh3-service has no --discovery-server option: tested with ROS_DISCOVERY_SERVER only"
-  echo "== dh3-service with ROS_DISCOVERY_SERVER=$srv_gw:$port"
-  start_service "ROS_DISCOVERY_SERVER=$srv_gw:$port"
-fi
+echo "== dh3-service with --discovery-server $srv_gw:$port"
+start_service --discovery-server "$srv_gw:$port"
 
 step "list through the server" list
 step "init hand 1" init cell/bus0/1
@@ -142,11 +111,9 @@ echo "== client-library program (pick_loop) with ROS_DISCOVERY_SERVER=$cli_gw:$p
 ip netns exec "$cli" env "ROS_DISCOVERY_SERVER=$cli_gw:$port" "$pick_bin" --domain "$domain" \
   --interface "$cli_addr" --udp-only --hand cell/bus0/3 --cycles 2 || fail "pick loop"
 
-if ((has_option)); then
-  stop_service
-  echo "== dh3-service again, with ROS_DISCOVERY_SERVER=$srv_gw:$port instead of the option"
-  start_service "ROS_DISCOVERY_SERVER=$srv_gw:$port"
-  step "status of hand 2" status cell/bus0/2
-fi
+stop_service
+echo "== dh3-service again, with ROS_DISCOVERY_SERVER=$srv_gw:$port instead of the option"
+start_service "ROS_DISCOVERY_SERVER=$srv_gw:$port"
+step "status of hand 2" status cell/bus0/2
 
 echo "discovery-server: all steps passed"

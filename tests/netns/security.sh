@@ -19,11 +19,12 @@
 set -uo pipefail
 src=$1 service_bin=$2 ctl_bin=$3
 
+source "$(dirname "$0")/lib.sh"
 tag=sec$$
 srv=$tag-srv cli=$tag-cli
 domain=$((10 + $$ % 200))
 srv_addr=169.254.50.1 cli_addr=169.254.50.2
-dev=s${$}a
+dev=s${$}a  # the service's end of the link, where the capture listens
 # A hand name that appears nowhere but in the samples the service publishes
 # (status and service info), never in discovery's plain participant data.
 marker=zq7handmarker$$
@@ -32,52 +33,27 @@ service_pid=
 capture_pid=
 
 stop_service() {
-  if [[ -n $service_pid ]]; then
-    kill -TERM "$service_pid" 2>/dev/null
-    wait "$service_pid" 2>/dev/null
-    service_pid=
-  fi
+  stop_process "$service_pid"
+  service_pid=
 }
-cleanup() {
+on_exit() {
   stop_service
-  [[ -n $capture_pid ]] && kill "$capture_pid" 2>/dev/null && wait "$capture_pid" 2>/dev/null
-  for ns in "$srv" "$cli"; do ip netns del "$ns" 2>/dev/null; done
+  stop_process "$capture_pid"
   rm -rf "$work"
 }
-trap cleanup EXIT
-
-skip() { echo "SKIP: $*"; exit 77; }
-fail() {
-  echo "FAILED: $*"
+show_logs() {
   echo "--- dh3-service log"; tail -n 30 "$work/service.log" 2>/dev/null
-  exit 1
 }
 
-[[ $(id -u) -eq 0 ]] || skip "needs root to create network namespaces"
-command -v ip >/dev/null || skip "iproute2 (ip) is not installed"
+require_namespaces
 command -v python3 >/dev/null || fail "python3 is needed for the packet capture"
-
-# How dh3-service takes its credentials: --security-dir DIR (and
-# --security-identity) or a Fast DDS XML profile (--xml, --profile).
-help=$("$service_bin" --help 2>&1)
-if grep -q -- '--security-dir' <<<"$help"; then
-  service_secure=(--security-dir "$work/pki" --security-identity service)
-elif grep -q -- '--xml' <<<"$help"; then
-  service_secure=(--xml "$work/secure.xml" --profile dh3_service_secure)
-else
-  fail "dh3-service has neither --security-dir nor --xml: it cannot enable DDS Security"
-fi
+service_secure=(--security-dir "$work/pki" --security-identity service)
 
 "$src/deploy/security/make-test-pki.sh" "$work/pki" >/dev/null || fail "make-test-pki.sh failed"
 sed "s|file:///etc/dh3/pki/|file://$work/pki/|g" "$src/deploy/dds/secure.xml" >"$work/secure.xml"
 
-ip netns add "$srv" 2>"$work/err" || skip "ip netns add failed: $(cat "$work/err")"
-ip netns add "$cli" || fail "could not create the client namespace"
-for ns in "$srv" "$cli"; do ip -n "$ns" link set lo up; done
-ip link add "$dev" type veth peer name "s${$}b" || fail "veth failed"
-ip link set "$dev" netns "$srv" && ip link set "s${$}b" netns "$cli"
-ip -n "$srv" addr add "$srv_addr/24" dev "$dev" && ip -n "$cli" addr add "$cli_addr/24" dev "s${$}b"
-ip -n "$srv" link set "$dev" up multicast on && ip -n "$cli" link set "s${$}b" up multicast on
+add_hosts "$srv" "$cli"
+link "$srv" "$srv_addr" "$cli" "$cli_addr" "s${$}"
 
 cat >"$work/config.yaml" <<EOF
 name: cell
