@@ -258,6 +258,11 @@ class Service::Impl {
   fdds::Topic* request_topic_ = nullptr;
   fdds::Topic* reply_topic_ = nullptr;
   fdds::DataWriter* status_writer_ = nullptr;
+  /// Status is keyed, and the generated type computes a sample's key in one
+  /// buffer of its own: two buses' threads writing at once would mix up their
+  /// hands' instances (ThreadSanitizer found it). Bus status mutexes only
+  /// order one bus's samples, so writes to this writer take this as well.
+  std::mutex status_write_mutex_;
   fdds::DataWriter* event_writer_ = nullptr;
   fdds::DataWriter* info_writer_ = nullptr;
   fdds::DataWriter* reply_writer_ = nullptr;
@@ -472,6 +477,7 @@ void Service::Impl::publish_status_locked(std::uint16_t bus, HandSlot& slot) {
                               wall_clock_ns()};
   fill_status(slot.sample, slot.state, context);
   if (status_writer_ == nullptr) return;  // DDS set-up failed or is gone
+  std::lock_guard write_lock(status_write_mutex_);
   if (!status_writer_->write(&slot.sample)) {
     spdlog::warn("could not publish the status of {}",
                  hand_text(buses_[bus]->name, slot.state.can_id));
