@@ -13,6 +13,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
@@ -35,7 +36,7 @@ can_frame make_can_frame(std::uint32_t can_id, std::vector<std::uint8_t> data) {
   can_frame frame{};
   frame.can_id = can_id;
   frame.len = static_cast<std::uint8_t>(data.size());
-  std::memcpy(frame.data, data.data(), std::min<std::size_t>(data.size(), sizeof frame.data));
+  std::copy_n(data.begin(), std::min<std::size_t>(data.size(), sizeof frame.data), frame.data);
   return frame;
 }
 
