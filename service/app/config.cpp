@@ -15,6 +15,7 @@
 #include "bus/bus_spec.hpp"
 #include "dh3_discovery_servers.hpp"
 #include "dh3_security_files.hpp"
+#include "metrics/metrics_exporter.hpp"
 
 namespace dh3::app {
 namespace {
@@ -116,7 +117,7 @@ class FileParser {
     ServiceConfig config;
     if (!root || root.IsNull()) return config;  // an empty file: every default
     expect_map(root, "the configuration");
-    check_keys(root, "", {"name", "domain", "log_level", "allow_admin", "dds", "buses"});
+    check_keys(root, "", {"name", "domain", "log_level", "allow_admin", "metrics", "dds", "buses"});
     if (auto n = root["name"]) config.name = name(n, "name", "service name");
     if (auto n = root["domain"]) {
       const auto domain = integer(n, "domain", 0, kMaxDomain);
@@ -127,6 +128,12 @@ class FileParser {
       if (auto bad = check_log_level(config.log_level)) fail_at(n, "log_level", *bad);
     }
     if (auto n = root["allow_admin"]) config.allow_admin = boolean(n, "allow_admin");
+    if (auto n = root["metrics"]) {
+      config.metrics_address = scalar(n, "metrics");
+      if (auto bad = metrics::check_listen_address(config.metrics_address)) {
+        fail_at(n, "metrics", *bad);
+      }
+    }
     if (auto dds = root["dds"]) parse_dds(dds, config);
     if (auto buses = root["buses"]) {
       if (!buses.IsSequence()) fail_at(buses, "buses", "expected a list of buses");
@@ -502,6 +509,14 @@ Result<ServiceConfig, ConfigError> apply_command_line(ServiceConfig config,
       return error("--security-identity", *bad);
     }
     config.security_identity = *line.security_identity;
+  }
+  if (line.metrics_address) {
+    if (!line.metrics_address->empty()) {
+      if (auto bad = metrics::check_listen_address(*line.metrics_address)) {
+        return error("--metrics", *bad);
+      }
+    }
+    config.metrics_address = *line.metrics_address;
   }
   if (line.security_dir) config.security_dir = *line.security_dir;
   if (line.security_dir || (line.security_identity && !config.security_dir.empty())) {

@@ -8,6 +8,7 @@
 //   domain: 0                  # DDS domain id, 0-232
 //   log_level: info            # trace, debug, info, warn, error, critical, off
 //   allow_admin: false         # accept SET_CAN_ID and SET_BAUD_RATE
+//   metrics: 127.0.0.1:9464    # Prometheus /metrics on HOST:PORT (port 0: any); default off
 //   dds:
 //     interfaces: [127.0.0.1]  # IPv4 addresses of the NICs, or ["*"]; default loopback only
 //     udp_only: false          # no shared memory (containers, namespaces)
@@ -89,6 +90,8 @@ struct ServiceConfig {
   std::string xml_profile;       ///< empty: the file's default participant profile
   std::string security_dir;      ///< empty: no DDS Security
   std::string security_identity = "service";
+  /// Where /metrics is served ("IPv4:PORT" or "[IPv6]:PORT"); empty: not served.
+  std::string metrics_address;
   std::vector<BusSettings> buses;
 };
 
@@ -123,6 +126,7 @@ struct CommandLine {
   std::optional<std::string> xml_profile;
   std::optional<std::string> security_dir;
   std::optional<std::string> security_identity;
+  std::optional<std::string> metrics_address;  ///< empty text turns the file's off
 };
 
 /// Applies the command line to a configuration and checks the result.
