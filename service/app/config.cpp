@@ -292,12 +292,12 @@ class FileParser {
   BusSettings parse_bus(const YAML::Node& node, std::size_t index, std::set<std::string>& names) {
     const std::string key = "buses[" + std::to_string(index) + "]";
     expect_map(node, key);
-    check_keys(
-        node, key + ".",
-        {"name", "spec", "hands", "sim", "command_interval_ms", "poll_interval_moving_ms",
-         "poll_interval_idle_ms", "reply_timeout_ms", "admin_reply_timeout_ms", "max_retries",
-         "offline_after_timeouts", "offline_probe_interval_ms", "init_timeout_ms",
-         "motion_timeout_ms", "queue_capacity", "discovery_interval_ms", "probe_spacing_ms"});
+    check_keys(node, key + ".",
+               {"name", "spec", "hands", "sim", "bit_rate", "command_interval_ms",
+                "poll_interval_moving_ms", "poll_interval_idle_ms", "reply_timeout_ms",
+                "admin_reply_timeout_ms", "max_retries", "offline_after_timeouts",
+                "offline_probe_interval_ms", "init_timeout_ms", "motion_timeout_ms",
+                "queue_capacity", "discovery_interval_ms", "probe_spacing_ms"});
     BusSettings bus;
     const auto spec = node["spec"];
     if (!spec) fail_at(node, key + ".spec", "missing (e.g. sim:1,2,3, tcp:HOST:PORT)");
@@ -340,6 +340,10 @@ class FileParser {
       s.queue_capacity = static_cast<std::size_t>(integer(n, key + ".queue_capacity", 1, 100000));
     }
 
+    if (auto n = node["bit_rate"]) {
+      if (is_sim) fail_at(n, key + ".bit_rate", "a sim bus takes sim.bit_rate");
+      bus.bit_rate = static_cast<std::uint32_t>(integer(n, key + ".bit_rate", 0, 1'000'000));
+    }
     if (auto sim = node["sim"]) {
       if (!is_sim) fail_at(sim, key + ".sim", "only a sim bus has simulator settings");
       parse_sim(sim, key + ".sim", bus.sim);

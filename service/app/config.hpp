@@ -22,6 +22,7 @@
 //     - name: left             # default: the SocketCAN interface, else bus0, bus1, ...
 //       spec: tcp:192.168.1.50:8888
 //       command_interval_ms: 20   # and the other scheduler timings (BusSettings)
+//       bit_rate: 1000000      # the CAN line's bit rate, if known (bus load, line budget)
 //       hands:                 # empty or absent: discover the hands on the bus
 //         - {id: 1, name: gripper}
 //     - spec: sim              # simulated hands: the ones listed (or sim:IDS)
@@ -71,6 +72,10 @@ struct SimSettings {
 struct BusSettings {
   std::string name;
   std::string spec;
+  /// The CAN line's bit rate behind a socketcan or transfer-box bus, when
+  /// known: load figures, and the scheduler's line budget (max_line_load).
+  /// 0: unknown. A sim bus takes sim.bit_rate instead.
+  std::uint32_t bit_rate = 0;
   std::vector<HandSettings> hands;  ///< empty: discover
   hand::SchedulerOptions scheduler;
   SimSettings sim;

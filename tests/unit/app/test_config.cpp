@@ -388,6 +388,14 @@ TEST(Config, MetricsAddressComesFromTheFileAndTheCommandLineWins) {
   EXPECT_TRUE(off->metrics_address.empty());
 }
 
+TEST(Config, ARealBusMayGiveItsBitRate) {
+  auto config = parse_ok("buses:\n  - {spec: 'tcp:127.0.0.1:9000', bit_rate: 500000}\n");
+  ASSERT_EQ(config.buses.size(), 1U);
+  EXPECT_EQ(config.buses[0].bit_rate, 500'000U);
+  EXPECT_THAT(parse_error("buses:\n  - {spec: sim, bit_rate: 500000}\n"),
+              AllOf(HasSubstr("buses[0].bit_rate"), HasSubstr("sim.bit_rate")));
+}
+
 TEST(Config, BadMetricsAddressesNameTheKeyOrOption) {
   EXPECT_THAT(parse_error("buses: [{spec: sim}]\nmetrics: localhost:9464\n"),
               AllOf(HasSubstr("cell.yaml:2: metrics:"), HasSubstr("localhost:9464")));
