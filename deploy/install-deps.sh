@@ -8,13 +8,16 @@
 #   deploy/install-deps.sh --runtime  only what the service and dh3ctl need to run
 set -euo pipefail
 
+# libprometheus-cpp-*: dh3-service's Prometheus endpoint (--metrics).
 runtime_pkgs=(
   libfastrtps2.9 libfastcdr1 libspdlog1.10 libyaml-cpp0.7 fastdds-tools
+  libprometheus-cpp-core1.0 libprometheus-cpp-pull1.0
 )
 build_pkgs=(
   build-essential cmake ninja-build pkg-config
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
   libspdlog-dev libfmt-dev libcli11-dev libyaml-cpp-dev
+  prometheus-cpp-dev
   libgtest-dev libgmock-dev
   clang libclang-rt-14-dev   # libFuzzer targets (tests/fuzz)
   iproute2 iputils-ping procps python3 python3-yaml openssl systemd

@@ -73,7 +73,10 @@ Result<std::vector<dds::BusSetup>, std::string> open_buses(const ServiceConfig& 
     if (spec->kind == bus::BusKind::sim) {
       setup.bus = open_sim_bus(settings, std::move(*spec), clock);
     } else {
-      auto opened = bus::open_bus(*spec, clock);
+      bus::OpenBusOptions options;
+      options.socketcan.bit_rate = settings.bit_rate;
+      options.transfer_box.can_bit_rate = settings.bit_rate;
+      auto opened = bus::open_bus(*spec, clock, options);
       if (!opened) return fail("bus '" + settings.name + "': " + opened.error());
       setup.bus = std::move(*opened);
     }

@@ -15,6 +15,7 @@
 #include "bus/bus_spec.hpp"
 #include "dh3_discovery_servers.hpp"
 #include "dh3_security_files.hpp"
+#include "metrics/metrics_exporter.hpp"
 
 namespace dh3::app {
 namespace {
@@ -116,7 +117,7 @@ class FileParser {
     ServiceConfig config;
     if (!root || root.IsNull()) return config;  // an empty file: every default
     expect_map(root, "the configuration");
-    check_keys(root, "", {"name", "domain", "log_level", "allow_admin", "dds", "buses"});
+    check_keys(root, "", {"name", "domain", "log_level", "allow_admin", "metrics", "dds", "buses"});
     if (auto n = root["name"]) config.name = name(n, "name", "service name");
     if (auto n = root["domain"]) {
       const auto domain = integer(n, "domain", 0, kMaxDomain);
@@ -127,6 +128,12 @@ class FileParser {
       if (auto bad = check_log_level(config.log_level)) fail_at(n, "log_level", *bad);
     }
     if (auto n = root["allow_admin"]) config.allow_admin = boolean(n, "allow_admin");
+    if (auto n = root["metrics"]) {
+      config.metrics_address = scalar(n, "metrics");
+      if (auto bad = metrics::check_listen_address(config.metrics_address)) {
+        fail_at(n, "metrics", *bad);
+      }
+    }
     if (auto dds = root["dds"]) parse_dds(dds, config);
     if (auto buses = root["buses"]) {
       if (!buses.IsSequence()) fail_at(buses, "buses", "expected a list of buses");
@@ -285,12 +292,12 @@ class FileParser {
   BusSettings parse_bus(const YAML::Node& node, std::size_t index, std::set<std::string>& names) {
     const std::string key = "buses[" + std::to_string(index) + "]";
     expect_map(node, key);
-    check_keys(
-        node, key + ".",
-        {"name", "spec", "hands", "sim", "command_interval_ms", "poll_interval_moving_ms",
-         "poll_interval_idle_ms", "reply_timeout_ms", "admin_reply_timeout_ms", "max_retries",
-         "offline_after_timeouts", "offline_probe_interval_ms", "init_timeout_ms",
-         "motion_timeout_ms", "queue_capacity", "discovery_interval_ms", "probe_spacing_ms"});
+    check_keys(node, key + ".",
+               {"name", "spec", "hands", "sim", "bit_rate", "command_interval_ms",
+                "poll_interval_moving_ms", "poll_interval_idle_ms", "reply_timeout_ms",
+                "admin_reply_timeout_ms", "max_retries", "offline_after_timeouts",
+                "offline_probe_interval_ms", "init_timeout_ms", "motion_timeout_ms",
+                "queue_capacity", "discovery_interval_ms", "probe_spacing_ms"});
     BusSettings bus;
     const auto spec = node["spec"];
     if (!spec) fail_at(node, key + ".spec", "missing (e.g. sim:1,2,3, tcp:HOST:PORT)");
@@ -333,6 +340,10 @@ class FileParser {
       s.queue_capacity = static_cast<std::size_t>(integer(n, key + ".queue_capacity", 1, 100000));
     }
 
+    if (auto n = node["bit_rate"]) {
+      if (is_sim) fail_at(n, key + ".bit_rate", "a sim bus takes sim.bit_rate");
+      bus.bit_rate = static_cast<std::uint32_t>(integer(n, key + ".bit_rate", 0, 1'000'000));
+    }
     if (auto sim = node["sim"]) {
       if (!is_sim) fail_at(sim, key + ".sim", "only a sim bus has simulator settings");
       parse_sim(sim, key + ".sim", bus.sim);
@@ -502,6 +513,14 @@ Result<ServiceConfig, ConfigError> apply_command_line(ServiceConfig config,
       return error("--security-identity", *bad);
     }
     config.security_identity = *line.security_identity;
+  }
+  if (line.metrics_address) {
+    if (!line.metrics_address->empty()) {
+      if (auto bad = metrics::check_listen_address(*line.metrics_address)) {
+        return error("--metrics", *bad);
+      }
+    }
+    config.metrics_address = *line.metrics_address;
   }
   if (line.security_dir) config.security_dir = *line.security_dir;
   if (line.security_dir || (line.security_identity && !config.security_dir.empty())) {

@@ -8,6 +8,7 @@
 //   domain: 0                  # DDS domain id, 0-232
 //   log_level: info            # trace, debug, info, warn, error, critical, off
 //   allow_admin: false         # accept SET_CAN_ID and SET_BAUD_RATE
+//   metrics: 127.0.0.1:9464    # Prometheus /metrics on HOST:PORT (port 0: any); default off
 //   dds:
 //     interfaces: [127.0.0.1]  # IPv4 addresses of the NICs, or ["*"]; default loopback only
 //     udp_only: false          # no shared memory (containers, namespaces)
@@ -21,6 +22,7 @@
 //     - name: left             # default: the SocketCAN interface, else bus0, bus1, ...
 //       spec: tcp:192.168.1.50:8888
 //       command_interval_ms: 20   # and the other scheduler timings (BusSettings)
+//       bit_rate: 1000000      # the CAN line's bit rate, if known (bus load, line budget)
 //       hands:                 # empty or absent: discover the hands on the bus
 //         - {id: 1, name: gripper}
 //     - spec: sim              # simulated hands: the ones listed (or sim:IDS)
@@ -70,6 +72,10 @@ struct SimSettings {
 struct BusSettings {
   std::string name;
   std::string spec;
+  /// The CAN line's bit rate behind a socketcan or transfer-box bus, when
+  /// known: load figures, and the scheduler's line budget (max_line_load).
+  /// 0: unknown. A sim bus takes sim.bit_rate instead.
+  std::uint32_t bit_rate = 0;
   std::vector<HandSettings> hands;  ///< empty: discover
   hand::SchedulerOptions scheduler;
   SimSettings sim;
@@ -89,6 +95,8 @@ struct ServiceConfig {
   std::string xml_profile;       ///< empty: the file's default participant profile
   std::string security_dir;      ///< empty: no DDS Security
   std::string security_identity = "service";
+  /// Where /metrics is served ("IPv4:PORT" or "[IPv6]:PORT"); empty: not served.
+  std::string metrics_address;
   std::vector<BusSettings> buses;
 };
 
@@ -123,6 +131,7 @@ struct CommandLine {
   std::optional<std::string> xml_profile;
   std::optional<std::string> security_dir;
   std::optional<std::string> security_identity;
+  std::optional<std::string> metrics_address;  ///< empty text turns the file's off
 };
 
 /// Applies the command line to a configuration and checks the result.

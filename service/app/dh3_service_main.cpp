@@ -17,6 +17,7 @@
 #include "app/config.hpp"
 #include "common/clock.hpp"
 #include "dds/service.hpp"
+#include "metrics/metrics_exporter.hpp"
 
 #ifndef DH3_VERSION
 #define DH3_VERSION "0.0.0"
@@ -94,6 +95,11 @@ int main(int argc, char** argv) {
   auto* security_identity_option =
       cli.add_option("--security-identity", security_identity,
                      "the identity (sub-directory of --security-dir) to use (default service)");
+  std::string metrics_address;
+  auto* metrics_option = cli.add_option(
+      "--metrics", metrics_address,
+      "serve Prometheus metrics at http://HOST:PORT/metrics (e.g. 127.0.0.1:9464; port 0 picks "
+      "a free one, the log says which); empty turns the config file's off");
   cli.set_version_flag("--version", DH3_VERSION);
   try {
     cli.parse(argc, argv);
@@ -110,6 +116,7 @@ int main(int argc, char** argv) {
   if (*profile_option) line.xml_profile = xml_profile;
   if (*security_dir_option) line.security_dir = security_dir;
   if (*security_identity_option) line.security_identity = security_identity;
+  if (*metrics_option) line.metrics_address = metrics_address;
 
   auto base =
       config_path.empty()
@@ -154,11 +161,23 @@ int main(int argc, char** argv) {
     spdlog::critical("{}", service.error());
     return kExitStartFailed;
   }
+  std::unique_ptr<dh3::metrics::Exporter> exporter;
+  if (!config->metrics_address.empty()) {
+    auto started = dh3::metrics::Exporter::start(
+        config->metrics_address, [&figures = **service] { return figures.metrics(); });
+    if (!started) {
+      spdlog::critical("{}", started.error());
+      return kExitStartFailed;
+    }
+    exporter = std::move(*started);
+    spdlog::info("metrics at http://{}/metrics", exporter->address());
+  }
   (*service)->start();
 
   int signal_number = 0;
   sigwait(&stop_signals, &signal_number);
   spdlog::info("{} received, stopping", signal_number == SIGINT ? "SIGINT" : "SIGTERM");
+  exporter.reset();  // it reads the service's figures: gone before the service
   (*service)->stop();
   service->reset();
   spdlog::shutdown();

@@ -145,6 +145,11 @@ class Service::Impl {
   Result<void, std::string> init(std::vector<BusSetup> setups);
   void start();
   void stop();
+  [[nodiscard]] std::vector<hand::BusMetrics> metrics() const {
+    std::vector<hand::BusMetrics> out;
+    for (const auto& bus : buses_) out.push_back(bus->scheduler->metrics());
+    return out;
+  }
 
  private:
   /// Forwards one bus's scheduler callbacks, tagged with the bus.
@@ -780,6 +785,9 @@ Result<std::unique_ptr<Service>, std::string> Service::create(ServiceOptions opt
 
 void Service::start() {
   impl_->start();
+}
+std::vector<hand::BusMetrics> Service::metrics() const {
+  return impl_->metrics();
 }
 void Service::stop() {
   impl_->stop();

@@ -78,6 +78,10 @@ class Service {
   /// last samples are given shutdown_ack_timeout to be acknowledged. Idempotent.
   void stop();
 
+  /// Every bus's counters and its hands' (for the metrics endpoint). Any
+  /// thread, until the Service is destroyed.
+  [[nodiscard]] std::vector<hand::BusMetrics> metrics() const;
+
  private:
   class Impl;
   explicit Service(std::unique_ptr<Impl> impl);

@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "hand/command_validation.hpp"
+#include "hand/hand_counters.hpp"
 #include "hand/hand_driver.hpp"
 #include "protocol/codec.hpp"
 
@@ -58,6 +59,7 @@ class BusScheduler::Impl {
                              options_.max_line_load;
       line_spacing_ = std::chrono::duration_cast<Duration>(std::chrono::duration<double>(seconds));
     }
+    bit_rate_ = bus_->bit_rate();
     link_up_ = bus_->link_state() == bus::LinkState::up;
     link_.store(bus_->link_state());
     const TimePoint now = clock_.now();
@@ -68,22 +70,28 @@ class BusScheduler::Impl {
     next_discovery_at_ = now;
   }
 
+  ~Impl() {
+    for (auto& counters : hand_counters_) delete counters.load();
+  }
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
+
   // ---- any thread ----------------------------------------------------------
 
   void submit(std::uint8_t can_id, Command command, Completion done) {
     if (auto invalid = validate(can_id, command, options_.allow_admin)) {
       spdlog::debug("{}/{}: refused {}: {}", name_, can_id, to_string(command.kind),
                     invalid->message);
-      done(fail(invalid->error));
+      refuse(can_id, command, done, invalid->error);
       return;
     }
     if (can_id != 0 && !known_[can_id].load()) {
-      done(fail(CommandError::unknown_hand));
+      refuse(can_id, command, done, CommandError::unknown_hand);
       return;
     }
     if (queued_[can_id].fetch_add(1) >= static_cast<int>(options_.queue_capacity)) {
       queued_[can_id].fetch_sub(1);
-      done(fail(CommandError::busy));
+      refuse(can_id, command, done, CommandError::busy);
       return;
     }
     {
@@ -97,7 +105,7 @@ class BusScheduler::Impl {
       }
     }
     queued_[can_id].fetch_sub(1);
-    done(fail(CommandError::cancelled));
+    refuse(can_id, command, done, CommandError::cancelled);
   }
 
   void request_scan(ScanCompletion done) {
@@ -122,7 +130,36 @@ class BusScheduler::Impl {
 
   SchedulerCounters counters() const {
     return SchedulerCounters{frames_sent_.load(), frames_received_.load(), unexpected_.load(),
-                             retries_.load(), timeouts_.load()};
+                             retries_.load(),     timeouts_.load(),        bus_errors_.load(),
+                             reconnects_.load()};
+  }
+
+  BusMetrics metrics() const {
+    BusMetrics out;
+    out.bus = name_;
+    out.link_up = link_.load() == bus::LinkState::up;
+    out.counters = counters();
+    out.bit_rate = bit_rate_;
+    out.recent_frames_per_second = recent_frames_.frames_per_second();
+    if (bit_rate_ > 0) {
+      out.line_load_percent =
+          100.0 * out.recent_frames_per_second * kBitsPerFrame / static_cast<double>(bit_rate_);
+    }
+    if (const HandCounters* anonymous = hand_counters_[0].load(std::memory_order_acquire)) {
+      HandMetrics& hand = out.hands.emplace_back();
+      anonymous->snapshot(hand);
+    }
+    for (const HandState& state : state()) {
+      HandMetrics& hand = out.hands.emplace_back();
+      hand.can_id = state.can_id;
+      hand.name = state.name;
+      hand.online = state.online;
+      if (const HandCounters* counted =
+              hand_counters_[state.can_id].load(std::memory_order_acquire)) {
+        counted->snapshot(hand);
+      }
+    }
+    return out;
   }
 
   const std::string& name() const { return name_; }
@@ -150,11 +187,32 @@ class BusScheduler::Impl {
     const TimePoint now = clock_.now();
     for (Submitted& item : leftover) {
       queued_[item.can_id].fetch_sub(1);
-      item.job.done(fail(CommandError::cancelled));
+      refuse(item.can_id, item.job.command, item.job.done, CommandError::cancelled);
     }
     for (std::uint8_t id : order_) drivers_[id]->shut_down(now);
     finish_scan();
     for (ScanCompletion& done : scans) done({});
+  }
+
+  // ---- counting (any thread) -------------------------------------------------
+
+  HandCounters& counters_for(std::uint8_t can_id) {
+    HandCounters* counters = hand_counters_[can_id].load(std::memory_order_acquire);
+    if (counters) return *counters;
+    auto fresh = std::make_unique<HandCounters>();
+    if (hand_counters_[can_id].compare_exchange_strong(counters, fresh.get(),
+                                                       std::memory_order_acq_rel)) {
+      return *fresh.release();
+    }
+    return *counters;  // another thread was first
+  }
+
+  /// A command that ends before any driver has it. Commands to hands that do
+  /// not exist are not counted: no hand's figures should grow from them.
+  void refuse(std::uint8_t can_id, const Command& command, Completion& done, CommandError error) {
+    if (can_id == 0 || known_[can_id].load())
+      counters_for(can_id).count_command(command, fail(error));
+    done(fail(error));
   }
 
   // ---- loop thread ---------------------------------------------------------
@@ -197,8 +255,8 @@ class BusScheduler::Impl {
 
   HandDriver* add_driver(HandConfig config, TimePoint now) {
     const std::uint8_t id = config.can_id;
-    drivers_[id] =
-        std::make_unique<HandDriver>(std::move(config), context_, queued_[id], now, id == 0);
+    drivers_[id] = std::make_unique<HandDriver>(std::move(config), context_, queued_[id],
+                                                counters_for(id), now, id == 0);
     order_.push_back(id);
     if (id != 0) known_[id].store(true);
     return drivers_[id].get();
@@ -217,6 +275,9 @@ class BusScheduler::Impl {
     frames_.clear();
     const auto received = bus_->receive(frames_, wait);
     const TimePoint now = clock_.now();
+    recent_frames_.roll(now);
+    recent_frames_.count(frames_.size());
+    if (!received && received.error() == bus::BusError::io_error) bus_errors_.fetch_add(1);
     if (!received && received.error() == bus::BusError::link_down) {
       if (link_up_) on_link_down(now);
     } else if (!link_up_ && bus_->link_state() == bus::LinkState::up) {
@@ -240,7 +301,7 @@ class BusScheduler::Impl {
     for (Submitted& item : items) {
       if (!link_up_) {
         queued_[item.can_id].fetch_sub(1);
-        item.job.done(fail(CommandError::bus_down));
+        refuse(item.can_id, item.job.command, item.job.done, CommandError::bus_down);
         continue;
       }
       HandDriver* driver = drivers_[item.can_id].get();
@@ -305,6 +366,7 @@ class BusScheduler::Impl {
       const auto sent = bus_->send(to_frame(*message));
       if (sent) {
         frames_sent_.fetch_add(1);
+        recent_frames_.count(1);
         line_used(now);
         continue;
       }
@@ -314,6 +376,7 @@ class BusScheduler::Impl {
         return;
       }
       if (sent.error() != bus::BusError::would_block) {
+        bus_errors_.fetch_add(1);
         spdlog::warn("{}: could not send {}: {}", name_, protocol::describe(*message),
                      bus::to_string(sent.error()));
       }
@@ -355,9 +418,11 @@ class BusScheduler::Impl {
       const auto sent = bus_->send(to_frame(probe));
       if (!sent) {
         if (sent.error() == bus::BusError::link_down) on_link_down(now);
+        if (sent.error() == bus::BusError::io_error) bus_errors_.fetch_add(1);
         return;  // would_block: the next pass tries this ID again
       }
       frames_sent_.fetch_add(1);
+      recent_frames_.count(1);
       line_used(now);
       scan_->pending[id] = now + options_.reply_timeout;
       ++scan_->next_id;
@@ -407,6 +472,7 @@ class BusScheduler::Impl {
   }
 
   void on_link_up(TimePoint now) {
+    reconnects_.fetch_add(1);
     link_up_ = true;
     link_.store(bus::LinkState::up);
     spdlog::info("{}: bus up ({})", name_, bus_->spec());
@@ -426,7 +492,13 @@ class BusScheduler::Impl {
   std::atomic<std::uint64_t> unexpected_{0};
   std::atomic<std::uint64_t> retries_{0};
   std::atomic<std::uint64_t> timeouts_{0};
+  std::atomic<std::uint64_t> bus_errors_{0};
+  std::atomic<std::uint64_t> reconnects_{0};
   DriverContext context_;
+  /// Per hand; created on first use (from any thread), never removed.
+  std::array<std::atomic<HandCounters*>, 256> hand_counters_{};
+  std::uint32_t bit_rate_ = 0;
+  RecentFrames recent_frames_{clock_.now()};
 
   // Read by submit() on any thread; written by the loop.
   std::array<std::atomic<bool>, 256> known_{};
@@ -479,6 +551,9 @@ std::vector<HandState> BusScheduler::state() const {
 }
 SchedulerCounters BusScheduler::counters() const {
   return impl_->counters();
+}
+BusMetrics BusScheduler::metrics() const {
+  return impl_->metrics();
 }
 const std::string& BusScheduler::name() const {
   return impl_->name();

@@ -3,7 +3,8 @@
 // that sends, matches replies, paces, polls status, times out and detects
 // events. Many hands share a bus fairly; every command ends in one result.
 //
-// Threading: submit(), request_scan() and state() are safe from any thread.
+// Threading: submit(), request_scan(), state(), counters() and metrics() are
+// safe from any thread.
 // Everything else happens on the loop: either the scheduler's own thread
 // (start()/stop()) or, in tests, whoever calls step(). Completions and observer
 // callbacks run on the loop thread and must not block.
@@ -17,6 +18,7 @@
 
 #include "bus/bus.hpp"
 #include "common/clock.hpp"
+#include "hand/hand_metrics.hpp"
 #include "hand/hand_types.hpp"
 
 namespace dh3::hand {
@@ -78,14 +80,6 @@ class HandObserver {
 using Completion = std::function<void(const CommandResult&)>;
 using ScanCompletion = std::function<void(const std::vector<std::uint8_t>& found)>;
 
-struct SchedulerCounters {
-  std::uint64_t frames_sent = 0;
-  std::uint64_t frames_received = 0;
-  std::uint64_t unexpected_frames = 0;
-  std::uint64_t retries = 0;
-  std::uint64_t timeouts = 0;
-};
-
 class BusScheduler {
  public:
   /// `hands` empty: discover hands by probing (SchedulerOptions::discovery_interval).
@@ -106,6 +100,9 @@ class BusScheduler {
   /// Snapshot of every known hand.
   [[nodiscard]] std::vector<HandState> state() const;
   [[nodiscard]] SchedulerCounters counters() const;
+  /// The bus's counters, its recent load and every known hand's counters
+  /// (hand_metrics.hpp); cheap enough for every scrape of a metrics endpoint.
+  [[nodiscard]] BusMetrics metrics() const;
   [[nodiscard]] const std::string& name() const;
   [[nodiscard]] bus::LinkState link_state() const;
 

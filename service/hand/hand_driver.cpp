@@ -69,8 +69,12 @@ CommandResult ok(std::int32_t value, GraspOutcome grasp = GraspOutcome::none) {
 }  // namespace
 
 HandDriver::HandDriver(HandConfig config, DriverContext& context, std::atomic<int>& queued,
-                       TimePoint now, bool anonymous)
-    : context_(context), options_(context.options), queued_(queued), anonymous_(anonymous) {
+                       HandCounters& counters, TimePoint now, bool anonymous)
+    : context_(context),
+      options_(context.options),
+      queued_(queued),
+      counters_(counters),
+      anonymous_(anonymous) {
   state_.can_id = config.can_id;
   state_.name = std::move(config.name);
   state_.updated_at = now;
@@ -110,7 +114,7 @@ void HandDriver::cancel_motion(bool fingers, bool rotation, TimePoint now) {
     const bool superseded =
         (fingers && moves_fingers(it->command)) || (rotation && moves_rotation(it->command));
     if (superseded) {
-      complete(std::move(it->done), fail(CommandError::cancelled));
+      complete(*it, fail(CommandError::cancelled));
       queued_.fetch_sub(1);
       it = queue_.erase(it);
     } else {
@@ -177,7 +181,7 @@ void HandDriver::start_next_job(TimePoint now) {
     queue_.pop_front();
     queued_.fetch_sub(1);
     if (job.command.timeout && now >= job.submitted + *job.command.timeout) {
-      complete(std::move(job.done), fail(CommandError::timeout));
+      complete(job, fail(CommandError::timeout));
       continue;
     }
     ActiveJob next{std::move(job), 0, -1};
@@ -187,11 +191,11 @@ void HandDriver::start_next_job(TimePoint now) {
       } else if (!state_.initialized) {
         if (next.job.command.kind == CommandKind::stop) {
           // Nothing moves before initialization: there is nothing to stop.
-          complete(std::move(next.job.done), ok(state_.position));
+          complete(next.job, ok(state_.position));
         } else {
           set_error(CommandError::not_initialized,
                     fmt::format("{} before initialization", to_string(next.job.command.kind)));
-          complete(std::move(next.job.done), fail(CommandError::not_initialized));
+          complete(next.job, fail(CommandError::not_initialized));
         }
         continue;
       }
@@ -335,6 +339,7 @@ bool HandDriver::on_frame(const Message& message, TimePoint now) {
     // compared (design.md reading 1).
     const InFlight sent = *in_flight_;
     in_flight_.reset();
+    counters_.observe_round_trip(now - sent.sent);
     on_answer(now);
     on_reply(sent, message, now);
     flush(now);
@@ -672,7 +677,7 @@ void HandDriver::on_time(TimePoint now) {
   // Commands with their own timeout that are still waiting for their turn.
   for (auto it = queue_.begin(); it != queue_.end();) {
     if (it->command.timeout && now >= it->submitted + *it->command.timeout) {
-      complete(std::move(it->done), fail(CommandError::timeout));
+      complete(*it, fail(CommandError::timeout));
       queued_.fetch_sub(1);
       it = queue_.erase(it);
     } else {
@@ -686,6 +691,7 @@ void HandDriver::on_timeout(TimePoint now) {
   const InFlight lost = *in_flight_;
   in_flight_.reset();
   context_.timeouts.fetch_add(1);
+  counters_.count_timeout();
   ++consecutive_timeouts_;
 
   if (lost.retryable && lost.attempts <= options_.max_retries) {
@@ -693,6 +699,7 @@ void HandDriver::on_timeout(TimePoint now) {
     ++again.attempts;
     resend_ = again;
     context_.retries.fetch_add(1);
+    counters_.count_retry();
   } else {
     switch (lost.purpose) {
       case Purpose::job:
@@ -777,7 +784,7 @@ void HandDriver::shut_down(TimePoint now) {
 void HandDriver::fail_everything(CommandError error, TimePoint now) {
   if (active_) finish_active(fail(error), now);
   while (!queue_.empty()) {
-    complete(std::move(queue_.front().done), fail(error));
+    complete(queue_.front(), fail(error));
     queued_.fetch_sub(1);
     queue_.pop_front();
   }
@@ -822,18 +829,19 @@ std::optional<TimePoint> HandDriver::next_wakeup() const {
 void HandDriver::finish_active(const CommandResult& result, TimePoint now) {
   (void)now;
   if (!active_) return;
-  complete(std::move(active_->job.done), result);
+  complete(active_->job, result);
   active_.reset();
 }
 
 void HandDriver::finish_waiter(std::optional<Waiter>& waiter, const CommandResult& result) {
   if (!waiter) return;
-  complete(std::move(waiter->job.done), result);
+  complete(waiter->job, result);
   waiter.reset();
 }
 
-void HandDriver::complete(Completion done, const CommandResult& result) {
-  if (done) pending_completions_.emplace_back(std::move(done), result);
+void HandDriver::complete(Job& job, const CommandResult& result) {
+  counters_.count_command(job.command, result);
+  if (job.done) pending_completions_.emplace_back(std::move(job.done), result);
 }
 
 void HandDriver::set_error(CommandError error, std::string message) {

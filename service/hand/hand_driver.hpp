@@ -31,6 +31,7 @@
 
 #include "bus/bus.hpp"
 #include "hand/bus_scheduler.hpp"
+#include "hand/hand_counters.hpp"
 #include "hand/hand_types.hpp"
 #include "protocol/codec.hpp"
 
@@ -53,9 +54,10 @@ class HandDriver {
   /// `queued` counts this hand's commands that wait for their turn; submit()
   /// raises it on the caller's thread, the driver lowers it as they leave the
   /// queue. `anonymous`: ID 0, used only to read or set the CAN ID of whichever
-  /// hand is there; it is never polled, probed or reported.
-  HandDriver(HandConfig config, DriverContext& context, std::atomic<int>& queued, TimePoint now,
-             bool anonymous = false);
+  /// hand is there; it is never polled, probed or reported. `counters`: this
+  /// hand's, owned by the scheduler.
+  HandDriver(HandConfig config, DriverContext& context, std::atomic<int>& queued,
+             HandCounters& counters, TimePoint now, bool anonymous = false);
 
   struct Job {
     Command command;
@@ -158,7 +160,8 @@ class HandDriver {
 
   void emit(EventKind kind, TimePoint now, std::int32_t value = 0, std::string message = {},
             std::optional<std::int32_t> position = {}, std::optional<std::int32_t> target = {});
-  void complete(Completion done, const CommandResult& result);
+  /// Counts the job's result and queues its completion for flush().
+  void complete(Job& job, const CommandResult& result);
   void set_error(CommandError error, std::string message);
   /// Publishes the state if it changed, then the events, then the completions,
   /// so that whoever hears of an event or a result finds the state behind it.
@@ -170,6 +173,7 @@ class HandDriver {
   DriverContext& context_;
   const SchedulerOptions& options_;
   std::atomic<int>& queued_;
+  HandCounters& counters_;
   bool anonymous_;
   HandState state_;
   HandState published_;

@@ -20,9 +20,10 @@ fail() { echo "FAILED: $*"; failures=$((failures + 1)); }
 ok() { echo "ok: $*"; }
 
 domain=$((10 + $$ % 200))
-# The image's configuration, kept on loopback (it says every interface).
+# The image's configuration, kept on loopback (it says every interface), its
+# metrics on a free port (its fixed one may be taken by a parallel test).
 "$service_bin" --config "$src/deploy/config/dh3-sim.yaml" --domain "$domain" \
-  --interface 127.0.0.1 >"$work/service.log" 2>&1 &
+  --interface 127.0.0.1 --metrics 127.0.0.1:0 >"$work/service.log" 2>&1 &
 service_pid=$!
 
 export PATH="$(dirname "$ctl_bin"):$PATH" DH3_DOMAIN=$domain DH3_HEALTH_INTERFACE=127.0.0.1

@@ -127,18 +127,26 @@ class RawTcpClient {
   /// True once the peer has closed the connection (within `timeout`); bytes
   /// still arriving before the close are read and dropped.
   bool wait_closed(std::chrono::milliseconds timeout) {
+    return read_until_closed(timeout).has_value();
+  }
+
+  /// Everything the peer sends until it closes the connection, or nullopt if
+  /// it does not close within `timeout`.
+  std::optional<std::string> read_until_closed(std::chrono::milliseconds timeout) {
     const auto deadline = std::chrono::steady_clock::now() + timeout;
+    std::string received;
     for (;;) {
       const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
           deadline - std::chrono::steady_clock::now());
-      if (left.count() <= 0) return false;
+      if (left.count() <= 0) return std::nullopt;
       pollfd poll_fd{fd_, POLLIN, 0};
       const int ready = ::poll(&poll_fd, 1, static_cast<int>(left.count()));
       if (ready < 0 && errno == EINTR) continue;
-      if (ready <= 0) return false;
-      std::uint8_t chunk[64];
+      if (ready <= 0) return std::nullopt;
+      char chunk[4096];
       const ssize_t got = ::recv(fd_, chunk, sizeof chunk, 0);
-      if (got == 0 || (got < 0 && errno != EINTR && errno != EAGAIN)) return true;
+      if (got > 0) received.append(chunk, static_cast<std::size_t>(got));
+      if (got == 0 || (got < 0 && errno != EINTR && errno != EAGAIN)) return received;
     }
   }
 

@@ -21,6 +21,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "support/dds_test_client.hpp"
@@ -89,6 +90,17 @@ class ServiceProcess {
   std::string name_;
   Process process_;
 };
+
+/// Runs dh3-service with stderr joined to stdout until it exits; its exit
+/// code (-1 if it did not exit normally) and output.
+inline std::pair<int, std::string> run_to_exit(const std::string& args) {
+  Process shell("/bin/sh", {"-c", std::string(DH3_SERVICE_PATH) + " " + args + " 2>&1"},
+                Process::Stdin::dev_null);
+  std::string output;
+  while (auto line = shell.read_line(std::chrono::seconds(20))) output += *line + "\n";
+  const auto status = shell.wait_exit(std::chrono::seconds(20));
+  return {status && WIFEXITED(*status) ? WEXITSTATUS(*status) : -1, output};
+}
 
 /// dh3-sim as a child process: a transfer box on a free loopback port with
 /// the control channel on its stdin.

@@ -119,16 +119,6 @@ TEST(ServiceLifecycle, SigintStopsCleanly) {
                                   [](const auto& s) { return !s.online(); }));
 }
 
-/// Runs dh3-service with stderr joined to stdout; its exit code and output.
-std::pair<int, std::string> run_to_exit(const std::string& args) {
-  Process shell("/bin/sh", {"-c", std::string(DH3_SERVICE_PATH) + " " + args + " 2>&1"},
-                Process::Stdin::dev_null);
-  std::string output;
-  while (auto line = shell.read_line(std::chrono::seconds(20))) output += *line + "\n";
-  const auto status = shell.wait_exit(std::chrono::seconds(20));
-  return {status && WIFEXITED(*status) ? WEXITSTATUS(*status) : -1, output};
-}
-
 TEST(ServiceLifecycle, ConfigErrorsEndStartUpWithCodeTwo) {
   TempFile config("name: x\nbuses:\n  - spec: sim\n    hands: [{id: 1, object: 400}]\n");
   const auto [code, output] = run_to_exit("--config " + config.path());

@@ -54,6 +54,16 @@ TEST(BusSetup, UnreachableBoxStillOpensAndRetries) {
   auto setups = open_buses(config, SystemClock::instance());
   ASSERT_TRUE(setups.ok()) << setups.error();
   EXPECT_EQ((*setups)[0].bus->spec(), "tcp:127.0.0.1:9");
+  EXPECT_EQ((*setups)[0].bus->bit_rate(), 0U);  // unknown unless configured
+}
+
+TEST(BusSetup, ABoxBusKnowsTheBitRateItWasGiven) {
+  ServiceConfig config;
+  config.buses.push_back(bus("tcp:127.0.0.1:9"));
+  config.buses[0].bit_rate = 500'000;
+  auto setups = open_buses(config, SystemClock::instance());
+  ASSERT_TRUE(setups.ok()) << setups.error();
+  EXPECT_EQ((*setups)[0].bus->bit_rate(), 500'000U);  // what the load figure divides by
 }
 
 }  // namespace

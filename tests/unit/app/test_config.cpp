@@ -371,5 +371,40 @@ TEST(Config, BusNamesDefaultByPosition) {
   EXPECT_EQ(default_bus_name("socketcan:can0", 1), "can0");
 }
 
+TEST(Config, MetricsAddressComesFromTheFileAndTheCommandLineWins) {
+  EXPECT_TRUE(default_config().metrics_address.empty());  // off unless asked for
+  auto config = parse_ok("metrics: 127.0.0.1:9464\nbuses: [{spec: sim}]\n");
+  EXPECT_EQ(config.metrics_address, "127.0.0.1:9464");
+
+  CommandLine line;
+  line.metrics_address = "0.0.0.0:0";
+  auto overridden = apply_command_line(config, line);
+  ASSERT_TRUE(overridden.ok()) << overridden.error().message;
+  EXPECT_EQ(overridden->metrics_address, "0.0.0.0:0");
+
+  line.metrics_address = "";  // --metrics "" turns the file's endpoint off
+  auto off = apply_command_line(config, line);
+  ASSERT_TRUE(off.ok()) << off.error().message;
+  EXPECT_TRUE(off->metrics_address.empty());
+}
+
+TEST(Config, ARealBusMayGiveItsBitRate) {
+  auto config = parse_ok("buses:\n  - {spec: 'tcp:127.0.0.1:9000', bit_rate: 500000}\n");
+  ASSERT_EQ(config.buses.size(), 1U);
+  EXPECT_EQ(config.buses[0].bit_rate, 500'000U);
+  EXPECT_THAT(parse_error("buses:\n  - {spec: sim, bit_rate: 500000}\n"),
+              AllOf(HasSubstr("buses[0].bit_rate"), HasSubstr("sim.bit_rate")));
+}
+
+TEST(Config, BadMetricsAddressesNameTheKeyOrOption) {
+  EXPECT_THAT(parse_error("buses: [{spec: sim}]\nmetrics: localhost:9464\n"),
+              AllOf(HasSubstr("cell.yaml:2: metrics:"), HasSubstr("localhost:9464")));
+  CommandLine line;
+  line.metrics_address = "127.0.0.1";
+  auto config = apply_command_line(default_config(), line);
+  ASSERT_FALSE(config.ok());
+  EXPECT_THAT(config.error().message, AllOf(HasSubstr("--metrics"), HasSubstr("HOST:PORT")));
+}
+
 }  // namespace
 }  // namespace dh3::app

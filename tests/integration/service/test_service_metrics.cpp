@@ -1,0 +1,184 @@
+// dh3-service --metrics: a real service process, driven over DDS, scraped over
+// HTTP on loopback as Prometheus would scrape it. The port is 0 (the kernel
+// picks a free one, so parallel tests never clash) and read from the log line
+// the service writes.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <functional>
+
+#include "service_fixture.hpp"
+#include "support/metrics_scrape.hpp"
+
+namespace dh3::test {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::Not;
+
+constexpr const char* kConfig = R"(
+metrics: 192.0.2.1:9    # the command line's --metrics wins over this
+buses:
+  - name: bus0
+    spec: sim
+    command_interval_ms: 2
+    poll_interval_moving_ms: 20
+    poll_interval_idle_ms: 100
+    sim: {reply_delay_ms: 1, init_time_ms: 100}
+    hands:
+      - {id: 1, name: left}
+      - {id: 2}
+  - name: line
+    spec: sim
+    poll_interval_idle_ms: 100
+    sim: {bit_rate: 125000}
+    hands:
+      - {id: 5}
+)";
+
+constexpr auto kDeadline = std::chrono::seconds(20);
+
+/// dh3-service with its log joined to stdout, so the test can read the
+/// address the metrics endpoint was bound to.
+class MetricsService {
+ public:
+  explicit MetricsService(const std::string& config_path)
+      : process_("/bin/sh",
+                 {"-c", "exec " + std::string(DH3_SERVICE_PATH) + " --domain " +
+                            std::to_string(test_domain()) + " --name " + name_ + " --config " +
+                            config_path + " --metrics 127.0.0.1:0 2>&1"},
+                 Process::Stdin::dev_null) {
+    const std::string marker = "metrics at http://127.0.0.1:";
+    const auto deadline = std::chrono::steady_clock::now() + kDeadline;
+    while (std::chrono::steady_clock::now() < deadline) {
+      auto line = process_.read_line(std::chrono::seconds(1));
+      if (!line) continue;
+      std::fprintf(stderr, "%s\n", line->c_str());
+      const auto at = line->find(marker);
+      if (at == std::string::npos) continue;
+      port_ = static_cast<std::uint16_t>(std::stoi(line->substr(at + marker.size())));
+      return;
+    }
+  }
+
+  [[nodiscard]] std::uint16_t port() const { return port_; }
+  [[nodiscard]] const std::string& name() const { return name_; }
+
+  std::optional<int> stop() {
+    process_.send_signal(SIGTERM);
+    // Read the log to its end, so a full pipe never holds the service up.
+    while (auto line = process_.read_line(kDeadline)) std::fprintf(stderr, "%s\n", line->c_str());
+    const auto status = process_.wait_exit(kDeadline);
+    if (!status || !WIFEXITED(*status)) return std::nullopt;
+    return WEXITSTATUS(*status);
+  }
+
+ private:
+  std::string name_ = test_service_name();
+  Process process_;
+  std::uint16_t port_ = 0;
+};
+
+/// Scrapes until `done(text)` holds; the last text scraped.
+std::string scrape_until(std::uint16_t port, const std::function<bool(const std::string&)>& done) {
+  const auto deadline = std::chrono::steady_clock::now() + kDeadline;
+  std::string text;
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (auto body = scrape_metrics(port)) {
+      text = std::move(*body);
+      if (done(text)) break;
+    }
+  }
+  return text;
+}
+
+std::string series(const std::string& name, const std::string& labels) {
+  return name + "{" + labels + "}";
+}
+
+TEST(ServiceMetrics, CountsWhatTheServiceDidAndServesItOnTheLoggedPort) {
+  TempFile config(kConfig);
+  MetricsService service(config.path());
+  ASSERT_NE(service.port(), 0) << "dh3-service did not log where it serves metrics";
+  auto client = connected_client(service.name());
+  ASSERT_TRUE(client);
+
+  const auto hand = [&](std::uint16_t id) {
+    return DdsTestClient::hand(service.name(), "bus0", id);
+  };
+  const auto code = [&](std::uint16_t id, msg::CommandType command, std::int32_t value = 0) {
+    auto reply = client->call(hand(id), command, value);
+    return reply ? reply->code() : msg::FAILED;
+  };
+  ASSERT_TRUE(client->wait_status(hand(1), [](const auto& s) { return s.online(); }));
+  EXPECT_EQ(code(2, msg::MOVE, 30), msg::NOT_INITIALIZED);
+  EXPECT_EQ(code(1, msg::INITIALIZE), msg::OK);
+  EXPECT_EQ(code(1, msg::MOVE, 50), msg::OK);
+  EXPECT_EQ(code(1, msg::MOVE, 70), msg::OK);
+  EXPECT_EQ(code(1, msg::SET_CLOSING_FORCE, 40), msg::OK);
+  EXPECT_EQ(code(9, msg::MOVE, 50), msg::UNKNOWN_HAND);  // refused before any hand
+
+  const std::string left = R"(bus="bus0",hand="1",name="left")";
+  const std::string right = R"(bus="bus0",hand="2",name="")";
+  const std::string moves_ok =
+      series("dh3_hand_commands_total", left + R"(,type="MOVE",result="OK")");
+  // The line bus's load needs a whole second of traffic behind it.
+  const std::string text = scrape_until(service.port(), [&](const std::string& t) {
+    const auto load = metric_value(t, R"(dh3_bus_load_percent{bus="line"})");
+    return metric_value(t, moves_ok) == 2.0 && load && *load > 0.0;
+  });
+  EXPECT_EQ(metric_value(text, moves_ok), 2.0) << text;
+  EXPECT_EQ(metric_value(text, series("dh3_hand_commands_total",
+                                      left + R"(,type="INITIALIZE",result="OK")")),
+            1.0);
+  EXPECT_EQ(metric_value(text, series("dh3_hand_commands_total",
+                                      left + R"(,type="SET_CLOSING_FORCE",result="OK")")),
+            1.0);
+  EXPECT_EQ(metric_value(text, series("dh3_hand_commands_total",
+                                      right + R"(,type="MOVE",result="NOT_INITIALIZED")")),
+            1.0);
+  EXPECT_THAT(text, Not(HasSubstr(R"(hand="9")")));
+
+  EXPECT_EQ(metric_value(text, series("dh3_hand_online", left)), 1.0);
+  EXPECT_EQ(metric_value(text, series("dh3_hand_online", right)), 1.0);
+  EXPECT_EQ(metric_value(text, series("dh3_hand_online", R"(bus="line",hand="5",name="")")), 1.0);
+  EXPECT_GT(metric_value(text, series("dh3_hand_round_trip_seconds_count", left)).value_or(0), 0);
+  EXPECT_EQ(metric_value(text, series("dh3_hand_timeouts_total", left)), 0.0);
+
+  EXPECT_GT(metric_value(text, R"(dh3_bus_frames_sent_total{bus="bus0"})").value_or(0), 0);
+  EXPECT_GT(metric_value(text, R"(dh3_bus_frames_received_total{bus="bus0"})").value_or(0), 0);
+  EXPECT_EQ(metric_value(text, R"(dh3_bus_link_up{bus="bus0"})"), 1.0);
+  EXPECT_EQ(metric_value(text, R"(dh3_bus_reconnects_total{bus="bus0"})"), 0.0);
+  EXPECT_EQ(metric_value(text, R"(dh3_bus_errors_total{bus="bus0",kind="unexpected_frame"})"), 0.0);
+  // Only the bus that knows its bit rate has a load figure; polling one hand
+  // is a few percent of 125 kbit/s, not all of it.
+  EXPECT_FALSE(metric_value(text, R"(dh3_bus_load_percent{bus="bus0"})"));
+  const auto load = metric_value(text, R"(dh3_bus_load_percent{bus="line"})");
+  ASSERT_TRUE(load);
+  EXPECT_GT(*load, 0.0);
+  EXPECT_LT(*load, 50.0);
+
+  EXPECT_EQ(service.stop(), 0);
+}
+
+TEST(ServiceMetrics, AnAddressItCannotServeOnEndsStartUpWithAClearMessage) {
+  const std::string common = "--domain " + std::to_string(test_domain()) + " --name " +
+                             test_service_name() + " --bus sim:1 ";
+  const auto [malformed, malformed_output] = run_to_exit(common + "--metrics localhost:9464");
+  EXPECT_EQ(malformed, 2);
+  EXPECT_THAT(malformed_output, HasSubstr("--metrics: metrics address 'localhost:9464'"));
+
+  TempFile config("metrics: 127.0.0.1:70000\nbuses: [{spec: sim}]\n");
+  const auto [bad_key, key_output] = run_to_exit("--config " + config.path());
+  EXPECT_EQ(bad_key, 2);
+  EXPECT_THAT(key_output, HasSubstr(config.path() + ":1: metrics:"));
+
+  // 192.0.2.1 (TEST-NET-1) is no address of this host: binding it fails.
+  const auto [unbound, unbound_output] = run_to_exit(common + "--metrics 192.0.2.1:9464");
+  EXPECT_EQ(unbound, 1);
+  EXPECT_THAT(unbound_output, HasSubstr("cannot serve metrics on 192.0.2.1:9464"));
+}
+
+}  // namespace
+}  // namespace dh3::test
