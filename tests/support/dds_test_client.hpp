@@ -39,6 +39,8 @@
 namespace dh3::test {
 
 inline constexpr std::chrono::seconds kDdsDeadline{15};
+/// How long a test waits for a second reply to a request, which must not come.
+inline constexpr std::chrono::milliseconds kDuplicateGrace{1500};
 
 class DdsTestClient {
  public:
@@ -151,6 +153,26 @@ class DdsTestClient {
     std::lock_guard lock(mutex_);
     const auto it = replies_.find({client_id ? *client_id : client_id_, seq});
     return it == replies_.end() ? 0 : it->second.size();
+  }
+
+  /// Waits up to `grace` for any request (of any client_id) to get a second
+  /// reply; the first such (client_id, request_seq), nullopt if none came.
+  /// Waiting the whole grace period is the point: a duplicate comes late.
+  std::optional<std::pair<std::string, std::uint64_t>> wait_duplicate_reply(
+      std::chrono::milliseconds grace) {
+    std::optional<std::pair<std::string, std::uint64_t>> duplicate;
+    wait_until(
+        [&] {
+          for (const auto& [key, replies] : replies_) {
+            if (replies.size() > 1) {
+              duplicate = key;
+              return true;
+            }
+          }
+          return false;
+        },
+        grace);
+    return duplicate;
   }
 
   /// Waits until the service answers this client: its request reader and reply

@@ -103,6 +103,8 @@ TEST_F(ServiceWithSimTest, MutedHandTimesOutWhileTheOthersKeepAnswering) {
   EXPECT_THAT(sim_.control("unmute 2"), StartsWith("ok"));
   EXPECT_TRUE(client_->wait_status(hand(2), [](const auto& s) { return s.online(); }));
   EXPECT_TRUE(has_event(2, msg::EVENT_ONLINE));
+  // Exactly one reply each: none of the requests gets a second one later.
+  EXPECT_FALSE(client_->wait_duplicate_reply(kDuplicateGrace)) << "a request got two replies";
 }
 
 TEST_F(ServiceWithSimTest, FullQueueAnswersBusy) {
@@ -122,6 +124,7 @@ TEST_F(ServiceWithSimTest, FullQueueAnswersBusy) {
     }
   }
   EXPECT_GE(busy, 1);
+  EXPECT_FALSE(client_->wait_duplicate_reply(kDuplicateGrace)) << "a request got two replies";
 }
 
 TEST(ServiceDiscovery, HandsOfABusWithoutAListAreFoundAndServed) {
