@@ -101,28 +101,31 @@ std::vector<std::string> spec_violations(const std::vector<std::uint8_t>& bytes)
 
 // ---------------------------------------------------------------------------
 // What a reply to a request must say, from the contract (idl/dh3.idl limits,
-// the documented order of checks), independent of the service's code.
+// the documented order of checks), written out apart from the service's own
+// range table on purpose: an oracle that shares it cannot catch a wrong range.
+
+using Range = std::pair<std::int64_t, std::int64_t>;
 
 /// The range of a command's value, nullopt for commands that ignore it.
-std::optional<std::pair<std::int64_t, std::int64_t>> value_range(msg::CommandType command) {
+std::optional<Range> value_range(msg::CommandType command) {
   namespace l = limits;
   switch (command) {
     case msg::MOVE:
     case msg::RELEASE:
-      return std::pair<std::int64_t, std::int64_t>{l::POSITION_MIN, l::POSITION_MAX};
+      return Range{l::POSITION_MIN, l::POSITION_MAX};
     case msg::ROTATE:
-      return std::pair<std::int64_t, std::int64_t>{l::ROTATION_MIN, l::ROTATION_MAX};
+      return Range{l::ROTATION_MIN, l::ROTATION_MAX};
     case msg::SET_CLOSING_FORCE:
     case msg::SET_OPENING_FORCE:
     case msg::GRASP:
-      return std::pair<std::int64_t, std::int64_t>{l::FORCE_MIN, l::FORCE_MAX};
+      return Range{l::FORCE_MIN, l::FORCE_MAX};
     case msg::SET_CAN_ID:
-      return std::pair<std::int64_t, std::int64_t>{l::CAN_ID_MIN, l::CAN_ID_MAX};
+      return Range{l::CAN_ID_MIN, l::CAN_ID_MAX};
     case msg::SET_BAUD_RATE:
-      return std::pair<std::int64_t, std::int64_t>{l::BAUD_INDEX_MIN, l::BAUD_INDEX_MAX};
+      return Range{l::BAUD_INDEX_MIN, l::BAUD_INDEX_MAX};
     case msg::ACQUIRE_LEASE:
     case msg::RENEW_LEASE:
-      return std::pair<std::int64_t, std::int64_t>{l::LEASE_TTL_MIN_MS, l::LEASE_TTL_MAX_MS};
+      return Range{l::LEASE_TTL_MIN_MS, l::LEASE_TTL_MAX_MS};
     default:
       return std::nullopt;
   }
