@@ -47,8 +47,7 @@ inline std::vector<msg::CommandReply> expect_one_reply_each(
     replies.push_back(std::move(*reply));
   }
   const auto duplicate = client.wait_duplicate_reply(kDuplicateGrace);
-  EXPECT_FALSE(duplicate) << "request " << duplicate->second << " of '" << duplicate->first
-                          << "' got a second reply";
+  EXPECT_FALSE(duplicate) << client.describe_replies(duplicate->second, duplicate->first);
   return replies;
 }
 

@@ -413,7 +413,8 @@ TEST_F(BadInput, RandomRequestsGetOneFittingReplyEachAndNothingForbiddenReachesT
   for (const auto& [code, n] : codes) std::printf(" %d:%d", static_cast<int>(code), n);
   std::printf("\n");
 
-  EXPECT_FALSE(client_->wait_duplicate_reply(kDuplicateGrace)) << "a request got two replies";
+  const auto duplicate = client_->wait_duplicate_reply(kDuplicateGrace);
+  EXPECT_FALSE(duplicate) << client_->describe_replies(duplicate->second, duplicate->first);
   for (const auto& [who, request_seq] : unaddressed) {
     EXPECT_EQ(client_->reply_count(request_seq, who), 0U) << "another service's request answered";
   }

@@ -19,13 +19,9 @@
 #include "support/dds_test_client.hpp"
 #include "support/process.hpp"
 #include "support/recording_proxy.hpp"
+#include "support/test_domain.hpp"
 
 namespace dh3::test {
-
-/// One DDS domain per test process: ctest runs every test in its own process.
-inline int test_domain() {
-  return 10 + static_cast<int>(::getpid() % 200);
-}
 
 /// A service name no other test process uses.
 inline std::string test_service_name() {

@@ -104,7 +104,8 @@ TEST_F(ServiceWithSimTest, MutedHandTimesOutWhileTheOthersKeepAnswering) {
   EXPECT_TRUE(client_->wait_status(hand(2), [](const auto& s) { return s.online(); }));
   EXPECT_TRUE(has_event(2, msg::EVENT_ONLINE));
   // Exactly one reply each: none of the requests gets a second one later.
-  EXPECT_FALSE(client_->wait_duplicate_reply(kDuplicateGrace)) << "a request got two replies";
+  const auto duplicate = client_->wait_duplicate_reply(kDuplicateGrace);
+  EXPECT_FALSE(duplicate) << client_->describe_replies(duplicate->second, duplicate->first);
 }
 
 TEST_F(ServiceWithSimTest, FullQueueAnswersBusy) {
@@ -124,7 +125,8 @@ TEST_F(ServiceWithSimTest, FullQueueAnswersBusy) {
     }
   }
   EXPECT_GE(busy, 1);
-  EXPECT_FALSE(client_->wait_duplicate_reply(kDuplicateGrace)) << "a request got two replies";
+  const auto duplicate = client_->wait_duplicate_reply(kDuplicateGrace);
+  EXPECT_FALSE(duplicate) << client_->describe_replies(duplicate->second, duplicate->first);
 }
 
 TEST(ServiceDiscovery, HandsOfABusWithoutAListAreFoundAndServed) {
