@@ -22,6 +22,7 @@
 #include "dh3_participant.hpp"
 #include "dh3_qos.hpp"
 #include "dh3_security.hpp"
+#include "dh3_type_support.hpp"
 
 namespace dh3::detail {
 
@@ -320,11 +321,13 @@ bool ClientCore::set_up_dds(std::string& error, const Refusals& simulated) {
     support.register_type(participant);
     return participant->create_topic(name, support.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
   };
-  auto* status = topic(topics::HAND_STATUS, new msg::HandStatusPubSubType());
-  auto* event = topic(topics::HAND_EVENT, new msg::HandEventPubSubType());
-  auto* info = topic(topics::SERVICE_INFO, new msg::ServiceInfoPubSubType());
-  auto* request = topic(topics::COMMAND_REQUEST, new msg::CommandRequestPubSubType());
-  auto* reply = topic(topics::COMMAND_REPLY, new msg::CommandReplyPubSubType());
+  auto* status = topic(topics::HAND_STATUS, new contract::TypeSupport<msg::HandStatusPubSubType>());
+  auto* event = topic(topics::HAND_EVENT, new contract::TypeSupport<msg::HandEventPubSubType>());
+  auto* info = topic(topics::SERVICE_INFO, new contract::TypeSupport<msg::ServiceInfoPubSubType>());
+  auto* request =
+      topic(topics::COMMAND_REQUEST, new contract::TypeSupport<msg::CommandRequestPubSubType>());
+  auto* reply =
+      topic(topics::COMMAND_REPLY, new contract::TypeSupport<msg::CommandReplyPubSubType>());
   auto* publisher = participant->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
   auto* subscriber = participant->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
   if (status == nullptr || event == nullptr || info == nullptr || request == nullptr ||

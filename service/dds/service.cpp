@@ -29,6 +29,7 @@
 #include "dh3_participant.hpp"
 #include "dh3_qos.hpp"
 #include "dh3_security.hpp"
+#include "dh3_type_support.hpp"
 
 namespace dh3::dds {
 namespace fdds = eprosima::fastdds::dds;
@@ -327,11 +328,16 @@ Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups) {
     support.register_type(participant_);
     return participant_->create_topic(name, support.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
   };
-  status_topic_ = make_topic(topics::HAND_STATUS, new msg::HandStatusPubSubType());
-  event_topic_ = make_topic(topics::HAND_EVENT, new msg::HandEventPubSubType());
-  info_topic_ = make_topic(topics::SERVICE_INFO, new msg::ServiceInfoPubSubType());
-  request_topic_ = make_topic(topics::COMMAND_REQUEST, new msg::CommandRequestPubSubType());
-  reply_topic_ = make_topic(topics::COMMAND_REPLY, new msg::CommandReplyPubSubType());
+  status_topic_ =
+      make_topic(topics::HAND_STATUS, new contract::TypeSupport<msg::HandStatusPubSubType>());
+  event_topic_ =
+      make_topic(topics::HAND_EVENT, new contract::TypeSupport<msg::HandEventPubSubType>());
+  info_topic_ =
+      make_topic(topics::SERVICE_INFO, new contract::TypeSupport<msg::ServiceInfoPubSubType>());
+  request_topic_ = make_topic(topics::COMMAND_REQUEST,
+                              new contract::TypeSupport<msg::CommandRequestPubSubType>());
+  reply_topic_ =
+      make_topic(topics::COMMAND_REPLY, new contract::TypeSupport<msg::CommandReplyPubSubType>());
   publisher_ = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
   subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
   if (status_topic_ == nullptr || event_topic_ == nullptr || info_topic_ == nullptr ||

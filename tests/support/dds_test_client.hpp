@@ -27,6 +27,7 @@
 #include <map>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -39,6 +40,8 @@
 namespace dh3::test {
 
 inline constexpr std::chrono::seconds kDdsDeadline{15};
+/// How long a test waits for a second reply to a request, which must not come.
+inline constexpr std::chrono::milliseconds kDuplicateGrace{1500};
 
 class DdsTestClient {
  public:
@@ -103,6 +106,10 @@ class DdsTestClient {
   /// request_seq, which this client numbers unless `keep_seq`.
   std::uint64_t send(msg::CommandRequest request, bool keep_seq = false) {
     if (!keep_seq) request.request_seq(++last_seq_);
+    {
+      std::lock_guard lock(mutex_);
+      sent_ids_.insert(request.client_id());
+    }
     request_writer_->write(&request);
     return request.request_seq();
   }
@@ -151,6 +158,46 @@ class DdsTestClient {
     std::lock_guard lock(mutex_);
     const auto it = replies_.find({client_id ? *client_id : client_id_, seq});
     return it == replies_.end() ? 0 : it->second.size();
+  }
+
+  /// Every reply that arrived for a request, in arrival order.
+  std::vector<msg::CommandReply> replies(
+      std::uint64_t seq, const std::optional<std::string>& client_id = std::nullopt) {
+    std::lock_guard lock(mutex_);
+    const auto it = replies_.find({client_id ? *client_id : client_id_, seq});
+    return it == replies_.end() ? std::vector<msg::CommandReply>{} : it->second;
+  }
+
+  /// "request 7 of 'ab12...': BUSY (queue full) then TIMEOUT (...)" for a
+  /// request's replies, to say what a duplicate was.
+  std::string describe_replies(std::uint64_t seq, const std::string& client_id) {
+    std::string text = "request " + std::to_string(seq) + " of '" + client_id + "' got";
+    for (const auto& reply : replies(seq, client_id)) {
+      text +=
+          " [code " + std::to_string(static_cast<int>(reply.code())) + ": " + reply.message() + "]";
+    }
+    return text;
+  }
+
+  /// Waits up to `grace` for any request this client sent (under any
+  /// client_id) to get a second reply; the first such (client_id,
+  /// request_seq), nullopt if none came.
+  /// Waiting the whole grace period is the point: a duplicate comes late.
+  std::optional<std::pair<std::string, std::uint64_t>> wait_duplicate_reply(
+      std::chrono::milliseconds grace) {
+    std::optional<std::pair<std::string, std::uint64_t>> duplicate;
+    wait_until(
+        [&] {
+          for (const auto& [key, replies] : replies_) {
+            if (replies.size() > 1 && sent_ids_.contains(key.first)) {
+              duplicate = key;
+              return true;
+            }
+          }
+          return false;
+        },
+        grace);
+    return duplicate;
   }
 
   /// Waits until the service answers this client: its request reader and reply
@@ -301,6 +348,7 @@ class DdsTestClient {
   std::mutex mutex_;
   std::condition_variable changed_;
   std::map<std::pair<std::string, std::uint64_t>, std::vector<msg::CommandReply>> replies_;
+  std::set<std::string> sent_ids_;  ///< every client_id this client sent requests under
   std::map<HandKey, msg::HandStatus> latest_status_;
   std::vector<msg::HandStatus> status_history_;
   std::vector<msg::HandEvent> events_;

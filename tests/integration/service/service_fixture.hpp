@@ -2,13 +2,8 @@
 // What the dh3-service integration tests share: a DDS domain and service name
 // of their own (so concurrent ctest runs do not meet), the service and dh3-sim
 // as child processes, config files, and a recording TCP proxy that captures
-// the exact bytes the service sends to a transfer box.
+// the exact bytes the service sends to a transfer box (support/recording_proxy.hpp).
 
-#include <arpa/inet.h>
-#include <netinet/in.h>
-#include <netinet/tcp.h>
-#include <poll.h>
-#include <sys/socket.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -17,7 +12,6 @@
 #include <cstdio>
 #include <fstream>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
@@ -26,13 +20,10 @@
 
 #include "support/dds_test_client.hpp"
 #include "support/process.hpp"
+#include "support/recording_proxy.hpp"
+#include "support/test_domain.hpp"
 
 namespace dh3::test {
-
-/// One DDS domain per test process: ctest runs every test in its own process.
-inline int test_domain() {
-  return 10 + static_cast<int>(::getpid() % 200);
-}
 
 /// A service name no other test process uses.
 inline std::string test_service_name() {
@@ -133,113 +124,6 @@ class SimProcess {
   }
   Process process_;
   std::uint16_t port_ = 0;
-};
-
-/// A TCP proxy on a free loopback port in front of a transfer box: every byte
-/// the service sends is recorded before it is passed on, so a test sees the
-/// exact frames on the wire. Serves one connection at a time.
-class RecordingProxy {
- public:
-  explicit RecordingProxy(std::uint16_t backend_port) : backend_port_(backend_port) {
-    listen_fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    sockaddr_in address{};
-    address.sin_family = AF_INET;
-    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    socklen_t length = sizeof address;
-    if (::bind(listen_fd_, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0 ||
-        ::listen(listen_fd_, 4) != 0 ||
-        ::getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&address), &length) != 0) {
-      return;
-    }
-    port_ = ntohs(address.sin_port);
-    thread_ = std::thread([this] { run(); });
-  }
-  ~RecordingProxy() {
-    stop_ = true;
-    if (thread_.joinable()) thread_.join();
-    if (listen_fd_ >= 0) ::close(listen_fd_);
-  }
-  RecordingProxy(const RecordingProxy&) = delete;
-  RecordingProxy& operator=(const RecordingProxy&) = delete;
-
-  [[nodiscard]] std::uint16_t port() const { return port_; }
-  [[nodiscard]] std::string bus_spec() const { return "tcp:127.0.0.1:" + std::to_string(port_); }
-
-  /// Every byte the service sent so far.
-  std::vector<std::uint8_t> sent() {
-    std::lock_guard lock(mutex_);
-    return sent_;
-  }
-
- private:
-  static int connect_to(std::uint16_t port) {
-    const int fd = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-    sockaddr_in address{};
-    address.sin_family = AF_INET;
-    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    address.sin_port = htons(port);
-    if (::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
-      ::close(fd);
-      return -1;
-    }
-    const int one = 1;
-    ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
-    return fd;
-  }
-
-  static bool forward(int from, int to, std::vector<std::uint8_t>* record, std::mutex& mutex) {
-    std::uint8_t buffer[4096];
-    const ssize_t got = ::read(from, buffer, sizeof buffer);
-    if (got <= 0) return false;
-    if (record != nullptr) {
-      std::lock_guard lock(mutex);
-      record->insert(record->end(), buffer, buffer + got);
-    }
-    for (ssize_t done = 0; done < got;) {
-      const ssize_t written = ::write(to, buffer + done, static_cast<std::size_t>(got - done));
-      if (written <= 0) return false;
-      done += written;
-    }
-    return true;
-  }
-
-  void run() {
-    while (!stop_) {
-      pollfd accept_poll{listen_fd_, POLLIN, 0};
-      if (::poll(&accept_poll, 1, 20) <= 0) continue;
-      const int client = ::accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC);
-      if (client < 0) continue;
-      const int one = 1;
-      ::setsockopt(client, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
-      const int backend = connect_to(backend_port_);
-      if (backend < 0) {
-        ::close(client);
-        continue;
-      }
-      while (!stop_) {
-        pollfd fds[2] = {{client, POLLIN, 0}, {backend, POLLIN, 0}};
-        if (::poll(fds, 2, 20) <= 0) continue;
-        if ((fds[0].revents & (POLLIN | POLLHUP | POLLERR)) != 0 &&
-            !forward(client, backend, &sent_, mutex_)) {
-          break;
-        }
-        if ((fds[1].revents & (POLLIN | POLLHUP | POLLERR)) != 0 &&
-            !forward(backend, client, nullptr, mutex_)) {
-          break;
-        }
-      }
-      ::close(client);
-      ::close(backend);
-    }
-  }
-
-  std::uint16_t backend_port_;
-  int listen_fd_ = -1;
-  std::uint16_t port_ = 0;
-  std::atomic<bool> stop_{false};
-  std::mutex mutex_;
-  std::vector<std::uint8_t> sent_;
-  std::thread thread_;
 };
 
 /// "FF FE FD FC 01 06 02 01 00 3C 00 00 00 FB" for each 14-byte frame in `bytes`.

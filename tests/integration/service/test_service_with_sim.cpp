@@ -103,6 +103,9 @@ TEST_F(ServiceWithSimTest, MutedHandTimesOutWhileTheOthersKeepAnswering) {
   EXPECT_THAT(sim_.control("unmute 2"), StartsWith("ok"));
   EXPECT_TRUE(client_->wait_status(hand(2), [](const auto& s) { return s.online(); }));
   EXPECT_TRUE(has_event(2, msg::EVENT_ONLINE));
+  // Exactly one reply each: none of the requests gets a second one later.
+  const auto duplicate = client_->wait_duplicate_reply(kDuplicateGrace);
+  EXPECT_FALSE(duplicate) << client_->describe_replies(duplicate->second, duplicate->first);
 }
 
 TEST_F(ServiceWithSimTest, FullQueueAnswersBusy) {
@@ -122,6 +125,8 @@ TEST_F(ServiceWithSimTest, FullQueueAnswersBusy) {
     }
   }
   EXPECT_GE(busy, 1);
+  const auto duplicate = client_->wait_duplicate_reply(kDuplicateGrace);
+  EXPECT_FALSE(duplicate) << client_->describe_replies(duplicate->second, duplicate->first);
 }
 
 TEST(ServiceDiscovery, HandsOfABusWithoutAListAreFoundAndServed) {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "support/test_domain.hpp"
 
 namespace dh3::ctl {
 namespace {
@@ -21,7 +22,7 @@ using ::testing::StartsWith;
 
 /// A domain nobody else in this test run uses: no service is there.
 std::string empty_domain() {
-  return std::to_string(10 + ::getpid() % 200);
+  return std::to_string(test::test_domain());
 }
 
 struct CtlRun {

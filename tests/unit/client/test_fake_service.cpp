@@ -19,6 +19,7 @@
 #include "dh3/client.hpp"
 #include "dh3/registers.hpp"
 #include "fake_service.hpp"
+#include "support/test_domain.hpp"
 
 namespace dh3 {
 namespace {
@@ -29,10 +30,7 @@ using ::testing::HasSubstr;
 
 constexpr std::chrono::seconds kDeadline{15};
 
-/// ctest runs every test in a process of its own: one domain per process.
-int test_domain() {
-  return 10 + static_cast<int>(::getpid() % 200);
-}
+using test::test_domain;
 std::string service_name() {
   return "fake" + std::to_string(::getpid());
 }

@@ -17,6 +17,7 @@
 
 #include "client_core.hpp"
 #include "fake_service.hpp"
+#include "support/test_domain.hpp"
 
 namespace dh3 {
 namespace {
@@ -27,9 +28,7 @@ using ::testing::HasSubstr;
 
 constexpr std::chrono::seconds kDeadline{15};
 
-int test_domain() {
-  return 10 + static_cast<int>(::getpid() % 200);
-}
+using test::test_domain;
 std::string service_name() {
   return "ro" + std::to_string(::getpid());
 }

@@ -24,6 +24,7 @@
 #include "dh3/client.hpp"
 #include "fake_service.hpp"
 #include "support/process.hpp"
+#include "support/test_domain.hpp"
 
 namespace dh3 {
 namespace {
@@ -33,9 +34,7 @@ using ::testing::HasSubstr;
 
 constexpr std::chrono::seconds kDeadline{20};
 
-int test_domain() {
-  return 10 + static_cast<int>(::getpid() % 200);
-}
+using test::test_domain;
 std::string service_name() {
   return "sec" + std::to_string(::getpid());
 }

@@ -25,6 +25,7 @@
 #include "dh3_idl/dh3PubSubTypes.h"
 #include "dh3_participant.hpp"
 #include "dh3_qos.hpp"
+#include "support/test_domain.hpp"
 
 namespace dh3::test {
 
@@ -33,7 +34,7 @@ inline constexpr std::chrono::seconds kContractDeadline{30};
 
 /// A domain per test process, so parallel tests (ctest -j) do not meet.
 inline int contract_test_domain() {
-  return 10 + static_cast<int>(::getpid() % 200);
+  return test_domain();
 }
 
 /// Polls `condition` until it holds or `deadline` passes.

@@ -1,0 +1,29 @@
+#pragma once
+// The type support every dh3 participant registers for the contract's topics:
+// fastddsgen's, made total. The generated deserialize() lets Fast CDR's
+// BadParamException escape (a sample whose encapsulation it does not know,
+// e.g. another vendor's XCDR2, or any forged payload), and Fast DDS does not
+// catch it on the reader's thread: one such sample would end the process.
+// Here such a sample is refused, and the half-read sample is reset so nothing
+// of an earlier one shows through (the service then answers it as malformed).
+
+#include <fastcdr/exceptions/Exception.h>
+#include <fastdds/rtps/common/SerializedPayload.h>
+
+namespace dh3::contract {
+
+/// `Generated`: a fastddsgen PubSubType, e.g. msg::CommandRequestPubSubType.
+template <typename Generated>
+class TypeSupport final : public Generated {
+ public:
+  bool deserialize(eprosima::fastrtps::rtps::SerializedPayload_t* payload, void* data) override {
+    try {
+      if (Generated::deserialize(payload, data)) return true;
+    } catch (const eprosima::fastcdr::exception::Exception&) {
+    }
+    *static_cast<typename Generated::type*>(data) = typename Generated::type{};
+    return false;
+  }
+};
+
+}  // namespace dh3::contract
