@@ -96,19 +96,18 @@ void HandDriver::enqueue(Job job, TimePoint now) {
   const Command& command = job.command;
   if (command.kind == CommandKind::stop) {
     // Stop goes first and ends every motion not yet under way.
-    cancel_motion(true, true, now);
+    cancel_motion(true, true);
     queue_.push_front(std::move(job));
   } else {
     // A newer motion supersedes the queued ones of the same axis (the hand
     // itself would do the same: "position command can be interrupted").
-    cancel_motion(moves_fingers(command), moves_rotation(command), now);
+    cancel_motion(moves_fingers(command), moves_rotation(command));
     queue_.push_back(std::move(job));
   }
   flush(now);
 }
 
-void HandDriver::cancel_motion(bool fingers, bool rotation, TimePoint now) {
-  (void)now;
+void HandDriver::cancel_motion(bool fingers, bool rotation) {
   if (!fingers && !rotation) return;
   for (auto it = queue_.begin(); it != queue_.end();) {
     const bool superseded =
@@ -125,7 +124,7 @@ void HandDriver::cancel_motion(bool fingers, bool rotation, TimePoint now) {
       ((fingers && moves_fingers(active_->job.command)) ||
        (rotation && moves_rotation(active_->job.command)))) {
     // Its frame in flight, if any, still gets its reply; the job is over.
-    finish_active(fail(CommandError::cancelled), now);
+    finish_active(fail(CommandError::cancelled));
   }
   if (fingers) finish_waiter(motion_waiter_, fail(CommandError::cancelled));
 }
@@ -363,7 +362,6 @@ void HandDriver::on_discovered(const Message& reply, TimePoint now) {
 
 void HandDriver::on_answer(TimePoint now) {
   consecutive_timeouts_ = 0;
-  answered_once_ = true;
   if (state_.online || anonymous_) return;
   state_.online = true;
   init_known_ = false;
@@ -427,7 +425,7 @@ void HandDriver::on_job_reply(const Message& sent, const Message& reply, TimePoi
       emit(EventKind::fault, now, reply.data, why);
       if (active_) {
         set_error(CommandError::failed, why);
-        finish_active(fail(CommandError::failed), now);
+        finish_active(fail(CommandError::failed));
       }
       return;
     }
@@ -455,9 +453,9 @@ void HandDriver::on_job_reply(const Message& sent, const Message& reply, TimePoi
     if (!state_.initialized && command.kind != CommandKind::stop) {
       set_error(CommandError::not_initialized,
                 fmt::format("{} before initialization", to_string(command.kind)));
-      finish_active(fail(CommandError::not_initialized), now);
+      finish_active(fail(CommandError::not_initialized));
     } else if (!state_.initialized) {
-      finish_active(ok(state_.position), now);
+      finish_active(ok(state_.position));
     } else {
       job.stage = 0;
     }
@@ -505,15 +503,15 @@ void HandDriver::on_job_reply(const Message& sent, const Message& reply, TimePoi
         ++job.stage;
         return;
       }
-      finish_active(ok(state_.position), now);
+      finish_active(ok(state_.position));
       return;
     case CommandKind::read_register: {
       const bool status = command.reg == reg::kGripStatus || command.reg == reg::kRotationStatus;
-      finish_active(ok(status ? protocol::status_value(reply) : reply.data), now);
+      finish_active(ok(status ? protocol::status_value(reply) : reply.data));
       return;
     }
     default:
-      finish_active(ok(reply.data), now);
+      finish_active(ok(reply.data));
       return;
   }
 }
@@ -544,7 +542,7 @@ void HandDriver::on_grip_status(std::int32_t status, TimePoint now) {
       if (finger_motion_active_ && !finger_motion_closing_) return;  // stale: we are opening
       finger_command_since_caught_ = false;
       if (finger_motion_active_) {
-        finger_motion_ended(GripState::caught, EventKind::grasped, now);
+        finger_motion_ended(GripState::caught, EventKind::grasped);
       } else {
         state_.grip = GripState::caught;
       }
@@ -570,9 +568,9 @@ void HandDriver::on_grip_status(std::int32_t status, TimePoint now) {
             std::abs(state_.position - state_.target_position) <= kArrivalTolerance;
         if (!near_target) return;  // stale: from before the new target
         if (finger_motion_gripping_) {
-          finger_motion_ended(GripState::no_object, EventKind::missed, now);
+          finger_motion_ended(GripState::no_object, EventKind::missed);
         } else {
-          finger_motion_ended(GripState::arrived, EventKind::arrived, now);
+          finger_motion_ended(GripState::arrived, EventKind::arrived);
         }
       } else if (state_.grip != GripState::no_object) {
         state_.grip = GripState::arrived;
@@ -589,8 +587,7 @@ void HandDriver::on_grip_status(std::int32_t status, TimePoint now) {
   }
 }
 
-void HandDriver::finger_motion_ended(GripState grip, EventKind event, TimePoint now) {
-  (void)now;  // the event is emitted when the confirming read comes
+void HandDriver::finger_motion_ended(GripState grip, EventKind event) {
   state_.grip = grip;
   finger_motion_active_ = false;
   // The position was read before the status that ended the motion, so it may
@@ -707,7 +704,7 @@ void HandDriver::on_timeout(TimePoint now) {
           set_error(CommandError::timeout,
                     fmt::format("no answer to {} after {} tries", protocol::describe(lost.message),
                                 lost.attempts));
-          finish_active(fail(CommandError::timeout), now);
+          finish_active(fail(CommandError::timeout));
         }
         break;
       case Purpose::confirm_position:
@@ -739,13 +736,13 @@ void HandDriver::go_offline(TimePoint now, const std::string& why) {
   next_probe_at_ = now + options_.offline_probe_interval;
   set_error(CommandError::timeout, why);
   emit(EventKind::offline, now, consecutive_timeouts_, why);
-  fail_everything(CommandError::timeout, now);
+  fail_everything(CommandError::timeout);
 }
 
 void HandDriver::on_link_down(TimePoint now) {
   in_flight_.reset();
   resend_.reset();
-  fail_everything(CommandError::bus_down, now);
+  fail_everything(CommandError::bus_down);
   if (state_.online && !anonymous_) {
     state_.online = false;
     emit(EventKind::offline, now, 0, "bus down");
@@ -772,7 +769,7 @@ void HandDriver::on_link_up(TimePoint now) {
 void HandDriver::shut_down(TimePoint now) {
   in_flight_.reset();
   resend_.reset();
-  fail_everything(CommandError::cancelled, now);
+  fail_everything(CommandError::cancelled);
   initializing_ = false;
   if (state_.online && !anonymous_) {
     state_.online = false;
@@ -781,8 +778,8 @@ void HandDriver::shut_down(TimePoint now) {
   flush(now);
 }
 
-void HandDriver::fail_everything(CommandError error, TimePoint now) {
-  if (active_) finish_active(fail(error), now);
+void HandDriver::fail_everything(CommandError error) {
+  if (active_) finish_active(fail(error));
   while (!queue_.empty()) {
     complete(queue_.front(), fail(error));
     queued_.fetch_sub(1);
@@ -826,8 +823,7 @@ std::optional<TimePoint> HandDriver::next_wakeup() const {
 // ---------------------------------------------------------------------------
 // Finishing and reporting
 
-void HandDriver::finish_active(const CommandResult& result, TimePoint now) {
-  (void)now;
+void HandDriver::finish_active(const CommandResult& result) {
   if (!active_) return;
   complete(active_->job, result);
   active_.reset();

@@ -146,16 +146,16 @@ class HandDriver {
   void on_timeout(TimePoint now);
 
   // Finishing.
-  void finish_active(const CommandResult& result, TimePoint now);
+  void finish_active(const CommandResult& result);
   void finish_waiter(std::optional<Waiter>& waiter, const CommandResult& result);
-  void fail_everything(CommandError error, TimePoint now);
-  void cancel_motion(bool fingers, bool rotation, TimePoint now);
+  void fail_everything(CommandError error);
+  void cancel_motion(bool fingers, bool rotation);
   void go_offline(TimePoint now, const std::string& why);
 
   // Motion bookkeeping.
   void finger_motion_sent(std::int32_t target, bool gripping);
   void rotation_motion_sent(std::int32_t target);
-  void finger_motion_ended(GripState state, EventKind event, TimePoint now);
+  void finger_motion_ended(GripState state, EventKind event);
   void emit_ending_event(TimePoint now);
 
   void emit(EventKind kind, TimePoint now, std::int32_t value = 0, std::string message = {},
@@ -188,7 +188,6 @@ class HandDriver {
 
   TimePoint next_send_at_{};
   int consecutive_timeouts_ = 0;
-  bool answered_once_ = false;
   TimePoint next_probe_at_{};
 
   // Status polling: a round reads these in turn; rounds start every
