@@ -4,7 +4,7 @@
 #
 #   tests/sanitize/run-sanitized.sh address   AddressSanitizer + UndefinedBehaviorSanitizer,
 #                                             the whole suite (see `excluded` below)
-#   tests/sanitize/run-sanitized.sh thread    ThreadSanitizer, the hand, bus and service tests
+#   tests/sanitize/run-sanitized.sh thread    ThreadSanitizer, the hand, bus, service and reliability tests
 #
 # SANITIZE_BUILD_DIR (default build-asan / build-tsan) and JOBS (default 2) may be set;
 # extra arguments go to ctest. Fast DDS itself comes from Debian uninstrumented:
@@ -47,12 +47,13 @@ case $mode in
   thread)
     build=${SANITIZE_BUILD_DIR:-build-tsan}
     sanitize=thread
-    # The hand layer, the buses, the service's DDS side and app, and the
-    # service run as a process (dh3-service and dh3-sim are built sanitized too).
-    # Only these test programs are built; ctest lists each one not built as
-    # "<program>_NOT_BUILT", which the selection leaves out with the rest.
-    targets=(test_hand test_bus test_dds test_app test_service dh3-service dh3-sim)
-    selection=(-L '^(unit|integration)$' -E '(_NOT_BUILT$|^install\.)')
+    # The hand layer, the buses, the service's DDS side, metrics and app, and
+    # the service as a process under faults (dh3-service, dh3-sim and dh3ctl are
+    # built sanitized too). Only these test programs are built; ctest lists
+    # each one not built as "<program>_NOT_BUILT", which the selection leaves out.
+    targets=(test_hand test_bus test_dds test_app test_metrics test_service test_reliability
+             dh3-service dh3-sim dh3ctl)
+    selection=(-L '^(unit|integration|reliability)$' -E '(_NOT_BUILT$|^install\.)')
     export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$here/tsan.supp:log_path=$reports/tsan"
     ;;
   *)
