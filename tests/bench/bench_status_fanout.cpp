@@ -124,6 +124,13 @@ class Mover {
   /// Initializes every hand, then moves them until stop().
   void start() {
     thread_ = std::thread([this] {
+      // Requests are volatile: send none before the service's reader matched.
+      const auto deadline = BenchClock::now() + 30s;
+      eprosima::fastdds::dds::PublicationMatchedStatus matched;
+      while (writer_ != nullptr && !stop_.load() && BenchClock::now() < deadline &&
+             (writer_->get_publication_matched_status(matched), matched.current_count == 0)) {
+        std::this_thread::sleep_for(10ms);  // polling the match state
+      }
       send_all(msg::INITIALIZE, 0);
       for (int stroke = 0; !stop_.load(); ++stroke) {
         // Initialization (50 ms in the sim) is long done by the first stroke.
