@@ -228,10 +228,15 @@ TEST(Soak, EveryCallEndsWithExactlyOneReplyAndServiceMemoryStaysFlat) {
                         ->hand(HandAddress{service, "bus0", static_cast<std::uint16_t>(id)})
                         .initialize_async(30s));
   }
-  for (auto& init : inits) ASSERT_EQ(init.get().code, Code::ok);
+  std::vector<ClientTally> tallies(kClients);
+  for (auto& init : inits) {
+    const Reply reply = init.get();
+    ASSERT_EQ(reply.code, Code::ok) << reply.message;
+    ++tallies[0].calls;
+    ++tallies[0].by_code.at(static_cast<std::size_t>(reply.code));
+  }
 
   std::atomic<bool> stop{false};
-  std::vector<ClientTally> tallies(kClients);
   std::vector<std::thread> threads;
   for (int i = 0; i < kClients; ++i) {
     tallies[static_cast<std::size_t>(i)].client_id =
