@@ -11,6 +11,9 @@
 // IDL types, topics, QoS and participant settings, with the same request and
 // reply contents (so the same payload sizes), against an echo responder in a
 // child process. Both over shared memory and over UDP loopback (udp_only).
+// A third row, raw+hop, has the responder write each reply from a second
+// thread its listener wakes, as dh3-service's bus loop is woken: what one
+// thread hand-off costs on this machine.
 // The responders always run in another process: participants in one process
 // would use Fast DDS's intraprocess delivery and bypass the transport.
 //
@@ -21,7 +24,7 @@
 // reply's write() call and return.
 //
 //   bench_round_trip [--count N] [--json FILE]
-//   bench_round_trip --role responder --domain D [--udp-only]          (internal)
+//   bench_round_trip --role responder --domain D [--udp-only] [--hop]  (internal)
 //   bench_round_trip --role client --domain D --service NAME --count N --command read|write
 //                                                                      (internal)
 
@@ -30,6 +33,7 @@
 #include <condition_variable>
 #include <cstdio>
 #include <cstring>
+#include <deque>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
@@ -129,12 +133,38 @@ Measured client_round_trips(int domain, const std::string& service, bool udp_onl
 // ---------------------------------------------------------------------------
 // Raw Fast DDS ping-pong on the contract's types and QoS
 
-/// Answers every request at once from the listener thread with the reply the
-/// service would send for a successful write. Runs until stdin closes.
-int run_responder(int domain, bool udp_only) {
+/// Answers every request at once with the reply the service would send for a
+/// successful write: from the listener thread, or with `hop` from a thread of
+/// its own that the listener wakes, as the service's bus loop is woken (this
+/// measures what one such hand-off costs). Runs until stdin closes.
+int run_responder(int domain, bool udp_only, bool hop) {
   class Echo final : public fdds::DataReaderListener {
    public:
     fdds::DataWriter* writer = nullptr;
+    bool hop = false;
+    ~Echo() override {
+      {
+        std::lock_guard lock(mutex_);
+        stop_ = true;
+      }
+      wake_.notify_all();
+      if (worker_.joinable()) worker_.join();
+    }
+    void start() {
+      if (!hop) return;
+      worker_ = std::thread([this] {
+        std::unique_lock lock(mutex_);
+        for (;;) {
+          wake_.wait(lock, [&] { return stop_ || !queue_.empty(); });
+          if (stop_) return;
+          msg::CommandReply reply = std::move(queue_.front());
+          queue_.pop_front();
+          lock.unlock();
+          writer->write(&reply);
+          lock.lock();
+        }
+      });
+    }
     void on_data_available(fdds::DataReader* reader) override {
       fdds::SampleInfo info;
       while (reader->take_next_sample(&request_, &info) == ReturnCode_t::RETCODE_OK) {
@@ -145,22 +175,37 @@ int run_responder(int domain, bool udp_only) {
         reply_.command(request_.command());
         reply_.code(msg::OK);
         reply_.value(request_.value());
-        writer->write(&reply_);
+        if (!hop) {
+          writer->write(&reply_);
+          continue;
+        }
+        {
+          std::lock_guard lock(mutex_);
+          queue_.push_back(reply_);
+        }
+        wake_.notify_one();
       }
     }
 
    private:
     msg::CommandRequest request_;
     msg::CommandReply reply_;
+    std::mutex mutex_;
+    std::condition_variable wake_;
+    std::deque<msg::CommandReply> queue_;
+    bool stop_ = false;
+    std::thread worker_;
   };
   bench::RawParticipant raw(domain, "dh3-bench-raw-responder", udp_only);
   if (!raw.ok()) return 1;
   Echo echo;
+  echo.hop = hop;
   echo.writer =
       raw.publisher->create_datawriter(raw.reply_topic, contract::writer_qos(TopicRole::reply));
   auto* reader = raw.subscriber->create_datareader(raw.request_topic,
                                                    contract::reader_qos(TopicRole::request), &echo);
   if (echo.writer == nullptr || reader == nullptr) return 1;
+  echo.start();
   std::printf("ready\n");
   std::fflush(stdout);
   while (std::getchar() != EOF) {
@@ -239,10 +284,11 @@ class RawRequester final : public fdds::DataReaderListener {
   std::uint64_t last_reply_ = 0;
 };
 
-Measured raw_round_trips(int domain, bool udp_only, int count) {
+Measured raw_round_trips(int domain, bool udp_only, int count, bool hop) {
   Measured measured;
   std::vector<std::string> args{"--role", "responder", "--domain", std::to_string(domain)};
   if (udp_only) args.emplace_back("--udp-only");
+  if (hop) args.emplace_back("--hop");
   test::Process responder(bench::self_path(), args);
   if (!responder.wait_for_line("ready", 30s)) {
     std::fprintf(stderr, "the raw responder did not start\n");
@@ -375,6 +421,7 @@ class TracingBus final : public bus::Bus {
 struct Overhead {
   Command command = Command::read;
   Percentiles request_to_frame;
+  Percentiles frame_to_echo;
   Percentiles echo_to_reply_write;
   Percentiles echo_to_reply_written;
   Percentiles reply_write_call;
@@ -423,10 +470,11 @@ std::optional<Overhead> service_overhead(int domain, int count, Command command)
   auto traces = recorder.done();
   // The client's warm-up commands come first.
   const std::size_t skip = std::min<std::size_t>(kWarmup, traces.size());
-  std::vector<double> to_frame, to_write, to_written, write_call;
+  std::vector<double> to_frame, frame_to_echo, to_write, to_written, write_call;
   for (std::size_t i = skip; i < traces.size(); ++i) {
     const CommandTrace& t = traces[i];
     to_frame.push_back(bench::micros_between(t.taken, t.frame_sent));
+    frame_to_echo.push_back(bench::micros_between(t.frame_sent, t.echo_received));
     to_write.push_back(bench::micros_between(t.echo_received, t.reply_writing));
     to_written.push_back(bench::micros_between(t.echo_received, t.reply_written));
     write_call.push_back(bench::micros_between(t.reply_writing, t.reply_written));
@@ -435,6 +483,7 @@ std::optional<Overhead> service_overhead(int domain, int count, Command command)
   overhead.command = command;
   overhead.commands = to_frame.size();
   overhead.request_to_frame = bench::percentiles(to_frame);
+  overhead.frame_to_echo = bench::percentiles(frame_to_echo);
   overhead.echo_to_reply_write = bench::percentiles(to_write);
   overhead.echo_to_reply_written = bench::percentiles(to_written);
   overhead.reply_write_call = bench::percentiles(write_call);
@@ -470,7 +519,8 @@ int run_benchmark(int count, const std::string& json_path) {
                                 client_round_trips(domain, "bench", udp_only, count, command)));
       }
     }
-    rows.push_back(make_row(transport, "raw", raw_round_trips(domain, udp_only, count)));
+    rows.push_back(make_row(transport, "raw", raw_round_trips(domain, udp_only, count, false)));
+    rows.push_back(make_row(transport, "raw+hop", raw_round_trips(domain, udp_only, count, true)));
   }
   std::vector<Overhead> overheads;
   for (const Command command : {Command::read, Command::write}) {
@@ -491,7 +541,7 @@ int run_benchmark(int count, const std::string& json_path) {
   std::printf("%-5s %-9s %12s %12s %8s\n", "trans", "path", "/raw p50", "/raw p99", "target <1.5");
   std::string ratios_json;
   for (const Row& r : rows) {
-    if (r.path == "raw") continue;
+    if (r.path == "raw") continue;  // raw+hop shows what one thread hand-off adds
     const auto raw = std::find_if(rows.begin(), rows.end(), [&](const Row& other) {
       return other.transport == r.transport && other.path == "raw";
     });
@@ -511,6 +561,7 @@ int run_benchmark(int count, const std::string& json_path) {
         command_name(o.command), o.commands);
     std::printf("%-36s %9s %9s %9s %9s\n", "interval", "p50", "p90", "p99", "max");
     print_percentiles("request taken -> frame sent", o.request_to_frame);
+    print_percentiles("(sim) frame sent -> echo received", o.frame_to_echo);
     print_percentiles("echo received -> reply write()", o.echo_to_reply_write);
     print_percentiles("echo received -> write() returned", o.echo_to_reply_written);
     print_percentiles("reply write() call", o.reply_write_call);
@@ -532,10 +583,12 @@ int run_benchmark(int count, const std::string& json_path) {
       const Overhead& o = overheads[i];
       std::fprintf(f,
                    "%s{\"command\":\"%s\",\"commands\":%zu,\"request_to_frame\":%s,"
+                   "\"frame_to_echo\":%s,"
                    "\"echo_to_reply_write\":%s,\"echo_to_reply_written\":%s,"
                    "\"reply_write_call\":%s}",
                    i == 0 ? "" : ",", command_name(o.command), o.commands,
                    bench::to_json(o.request_to_frame).c_str(),
+                   bench::to_json(o.frame_to_echo).c_str(),
                    bench::to_json(o.echo_to_reply_write).c_str(),
                    bench::to_json(o.echo_to_reply_written).c_str(),
                    bench::to_json(o.reply_write_call).c_str());
@@ -552,6 +605,7 @@ int main(int argc, char** argv) {
   int count = 10'000;
   int domain = 0;
   bool udp_only = false;
+  bool hop = false;
   Command command = Command::read;
   std::string role;
   std::string service;
@@ -570,6 +624,8 @@ int main(int argc, char** argv) {
       service = argv[++i];
     } else if (is("--command") && i + 1 < argc) {
       command = std::strcmp(argv[++i], "write") == 0 ? Command::write : Command::read;
+    } else if (is("--hop")) {
+      hop = true;
     } else if (is("--udp-only")) {
       udp_only = true;
     } else {
@@ -578,7 +634,7 @@ int main(int argc, char** argv) {
     }
   }
   spdlog::set_level(spdlog::level::warn);
-  if (role == "responder") return run_responder(domain, udp_only);
+  if (role == "responder") return run_responder(domain, udp_only, hop);
   if (role == "client") {
     const Measured measured = client_round_trips(domain, service, udp_only, count, command);
     std::printf("done %zu ok, %d failed\n", measured.micros.size(), measured.failed);
