@@ -97,11 +97,47 @@ const char* command_name(Command command) {
 struct Measured {
   std::vector<double> micros;
   int failed = 0;  ///< calls that ended with anything but OK
+  /// Context switches per command over the measured commands: of this
+  /// (requesting) process and of the responding one (dh3-service or raw echo).
+  double requester_switches = 0;
+  double responder_switches = 0;
+  /// CPU time (user + system) per command in microseconds, the same two processes.
+  double requester_cpu_us = 0;
+  double responder_cpu_us = 0;
+};
+
+/// Context switches and CPU time of this process and the responder from construction on.
+class SwitchCounter {
+ public:
+  explicit SwitchCounter(pid_t responder)
+      : responder_(responder),
+        self_(bench::context_switches_of(::getpid())),
+        other_(responder > 0 ? bench::context_switches_of(responder) : 0),
+        self_cpu_(bench::cpu_seconds_of(::getpid())),
+        other_cpu_(responder > 0 ? bench::cpu_seconds_of(responder) : 0) {}
+  void finish(Measured& measured, int count) const {
+    measured.requester_switches =
+        static_cast<double>(bench::context_switches_of(::getpid()) - self_) / count;
+    measured.requester_cpu_us = 1e6 * (bench::cpu_seconds_of(::getpid()) - self_cpu_) / count;
+    if (responder_ > 0) {
+      measured.responder_cpu_us = 1e6 * (bench::cpu_seconds_of(responder_) - other_cpu_) / count;
+      measured.responder_switches =
+          static_cast<double>(bench::context_switches_of(responder_) - other_) / count;
+    }
+  }
+
+ private:
+  pid_t responder_;
+  std::uint64_t self_;
+  std::uint64_t other_;
+  double self_cpu_;
+  double other_cpu_;
 };
 
 /// Times `count` commands (after a warm-up) on hand 1 of `service`.
+/// `responder`: the service's process id, to count its context switches (0: none).
 Measured client_round_trips(int domain, const std::string& service, bool udp_only, int count,
-                            Command command) {
+                            Command command, pid_t responder) {
   Measured measured;
   ClientOptions options;
   options.domain = domain;
@@ -115,7 +151,9 @@ Measured client_round_trips(int domain, const std::string& service, bool udp_onl
     return measured;
   }
   measured.micros.reserve(static_cast<std::size_t>(count));
+  std::optional<SwitchCounter> switches;
   for (int i = 0; i < kWarmup + count; ++i) {
+    if (i == kWarmup) switches.emplace(responder);
     const auto start = BenchClock::now();
     const Reply reply = command == Command::read
                             ? hand->read(reg::closing_force, kReplyDeadline)
@@ -127,6 +165,7 @@ Measured client_round_trips(int domain, const std::string& service, bool udp_onl
     }
     if (i >= kWarmup) measured.micros.push_back(bench::micros_between(start, end));
   }
+  if (switches) switches->finish(measured, count);
   return measured;
 }
 
@@ -303,7 +342,9 @@ Measured raw_round_trips(int domain, bool udp_only, int count, bool hop) {
       return measured;
     }
     measured.micros.reserve(static_cast<std::size_t>(count));
+    std::optional<SwitchCounter> switches;
     for (int i = 0; i < kWarmup + count; ++i) {
+      if (i == kWarmup) switches.emplace(responder.pid());
       const auto start = BenchClock::now();
       const bool ok = requester.round_trip(i % 2 == 0 ? 50 : 60);
       const auto end = BenchClock::now();
@@ -313,6 +354,7 @@ Measured raw_round_trips(int domain, bool udp_only, int count, bool hop) {
       }
       if (i >= kWarmup) measured.micros.push_back(bench::micros_between(start, end));
     }
+    if (switches) switches->finish(measured, count);
   }
   responder.close_stdin();
   responder.wait_exit(20s);
@@ -497,10 +539,21 @@ struct Row {
   std::string path;
   Percentiles latency;
   int failed = 0;
+  double requester_switches = 0;
+  double responder_switches = 0;
+  double requester_cpu_us = 0;
+  double responder_cpu_us = 0;
 };
 
 Row make_row(const std::string& transport, const std::string& path, Measured measured) {
-  return Row{transport, path, bench::percentiles(measured.micros), measured.failed};
+  return Row{transport,
+             path,
+             bench::percentiles(measured.micros),
+             measured.failed,
+             measured.requester_switches,
+             measured.responder_switches,
+             measured.requester_cpu_us,
+             measured.responder_cpu_us};
 }
 
 void print_percentiles(const char* name, const Percentiles& p) {
@@ -515,8 +568,9 @@ int run_benchmark(int count, const std::string& json_path) {
     {
       bench::ServiceChild service(service_config(), domain, "bench", udp_only);
       for (const Command command : {Command::read, Command::write}) {
-        rows.push_back(make_row(transport, std::string("dh3 ") + command_name(command),
-                                client_round_trips(domain, "bench", udp_only, count, command)));
+        rows.push_back(
+            make_row(transport, std::string("dh3 ") + command_name(command),
+                     client_round_trips(domain, "bench", udp_only, count, command, service.pid())));
       }
     }
     rows.push_back(make_row(transport, "raw", raw_round_trips(domain, udp_only, count, false)));
@@ -531,13 +585,17 @@ int run_benchmark(int count, const std::string& json_path) {
       "Command round trip: client -> dh3-service -> sim hand answering at once -> client, "
       "vs raw Fast DDS ping-pong; %d commands each, microseconds\n",
       count);
-  std::printf("%-5s %-9s %8s %9s %9s %9s %9s %7s\n", "trans", "path", "count", "p50", "p90", "p99",
-              "max", "failed");
+  std::printf("%-5s %-9s %8s %9s %9s %9s %9s %7s %7s %7s %7s %7s\n", "trans", "path", "count",
+              "p50", "p90", "p99", "max", "failed", "cs/req", "cs/rsp", "cpu/req", "cpu/rsp");
   for (const Row& r : rows) {
-    std::printf("%-5s %-9s %8zu %9.1f %9.1f %9.1f %9.1f %7d\n", r.transport.c_str(), r.path.c_str(),
-                r.latency.count, r.latency.p50, r.latency.p90, r.latency.p99, r.latency.max,
-                r.failed);
+    std::printf("%-5s %-9s %8zu %9.1f %9.1f %9.1f %9.1f %7d %7.2f %7.2f %7.1f %7.1f\n",
+                r.transport.c_str(), r.path.c_str(), r.latency.count, r.latency.p50, r.latency.p90,
+                r.latency.p99, r.latency.max, r.failed, r.requester_switches, r.responder_switches,
+                r.requester_cpu_us, r.responder_cpu_us);
   }
+  std::printf(
+      "(per command, of the requesting process and of the responding one, dh3-service or the raw\n"
+      " echo: cs = context switches of all their threads, cpu = user + system CPU microseconds)\n");
   std::printf("%-5s %-9s %12s %12s %8s\n", "trans", "path", "/raw p50", "/raw p99", "target <1.5");
   std::string ratios_json;
   for (const Row& r : rows) {
@@ -574,9 +632,14 @@ int run_benchmark(int count, const std::string& json_path) {
     }
     std::fprintf(f, "{\"benchmark\":\"round_trip\",\"count\":%d,\"rows\":[", count);
     for (std::size_t i = 0; i < rows.size(); ++i) {
-      std::fprintf(f, "%s{\"transport\":\"%s\",\"path\":\"%s\",\"failed\":%d,\"latency\":%s}",
+      std::fprintf(f,
+                   "%s{\"transport\":\"%s\",\"path\":\"%s\",\"failed\":%d,\"requester_switches\":"
+                   "%.3f,\"responder_switches\":%.3f,\"requester_cpu_us\":%.2f,"
+                   "\"responder_cpu_us\":%.2f,\"latency\":%s}",
                    i == 0 ? "" : ",", rows[i].transport.c_str(), rows[i].path.c_str(),
-                   rows[i].failed, bench::to_json(rows[i].latency).c_str());
+                   rows[i].failed, rows[i].requester_switches, rows[i].responder_switches,
+                   rows[i].requester_cpu_us, rows[i].responder_cpu_us,
+                   bench::to_json(rows[i].latency).c_str());
     }
     std::fprintf(f, "],\"ratios\":[%s],\"service_overhead\":[", ratios_json.c_str());
     for (std::size_t i = 0; i < overheads.size(); ++i) {
@@ -636,7 +699,7 @@ int main(int argc, char** argv) {
   spdlog::set_level(spdlog::level::warn);
   if (role == "responder") return run_responder(domain, udp_only, hop);
   if (role == "client") {
-    const Measured measured = client_round_trips(domain, service, udp_only, count, command);
+    const Measured measured = client_round_trips(domain, service, udp_only, count, command, 0);
     std::printf("done %zu ok, %d failed\n", measured.micros.size(), measured.failed);
     return 0;
   }
