@@ -32,6 +32,12 @@ inline Qos qos_for(TopicRole role) {
     case TopicRole::service_info:
       qos.durability().kind = dds::TRANSIENT_LOCAL_DURABILITY_QOS;
       qos.history().depth = 1;
+      // Fast DDS keeps at most 10 instances (keys) per writer and reader by
+      // default: a service with more hands could not publish the 11th hand's
+      // status, nor a client hold it. No limit (0, which Fast DDS accepts only
+      // with max_samples 0 too); depth 1 bounds each hand's samples.
+      qos.resource_limits().max_instances = 0;
+      qos.resource_limits().max_samples = 0;
       break;
     case TopicRole::hand_event:
     case TopicRole::request:

@@ -574,7 +574,9 @@ void Service::Impl::on_requests(fdds::DataReader& reader) {
   std::lock_guard lock(dispatch_mutex_);
   fdds::SampleInfo info;
   while (reader.take_next_sample(&request_, &info) == ReturnCode_t::RETCODE_OK) {
-    if (info.valid_data) handle_request(request_);
+    if (!info.valid_data) continue;
+    if (options_.tracer) options_.tracer(TracePoint::request_taken, request_.request_seq());
+    handle_request(request_);
   }
 }
 
@@ -729,9 +731,11 @@ void Service::Impl::write_reply(msg::CommandReply& reply) {
                   result_code_name(reply.code()), reply.message());
   }
   if (reply_writer_ == nullptr) return;
+  if (options_.tracer) options_.tracer(TracePoint::reply_writing, reply.request_seq());
   if (!reply_writer_->write(&reply)) {
     spdlog::warn("could not publish the reply to {}#{}", reply.client_id(), reply.request_seq());
   }
+  if (options_.tracer) options_.tracer(TracePoint::reply_written, reply.request_seq());
 }
 
 // ---------------------------------------------------------------------------

@@ -10,6 +10,8 @@
 // thread ends expired leases.
 
 #include <chrono>
+#include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -28,6 +30,15 @@ struct TransportSettings {
   /// No shared memory: everything over UDP (containers without a shared /dev/shm).
   bool udp_only = false;
 };
+
+/// Points on a command request's way through the service, for the service
+/// overhead benchmark (tests/bench/bench_round_trip.cpp), which timestamps them.
+enum class TracePoint : std::uint8_t {
+  request_taken,  ///< the request sample was taken from the reader
+  reply_writing,  ///< its reply is about to be written
+  reply_written,  ///< the reply writer's write() returned
+};
+using RequestTracer = std::function<void(TracePoint, std::uint64_t request_seq)>;
 
 struct ServiceOptions {
   std::string name = "dh3";  ///< answers requests whose hand.service is this
@@ -49,6 +60,9 @@ struct ServiceOptions {
   std::string host;          ///< published in the service info
   /// How long stop() waits for subscribers to acknowledge the last samples.
   Duration shutdown_ack_timeout = std::chrono::seconds(2);
+  /// Called at each TracePoint of every request, on the thread that is there
+  /// (must be quick). Unset, the default: nothing but the emptiness test.
+  RequestTracer tracer;
 };
 
 /// One bus the service runs: the open bus, the hands expected on it (empty:

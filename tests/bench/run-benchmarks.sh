@@ -9,7 +9,19 @@ build=${BUILD_DIR:-build}
 out=${BENCH_OUT:-$build/bench}
 deploy/install-deps.sh
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
-cmake --build "$build" -j "${JOBS:-2}" --target bench_bus_efficiency
+cmake --build "$build" -j "${JOBS:-2}" --target bench_bus_efficiency bench_round_trip \
+  bench_status_fanout bench_footprint
 mkdir -p "$out"
-"$build/tests/bench/bench_bus_efficiency" --seconds 5 --json "$out/bus_efficiency.json"
+bench="$build/tests/bench"
+# 1 and 2: round trip vs raw Fast DDS (shm and UDP), service overhead (~1.5 min).
+"$bench/bench_round_trip" --count 10000 --json "$out/round_trip.json"
+echo
+# 3: bus efficiency (simulated time, ~30 s).
+"$bench/bench_bus_efficiency" --seconds 5 --json "$out/bus_efficiency.json"
+echo
+# 4: status fan-out to 1, 4 and 16 client processes (~30 s).
+"$bench/bench_status_fanout" --seconds 5 --json "$out/status_fanout.json"
+echo
+# 5: footprint with 1, 32 and 255 hands (~50 s; CPU time has 10 ms ticks).
+"$bench/bench_footprint" --warmup 3 --seconds 10 --json "$out/footprint.json"
 echo "JSON written to $out/"
