@@ -96,34 +96,17 @@ Row measure(int hands, double warmup, double seconds) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  CLI::App app{"Footprint: dh3-service at idle with 1, 32 and 255 hands; client library memory"};
+  bench::CommonOptions common;
+  bench::add_common_options(app, common);
   double warmup = 3;
   double seconds = 5;
-  int domain = 0;
   int hands = 0;
-  std::string role;
-  std::string service;
-  std::string json_path;
-  for (int i = 1; i < argc; ++i) {
-    const auto is = [&](const char* name) { return std::strcmp(argv[i], name) == 0; };
-    if (is("--warmup") && i + 1 < argc) {
-      warmup = std::atof(argv[++i]);
-    } else if (is("--seconds") && i + 1 < argc) {
-      seconds = std::atof(argv[++i]);
-    } else if (is("--json") && i + 1 < argc) {
-      json_path = argv[++i];
-    } else if (is("--role") && i + 1 < argc) {
-      role = argv[++i];
-    } else if (is("--domain") && i + 1 < argc) {
-      domain = std::atoi(argv[++i]);
-    } else if (is("--service") && i + 1 < argc) {
-      service = argv[++i];
-    } else if (is("--hands") && i + 1 < argc) {
-      hands = std::atoi(argv[++i]);
-    } else {
-      std::fprintf(stderr, "usage: %s [--warmup S] [--seconds S] [--json FILE]\n", argv[0]);
-      return 2;
-    }
-  }
+  app.add_option("--warmup", warmup, "Seconds after start before measuring")->capture_default_str();
+  app.add_option("--seconds", seconds, "Seconds measured per row")->capture_default_str();
+  app.add_option("--hands", hands, "(client role) hands to wait for");
+  CLI11_PARSE(app, argc, argv);
+  auto& [json_path, role, domain, service] = common;
   spdlog::set_level(spdlog::level::warn);
   if (role == "client") return run_client(domain, service, hands);
 

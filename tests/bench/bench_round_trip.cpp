@@ -665,37 +665,21 @@ int run_benchmark(int count, const std::string& json_path) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  CLI::App app{"Command round trip through dh3 against a raw Fast DDS ping-pong; service overhead"};
+  bench::CommonOptions common;
+  bench::add_common_options(app, common);
   int count = 10'000;
-  int domain = 0;
   bool udp_only = false;
   bool hop = false;
   Command command = Command::read;
-  std::string role;
-  std::string service;
-  std::string json_path;
-  for (int i = 1; i < argc; ++i) {
-    const auto is = [&](const char* name) { return std::strcmp(argv[i], name) == 0; };
-    if (is("--count") && i + 1 < argc) {
-      count = std::atoi(argv[++i]);
-    } else if (is("--json") && i + 1 < argc) {
-      json_path = argv[++i];
-    } else if (is("--role") && i + 1 < argc) {
-      role = argv[++i];
-    } else if (is("--domain") && i + 1 < argc) {
-      domain = std::atoi(argv[++i]);
-    } else if (is("--service") && i + 1 < argc) {
-      service = argv[++i];
-    } else if (is("--command") && i + 1 < argc) {
-      command = std::strcmp(argv[++i], "write") == 0 ? Command::write : Command::read;
-    } else if (is("--hop")) {
-      hop = true;
-    } else if (is("--udp-only")) {
-      udp_only = true;
-    } else {
-      std::fprintf(stderr, "usage: %s [--count N] [--json FILE]\n", argv[0]);
-      return 2;
-    }
-  }
+  app.add_option("--count", count, "Timed commands per row")->capture_default_str();
+  app.add_option("--command", command, "(client role) read or write")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, Command>{{"read", Command::read}, {"write", Command::write}}));
+  app.add_flag("--hop", hop, "(responder role) reply from a second thread");
+  app.add_flag("--udp-only", udp_only, "(child roles) UDP only, no shared memory");
+  CLI11_PARSE(app, argc, argv);
+  auto& [json_path, role, domain, service] = common;
   spdlog::set_level(spdlog::level::warn);
   if (role == "responder") return run_responder(domain, udp_only, hop);
   if (role == "client") {

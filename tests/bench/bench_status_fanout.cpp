@@ -224,28 +224,13 @@ Row measure(int clients, int domain, const std::string& service, pid_t service_p
 }  // namespace
 
 int main(int argc, char** argv) {
+  CLI::App app{"Status fan-out: 64 hands to 1, 4 and 16 subscribing clients"};
+  bench::CommonOptions common;
+  bench::add_common_options(app, common);
   double seconds = 5;
-  int domain = 0;
-  std::string role;
-  std::string service;
-  std::string json_path;
-  for (int i = 1; i < argc; ++i) {
-    const auto is = [&](const char* name) { return std::strcmp(argv[i], name) == 0; };
-    if (is("--seconds") && i + 1 < argc) {
-      seconds = std::atof(argv[++i]);
-    } else if (is("--json") && i + 1 < argc) {
-      json_path = argv[++i];
-    } else if (is("--role") && i + 1 < argc) {
-      role = argv[++i];
-    } else if (is("--domain") && i + 1 < argc) {
-      domain = std::atoi(argv[++i]);
-    } else if (is("--service") && i + 1 < argc) {
-      service = argv[++i];
-    } else {
-      std::fprintf(stderr, "usage: %s [--seconds S] [--json FILE]\n", argv[0]);
-      return 2;
-    }
-  }
+  app.add_option("--seconds", seconds, "Seconds measured per row")->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+  auto& [json_path, role, domain, service] = common;
   spdlog::set_level(spdlog::level::warn);
   if (role == "subscriber") return run_subscriber(domain, service);
 

@@ -1,12 +1,13 @@
 #pragma once
 // What the benchmarks that run dh3-service and the client library share:
 // percentiles, a process's memory and CPU time from /proc, the benchmark's own
-// path (to start itself in another role), a DDS domain of its own, and the
-// dh3-service child process with a sim bus config.
+// path (to start itself in another role), a DDS domain of its own, the
+// dh3-service child process with a sim bus config, and the options they all take.
 
 #include <sys/types.h>
 #include <unistd.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -23,6 +24,23 @@
 #include "support/process.hpp"
 
 namespace dh3::bench {
+
+/// What every such benchmark takes: where to write its JSON, and what it
+/// passes to itself when it starts itself in another role (a child process).
+struct CommonOptions {
+  std::string json_path;
+  std::string role;  ///< empty: the benchmark itself; otherwise the child's role
+  int domain = 0;
+  std::string service;
+};
+
+inline void add_common_options(CLI::App& app, CommonOptions& options) {
+  app.add_option("--json", options.json_path, "Also write the results as JSON to this file");
+  auto* child = app.add_option_group("child", "Set by the benchmark when it starts itself");
+  child->add_option("--role", options.role, "Run as this child role");
+  child->add_option("--domain", options.domain, "DDS domain of the run");
+  child->add_option("--service", options.service, "Name of the dh3-service under test");
+}
 
 using BenchClock = std::chrono::steady_clock;
 
