@@ -6,9 +6,18 @@
 // catch it on the reader's thread: one such sample would end the process.
 // Here such a sample is refused, and the half-read sample is reset so nothing
 // of an earlier one shows through (the service then answers it as malformed).
+// create_topics() registers it for every topic of the contract.
 
 #include <fastcdr/exceptions/Exception.h>
 #include <fastdds/rtps/common/SerializedPayload.h>
+
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+#include <string>
+
+#include "dh3_idl/dh3.h"
+#include "dh3_idl/dh3PubSubTypes.h"
 
 namespace dh3::contract {
 
@@ -25,5 +34,37 @@ class TypeSupport final : public Generated {
     return false;
   }
 };
+
+/// The contract's five topics on one participant, each with its type
+/// registered through TypeSupport. A member is nullptr where Fast DDS refused.
+struct Topics {
+  eprosima::fastdds::dds::Topic* status = nullptr;
+  eprosima::fastdds::dds::Topic* event = nullptr;
+  eprosima::fastdds::dds::Topic* info = nullptr;
+  eprosima::fastdds::dds::Topic* request = nullptr;
+  eprosima::fastdds::dds::Topic* reply = nullptr;
+
+  [[nodiscard]] bool complete() const {
+    return status != nullptr && event != nullptr && info != nullptr && request != nullptr &&
+           reply != nullptr;
+  }
+};
+
+inline Topics create_topics(eprosima::fastdds::dds::DomainParticipant& participant) {
+  namespace fdds = eprosima::fastdds::dds;
+  const auto topic = [&participant](const std::string& name, fdds::TopicDataType* type) {
+    fdds::TypeSupport support(type);
+    support.register_type(&participant);
+    return participant.create_topic(name, support.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+  };
+  Topics topics;
+  topics.status = topic(dh3::topics::HAND_STATUS, new TypeSupport<msg::HandStatusPubSubType>());
+  topics.event = topic(dh3::topics::HAND_EVENT, new TypeSupport<msg::HandEventPubSubType>());
+  topics.info = topic(dh3::topics::SERVICE_INFO, new TypeSupport<msg::ServiceInfoPubSubType>());
+  topics.request =
+      topic(dh3::topics::COMMAND_REQUEST, new TypeSupport<msg::CommandRequestPubSubType>());
+  topics.reply = topic(dh3::topics::COMMAND_REPLY, new TypeSupport<msg::CommandReplyPubSubType>());
+  return topics;
+}
 
 }  // namespace dh3::contract

@@ -316,22 +316,15 @@ bool ClientCore::set_up_dds(std::string& error, const Refusals& simulated) {
   client_id_ = contract::client_id_for(dds_->participant->guid().guidPrefix);
 
   auto* participant = dds_->participant;
-  const auto topic = [participant](const std::string& name, fdds::TopicDataType* type) {
-    fdds::TypeSupport support(type);
-    support.register_type(participant);
-    return participant->create_topic(name, support.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
-  };
-  auto* status = topic(topics::HAND_STATUS, new contract::TypeSupport<msg::HandStatusPubSubType>());
-  auto* event = topic(topics::HAND_EVENT, new contract::TypeSupport<msg::HandEventPubSubType>());
-  auto* info = topic(topics::SERVICE_INFO, new contract::TypeSupport<msg::ServiceInfoPubSubType>());
-  auto* request =
-      topic(topics::COMMAND_REQUEST, new contract::TypeSupport<msg::CommandRequestPubSubType>());
-  auto* reply =
-      topic(topics::COMMAND_REPLY, new contract::TypeSupport<msg::CommandReplyPubSubType>());
+  const contract::Topics contract_topics = contract::create_topics(*participant);
+  auto* status = contract_topics.status;
+  auto* event = contract_topics.event;
+  auto* info = contract_topics.info;
+  auto* request = contract_topics.request;
+  auto* reply = contract_topics.reply;
   auto* publisher = participant->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
   auto* subscriber = participant->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
-  if (status == nullptr || event == nullptr || info == nullptr || request == nullptr ||
-      reply == nullptr || publisher == nullptr || subscriber == nullptr) {
+  if (!contract_topics.complete() || publisher == nullptr || subscriber == nullptr) {
     error = "cannot create the dh3 topics";
     return false;
   }

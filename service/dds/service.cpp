@@ -323,26 +323,15 @@ Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups) {
                  options_.security_dir);
   }
 
-  auto make_topic = [this](const std::string& name, fdds::TopicDataType* type) {
-    fdds::TypeSupport support(type);
-    support.register_type(participant_);
-    return participant_->create_topic(name, support.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
-  };
-  status_topic_ =
-      make_topic(topics::HAND_STATUS, new contract::TypeSupport<msg::HandStatusPubSubType>());
-  event_topic_ =
-      make_topic(topics::HAND_EVENT, new contract::TypeSupport<msg::HandEventPubSubType>());
-  info_topic_ =
-      make_topic(topics::SERVICE_INFO, new contract::TypeSupport<msg::ServiceInfoPubSubType>());
-  request_topic_ = make_topic(topics::COMMAND_REQUEST,
-                              new contract::TypeSupport<msg::CommandRequestPubSubType>());
-  reply_topic_ =
-      make_topic(topics::COMMAND_REPLY, new contract::TypeSupport<msg::CommandReplyPubSubType>());
+  const contract::Topics contract_topics = contract::create_topics(*participant_);
+  status_topic_ = contract_topics.status;
+  event_topic_ = contract_topics.event;
+  info_topic_ = contract_topics.info;
+  request_topic_ = contract_topics.request;
+  reply_topic_ = contract_topics.reply;
   publisher_ = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
   subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
-  if (status_topic_ == nullptr || event_topic_ == nullptr || info_topic_ == nullptr ||
-      request_topic_ == nullptr || reply_topic_ == nullptr || publisher_ == nullptr ||
-      subscriber_ == nullptr) {
+  if (!contract_topics.complete() || publisher_ == nullptr || subscriber_ == nullptr) {
     return fail(std::string("cannot create the dh3 topics"));
   }
   status_writer_ =

@@ -13,6 +13,7 @@
 
 #include "dh3_idl/dh3PubSubTypes.h"
 #include "dh3_participant.hpp"
+#include "dh3_type_support.hpp"
 
 namespace dh3::bench {
 
@@ -28,14 +29,9 @@ class RawParticipant {
         static_cast<fdds::DomainId_t>(domain), contract::participant_qos(name, transport), nullptr,
         fdds::StatusMask::none());
     if (participant_ == nullptr) return;
-    const auto topic = [this](const std::string& topic_name, fdds::TopicDataType* type) {
-      fdds::TypeSupport support(type);
-      support.register_type(participant_);
-      return participant_->create_topic(topic_name, support.get_type_name(),
-                                        fdds::TOPIC_QOS_DEFAULT);
-    };
-    request_topic = topic(topics::COMMAND_REQUEST, new msg::CommandRequestPubSubType());
-    reply_topic = topic(topics::COMMAND_REPLY, new msg::CommandReplyPubSubType());
+    const contract::Topics contract_topics = contract::create_topics(*participant_);
+    request_topic = contract_topics.request;
+    reply_topic = contract_topics.reply;
     publisher = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
     subscriber = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
   }

@@ -36,6 +36,7 @@
 #include "dh3_idl/dh3PubSubTypes.h"
 #include "dh3_participant.hpp"
 #include "dh3_qos.hpp"
+#include "dh3_type_support.hpp"
 
 namespace dh3::test {
 
@@ -54,17 +55,12 @@ class DdsTestClient {
         fdds::StatusMask::none());
     if (participant_ == nullptr) return;
     client_id_ = contract::client_id_for(participant_->guid().guidPrefix);
-    const auto topic = [this](const std::string& topic_name, fdds::TopicDataType* type) {
-      fdds::TypeSupport support(type);
-      support.register_type(participant_);
-      return participant_->create_topic(topic_name, support.get_type_name(),
-                                        fdds::TOPIC_QOS_DEFAULT);
-    };
-    auto* status = topic(topics::HAND_STATUS, new msg::HandStatusPubSubType());
-    auto* event = topic(topics::HAND_EVENT, new msg::HandEventPubSubType());
-    auto* info = topic(topics::SERVICE_INFO, new msg::ServiceInfoPubSubType());
-    auto* request = topic(topics::COMMAND_REQUEST, new msg::CommandRequestPubSubType());
-    auto* reply = topic(topics::COMMAND_REPLY, new msg::CommandReplyPubSubType());
+    const contract::Topics contract_topics = contract::create_topics(*participant_);
+    auto* status = contract_topics.status;
+    auto* event = contract_topics.event;
+    auto* info = contract_topics.info;
+    auto* request = contract_topics.request;
+    auto* reply = contract_topics.reply;
     auto* publisher = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
     auto* subscriber = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
     using contract::TopicRole;
