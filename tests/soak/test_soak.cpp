@@ -289,7 +289,14 @@ TEST(Soak, EveryCallEndsWithExactlyOneReplyAndServiceMemoryStaysFlat) {
     EXPECT_EQ(replies.size(), tally.calls) << "client " << tally.client_id;
   }
   ASSERT_GT(rss_warm, 0);
+#if defined(__SANITIZE_ADDRESS__)
+  // Built with AddressSanitizer (tests/sanitize), the service keeps freed
+  // memory in ASan's quarantine (256 MiB) and its RSS grows by design; leaks
+  // are LeakSanitizer's to report there, at the service's exit.
+  std::printf("soak: AddressSanitizer build, service memory growth not judged\n");
+#else
   EXPECT_LT(rss_end - rss_warm, kRssGrowthBoundKib);
+#endif
 
   clients.clear();
   service_process.send_signal(SIGTERM);

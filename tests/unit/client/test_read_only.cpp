@@ -78,10 +78,18 @@ TEST(ReadOnlyClient, RefusedCommandEndpointsLeaveAConnectedClientThatWatches) {
         cv.notify_all();
       },
       std::nullopt);
-  fake.publish_event(1, msg::EVENT_GRASPED, 37);
+  // Events are volatile: one published before the event reader and writer
+  // have matched is gone, so publish again until one arrives.
   {
+    const auto give_up = std::chrono::steady_clock::now() + kDeadline;
     std::unique_lock lock(mutex);
-    ASSERT_TRUE(cv.wait_for(lock, kDeadline, [&] { return !events.empty(); }));
+    while (events.empty() && std::chrono::steady_clock::now() < give_up) {
+      lock.unlock();
+      fake.publish_event(1, msg::EVENT_GRASPED, 37);
+      lock.lock();
+      cv.wait_for(lock, std::chrono::milliseconds(250), [&] { return !events.empty(); });
+    }
+    ASSERT_FALSE(events.empty()) << "no event arrived";
     EXPECT_EQ(events.front().kind, EventKind::grasped);
   }
   core->unsubscribe(subscription);
