@@ -317,11 +317,6 @@ bool ClientCore::set_up_dds(std::string& error, const Refusals& simulated) {
 
   auto* participant = dds_->participant;
   const contract::Topics contract_topics = contract::create_topics(*participant);
-  auto* status = contract_topics.status;
-  auto* event = contract_topics.event;
-  auto* info = contract_topics.info;
-  auto* request = contract_topics.request;
-  auto* reply = contract_topics.reply;
   auto* publisher = participant->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
   auto* subscriber = participant->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
   if (!contract_topics.complete() || publisher == nullptr || subscriber == nullptr) {
@@ -338,27 +333,31 @@ bool ClientCore::set_up_dds(std::string& error, const Refusals& simulated) {
   // possible (a reply written before the service knows our reader is lost).
   if (!simulated.request_writer) {
     dds_->request_writer = publisher->create_datawriter(
-        request, contract::writer_qos(TopicRole::request), &dds_->request_listener,
+        contract_topics.request, contract::writer_qos(TopicRole::request), &dds_->request_listener,
         fdds::StatusMask::publication_matched());
   }
   if (!simulated.reply_reader) {
-    dds_->reply_reader = subscriber->create_datareader(
-        reply, contract::reader_qos(TopicRole::reply), &dds_->reader_listener, data_and_matches);
+    dds_->reply_reader =
+        subscriber->create_datareader(contract_topics.reply, contract::reader_qos(TopicRole::reply),
+                                      &dds_->reader_listener, data_and_matches);
   }
   // Every identity must read statuses and events; a refused command endpoint
   // above is a read-only client (below).
-  dds_->status_reader = subscriber->create_datareader(
-      status, contract::reader_qos(TopicRole::hand_status), &dds_->reader_listener, data);
-  dds_->event_reader = subscriber->create_datareader(
-      event, contract::reader_qos(TopicRole::hand_event), &dds_->reader_listener, data_and_matches);
+  dds_->status_reader = subscriber->create_datareader(contract_topics.status,
+                                                      contract::reader_qos(TopicRole::hand_status),
+                                                      &dds_->reader_listener, data);
+  dds_->event_reader = subscriber->create_datareader(contract_topics.event,
+                                                     contract::reader_qos(TopicRole::hand_event),
+                                                     &dds_->reader_listener, data_and_matches);
   if (dds_->status_reader == nullptr || dds_->event_reader == nullptr) {
     error = access_control ? "DDS Security: this identity may not read hand statuses and events"
                            : "cannot create the dh3 readers";
     return false;
   }
   if (!simulated.info_reader) {
-    dds_->info_reader = subscriber->create_datareader(
-        info, contract::reader_qos(TopicRole::service_info), &dds_->reader_listener, data);
+    dds_->info_reader = subscriber->create_datareader(contract_topics.info,
+                                                      contract::reader_qos(TopicRole::service_info),
+                                                      &dds_->reader_listener, data);
   }
   const bool complete = dds_->request_writer != nullptr && dds_->reply_reader != nullptr &&
                         dds_->info_reader != nullptr;

@@ -56,24 +56,20 @@ class DdsTestClient {
     if (participant_ == nullptr) return;
     client_id_ = contract::client_id_for(participant_->guid().guidPrefix);
     const contract::Topics contract_topics = contract::create_topics(*participant_);
-    auto* status = contract_topics.status;
-    auto* event = contract_topics.event;
-    auto* info = contract_topics.info;
-    auto* request = contract_topics.request;
-    auto* reply = contract_topics.reply;
     auto* publisher = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
     auto* subscriber = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
     using contract::TopicRole;
-    request_writer_ =
-        publisher->create_datawriter(request, contract::writer_qos(TopicRole::request));
+    request_writer_ = publisher->create_datawriter(contract_topics.request,
+                                                   contract::writer_qos(TopicRole::request));
     const auto mask = fdds::StatusMask::data_available();
-    subscriber->create_datareader(reply, contract::reader_qos(TopicRole::reply), &listener_, mask);
-    subscriber->create_datareader(status, contract::reader_qos(TopicRole::hand_status), &listener_,
-                                  mask);
-    subscriber->create_datareader(event, contract::reader_qos(TopicRole::hand_event), &listener_,
-                                  mask);
-    subscriber->create_datareader(info, contract::reader_qos(TopicRole::service_info), &listener_,
-                                  mask);
+    subscriber->create_datareader(contract_topics.reply, contract::reader_qos(TopicRole::reply),
+                                  &listener_, mask);
+    subscriber->create_datareader(contract_topics.status,
+                                  contract::reader_qos(TopicRole::hand_status), &listener_, mask);
+    subscriber->create_datareader(contract_topics.event,
+                                  contract::reader_qos(TopicRole::hand_event), &listener_, mask);
+    subscriber->create_datareader(contract_topics.info,
+                                  contract::reader_qos(TopicRole::service_info), &listener_, mask);
   }
 
   ~DdsTestClient() {

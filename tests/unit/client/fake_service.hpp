@@ -68,21 +68,17 @@ class FakeService {
         static_cast<fdds::DomainId_t>(domain), qos, nullptr, fdds::StatusMask::none());
     if (participant_ == nullptr) return;
     const contract::Topics contract_topics = contract::create_topics(*participant_);
-    auto* status = contract_topics.status;
-    auto* event = contract_topics.event;
-    auto* info = contract_topics.info;
-    auto* request = contract_topics.request;
-    auto* reply = contract_topics.reply;
     auto* publisher = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
     auto* subscriber = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
     using contract::TopicRole;
-    status_writer_ =
-        publisher->create_datawriter(status, contract::writer_qos(TopicRole::hand_status));
-    event_writer_ =
-        publisher->create_datawriter(event, contract::writer_qos(TopicRole::hand_event));
-    info_writer_ =
-        publisher->create_datawriter(info, contract::writer_qos(TopicRole::service_info));
-    reply_writer_ = publisher->create_datawriter(reply, contract::writer_qos(TopicRole::reply));
+    status_writer_ = publisher->create_datawriter(contract_topics.status,
+                                                  contract::writer_qos(TopicRole::hand_status));
+    event_writer_ = publisher->create_datawriter(contract_topics.event,
+                                                 contract::writer_qos(TopicRole::hand_event));
+    info_writer_ = publisher->create_datawriter(contract_topics.info,
+                                                contract::writer_qos(TopicRole::service_info));
+    reply_writer_ =
+        publisher->create_datawriter(contract_topics.reply, contract::writer_qos(TopicRole::reply));
 
     msg::ServiceInfo service_info;
     service_info.service(name_);
@@ -109,8 +105,8 @@ class FakeService {
     for (const auto id : ids_) publish_status(id, true);
 
     // Last, as dh3-service does: requests are taken once everything runs.
-    subscriber->create_datareader(request, contract::reader_qos(TopicRole::request), &listener_,
-                                  fdds::StatusMask::data_available());
+    subscriber->create_datareader(contract_topics.request, contract::reader_qos(TopicRole::request),
+                                  &listener_, fdds::StatusMask::data_available());
   }
 
   ~FakeService() {
