@@ -4,7 +4,7 @@
 // TCP or a serial line) and sim (in-process simulated hands).
 //
 // Threading: one I/O loop owns a Bus and is the only caller of send() and
-// receive(); wake() may be called from any thread.
+// receive(); wake() and diagnostics() may be called from any thread.
 
 #include <array>
 #include <cstdint>
@@ -38,6 +38,39 @@ enum class BusError : std::uint8_t {
 
 enum class LinkState : std::uint8_t { up, down };
 
+/// What a CAN controller reports in error frames (linux/can/error.h classes);
+/// one error frame may report several.
+enum class ErrorFrameKind : std::uint8_t {
+  bus_off,              ///< the controller left the bus: nothing goes out until it restarts
+  error_passive,        ///< error counters over 127 (rx or tx)
+  error_warning,        ///< error counters over 95 (rx or tx)
+  error_active,         ///< back to normal after passive or warning
+  controller_overflow,  ///< the controller's own rx/tx buffer overflowed
+  restarted,            ///< the controller restarted after bus-off
+  tx_timeout,           ///< a frame could not be sent in time
+  lost_arbitration,
+  protocol_violation,   ///< bit, form, stuff errors (with berr-reporting on)
+  transceiver,          ///< wiring fault seen by the transceiver
+  no_ack,               ///< nobody acknowledged a frame: no other node on the bus
+  bus_error,            ///< a bus error without further class
+};
+inline constexpr std::size_t kErrorFrameKinds = 12;
+[[nodiscard]] std::string_view to_string(ErrorFrameKind kind);
+
+/// What a backend sees beneath the frames it delivers, counted since it was
+/// made. Only a backend on a CAN controller (SocketCAN) sees these.
+struct BusDiagnostics {
+  bool sees_controller = false;  ///< false: every figure below is unknown, not 0
+  bool bus_off = false;          ///< the controller is bus-off now
+  std::array<std::uint64_t, kErrorFrameKinds> error_frames{};  ///< by ErrorFrameKind
+  /// Frames the kernel dropped because the socket's receive queue was full.
+  std::uint64_t rx_overflow_drops = 0;
+  /// Frames no DH-3 hand sends that reached the backend anyway (extended,
+  /// RTR, id over 0xFF, length over 8, bad size); the kernel filter keeps most
+  /// of them out unseen.
+  std::uint64_t frames_ignored = 0;
+};
+
 class Bus {
  public:
   virtual ~Bus() = default;
@@ -64,6 +97,9 @@ class Bus {
   /// Line rate in bits per second when the backend knows it (CAN bit rate),
   /// 0 otherwise. Used for bus-load figures.
   [[nodiscard]] virtual std::uint32_t bit_rate() const { return 0; }
+
+  /// Controller and kernel-queue figures; any thread. Default: sees nothing.
+  [[nodiscard]] virtual BusDiagnostics diagnostics() const { return {}; }
 };
 
 }  // namespace dh3::bus

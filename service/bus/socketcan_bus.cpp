@@ -9,6 +9,7 @@
 #include <spdlog/spdlog.h>
 #include <sys/ioctl.h>
 #include <sys/socket.h>
+#include <sys/uio.h>
 
 #include <algorithm>
 #include <array>
@@ -24,6 +25,10 @@ constexpr std::uint32_t kMaxHandId = 0xFF;
 // One receive() reads at most this many datagrams so a flooded bus cannot keep
 // the I/O loop from its other work; the rest waits in the socket.
 constexpr int kMaxFramesPerReceive = 256;
+// A kind of error frame is logged at most once in this long (with its count).
+constexpr Duration kErrorLogInterval = std::chrono::seconds(10);
+
+std::size_t index_of(ErrorFrameKind kind) { return static_cast<std::size_t>(kind); }
 
 Result<UniqueFd, std::string> new_can_socket() {
   UniqueFd fd(::socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK | SOCK_CLOEXEC, CAN_RAW));
@@ -79,6 +84,33 @@ std::string link_error_text(int error) {
 
 }  // namespace
 
+std::bitset<kErrorFrameKinds> classify_error_frame(std::uint32_t can_id, const std::uint8_t* data) {
+  std::bitset<kErrorFrameKinds> kinds;
+  auto mark = [&kinds](ErrorFrameKind kind) { kinds.set(index_of(kind)); };
+  if ((can_id & CAN_ERR_BUSOFF) != 0) mark(ErrorFrameKind::bus_off);
+  if ((can_id & CAN_ERR_RESTARTED) != 0) mark(ErrorFrameKind::restarted);
+  if ((can_id & CAN_ERR_TX_TIMEOUT) != 0) mark(ErrorFrameKind::tx_timeout);
+  if ((can_id & CAN_ERR_LOSTARB) != 0) mark(ErrorFrameKind::lost_arbitration);
+  if ((can_id & CAN_ERR_PROT) != 0) mark(ErrorFrameKind::protocol_violation);
+  if ((can_id & CAN_ERR_TRX) != 0) mark(ErrorFrameKind::transceiver);
+  if ((can_id & CAN_ERR_ACK) != 0) mark(ErrorFrameKind::no_ack);
+  if ((can_id & CAN_ERR_BUSERROR) != 0) mark(ErrorFrameKind::bus_error);
+  if ((can_id & CAN_ERR_CRTL) != 0) {
+    const std::uint8_t status = data[1];
+    if ((status & (CAN_ERR_CRTL_RX_OVERFLOW | CAN_ERR_CRTL_TX_OVERFLOW)) != 0) {
+      mark(ErrorFrameKind::controller_overflow);
+    }
+    if ((status & (CAN_ERR_CRTL_RX_WARNING | CAN_ERR_CRTL_TX_WARNING)) != 0) {
+      mark(ErrorFrameKind::error_warning);
+    }
+    if ((status & (CAN_ERR_CRTL_RX_PASSIVE | CAN_ERR_CRTL_TX_PASSIVE)) != 0) {
+      mark(ErrorFrameKind::error_passive);
+    }
+    if ((status & CAN_ERR_CRTL_ACTIVE) != 0) mark(ErrorFrameKind::error_active);
+  }
+  return kinds;
+}
+
 std::string kernel_can_support_problem() {
   auto probe = new_can_socket();
   return probe ? std::string() : probe.error();
@@ -109,11 +141,16 @@ Result<UniqueFd, std::string> open_can_raw_socket(const std::string& interface) 
   if (::setsockopt(fd.get(), SOL_CAN_RAW, CAN_RAW_FILTER, &filter, sizeof filter) != 0) {
     return dh3::fail("CAN_RAW_FILTER: " + errno_text(errno));
   }
-  // Controller trouble worth a log line; bus errors (chatty) are left out.
-  const can_err_mask_t errors =
-      CAN_ERR_TX_TIMEOUT | CAN_ERR_CRTL | CAN_ERR_BUSOFF | CAN_ERR_RESTARTED;
+  // Every class the controller reports: counted by kind, the chatty ones
+  // (bus errors come only with berr-reporting on) logged at a limited rate.
+  const can_err_mask_t errors = CAN_ERR_MASK;
   if (::setsockopt(fd.get(), SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &errors, sizeof errors) != 0) {
     return dh3::fail("CAN_RAW_ERR_FILTER: " + errno_text(errno));
+  }
+  // Each datagram then carries how many the kernel dropped for a full queue.
+  const int on = 1;
+  if (::setsockopt(fd.get(), SOL_SOCKET, SO_RXQ_OVFL, &on, sizeof on) != 0) {
+    return dh3::fail("SO_RXQ_OVFL: " + errno_text(errno));
   }
 
   sockaddr_can address{};
@@ -154,8 +191,20 @@ SocketCanBus::SocketCanBus(std::string spec, CanSocketOpener opener, const Clock
 }
 
 SocketCanBus::Counters SocketCanBus::counters() const {
-  return Counters{tracker_.attempts(), tracker_.drops(), frames_sent_,
-                  frames_received_,    frames_ignored_,  error_frames_};
+  return Counters{tracker_.attempts(), tracker_.drops(),       frames_sent_,
+                  frames_received_,    frames_ignored_.load(), error_frames_};
+}
+
+BusDiagnostics SocketCanBus::diagnostics() const {
+  BusDiagnostics out;
+  out.sees_controller = true;
+  out.bus_off = bus_off_.load(std::memory_order_relaxed);
+  for (std::size_t i = 0; i < kErrorFrameKinds; ++i) {
+    out.error_frames[i] = error_kinds_[i].load(std::memory_order_relaxed);
+  }
+  out.rx_overflow_drops = rx_overflow_drops_.load(std::memory_order_relaxed);
+  out.frames_ignored = frames_ignored_.load(std::memory_order_relaxed);
+  return out;
 }
 
 void SocketCanBus::try_open(TimePoint now) {
@@ -166,19 +215,28 @@ void SocketCanBus::try_open(TimePoint now) {
     return;
   }
   fd_ = std::move(opened.value());
+  kernel_drops_seen_ = 0;
+  bus_off_.store(false);  // a fresh socket on an interface that is up
   tracker_.mark_up();
 }
 
 void SocketCanBus::go_down(std::string_view reason, TimePoint now) {
   fd_.reset();
+  bus_off_.store(false);
   tracker_.mark_down(reason, now);
+}
+
+void SocketCanBus::end_bus_off(std::string_view why) {
+  if (!bus_off_.exchange(false)) return;
+  spdlog::info("{}: CAN controller back on the bus ({})", spec_, why);
+  tracker_.mark_up();
 }
 
 Result<void, BusError> SocketCanBus::send(const CanFrame& frame) {
   if (frame.id > CAN_SFF_MASK || frame.length > CAN_MAX_DLEN) {
     return dh3::fail(BusError::frame_invalid);
   }
-  if (!fd_) return dh3::fail(BusError::link_down);
+  if (!can_carry_frames()) return dh3::fail(BusError::link_down);
   can_frame raw{};
   raw.can_id = frame.id;
   raw.len = frame.length;
@@ -209,14 +267,44 @@ Result<void, BusError> SocketCanBus::send(const CanFrame& frame) {
   }
 }
 
-void SocketCanBus::handle_error_frame(std::uint32_t can_id, const std::uint8_t* data) {
+void SocketCanBus::handle_error_frame(std::uint32_t can_id, const std::uint8_t* data,
+                                      TimePoint now) {
   ++error_frames_;
-  if ((can_id & CAN_ERR_BUSOFF) != 0) spdlog::warn("{}: CAN controller is bus-off", spec_);
-  if ((can_id & CAN_ERR_RESTARTED) != 0) spdlog::info("{}: CAN controller restarted", spec_);
-  if ((can_id & CAN_ERR_TX_TIMEOUT) != 0) spdlog::warn("{}: CAN transmit timed out", spec_);
-  if ((can_id & CAN_ERR_CRTL) != 0) {
-    spdlog::debug("{}: CAN controller problem, status 0x{:02X}", spec_, data[1]);
+  const auto kinds = classify_error_frame(can_id, data);
+  for (std::size_t i = 0; i < kErrorFrameKinds; ++i) {
+    if (!kinds.test(i)) continue;
+    const auto kind = static_cast<ErrorFrameKind>(i);
+    const std::uint64_t total = error_kinds_[i].fetch_add(1, std::memory_order_relaxed) + 1;
+    if (kind == ErrorFrameKind::bus_off || kind == ErrorFrameKind::restarted) continue;
+    if (logged_count_[i] != 0 && now - last_logged_[i] < kErrorLogInterval) continue;
+    const auto level = (kind == ErrorFrameKind::error_active) ? spdlog::level::info
+                                                               : spdlog::level::warn;
+    spdlog::log(level, "{}: CAN error frame: {} ({} so far; controller status 0x{:02X}, "
+                "protocol 0x{:02X}/0x{:02X}, tx/rx error counters {}/{})",
+                spec_, to_string(kind), total, data[1], data[2], data[3], data[6], data[7]);
+    last_logged_[i] = now;
+    logged_count_[i] = total;
   }
+  if (kinds.test(index_of(ErrorFrameKind::bus_off)) && !bus_off_.exchange(true)) {
+    spdlog::warn("{}: CAN controller is bus-off; nothing can be sent until it restarts "
+                 "(automatic with `ip link set IF type can restart-ms 100`, or by hand with "
+                 "`ip link set IF type can restart`)",
+                 spec_);
+    tracker_.mark_down("controller is bus-off", now);
+  } else if (kinds.test(index_of(ErrorFrameKind::restarted))) {
+    end_bus_off("controller restarted");
+  }
+}
+
+void SocketCanBus::count_kernel_drops(std::uint32_t drops_so_far) {
+  if (drops_so_far == kernel_drops_seen_) return;
+  const std::uint32_t dropped = drops_so_far - kernel_drops_seen_;  // wraps like the kernel's
+  kernel_drops_seen_ = drops_so_far;
+  const std::uint64_t total =
+      rx_overflow_drops_.fetch_add(dropped, std::memory_order_relaxed) + dropped;
+  spdlog::warn("{}: receive queue overflowed: the kernel dropped {} frames ({} in all); the bus "
+               "carries more than the service reads",
+               spec_, dropped, total);
 }
 
 void SocketCanBus::read_available(std::vector<CanFrame>& out, TimePoint now) {
@@ -224,7 +312,14 @@ void SocketCanBus::read_available(std::vector<CanFrame>& out, TimePoint now) {
     // Room for a CAN FD frame, so an oversized datagram shows up as such
     // instead of being silently cut to the classic size.
     canfd_frame raw{};
-    const ssize_t n = ::recv(fd_.get(), &raw, sizeof raw, MSG_DONTWAIT);
+    iovec io{&raw, sizeof raw};
+    alignas(cmsghdr) std::array<char, CMSG_SPACE(sizeof(std::uint32_t))> control{};
+    msghdr message{};
+    message.msg_iov = &io;
+    message.msg_iovlen = 1;
+    message.msg_control = control.data();
+    message.msg_controllen = control.size();
+    const ssize_t n = ::recvmsg(fd_.get(), &message, MSG_DONTWAIT);
     if (n < 0) {
       const int error = errno;
       if (error == EINTR) continue;
@@ -236,20 +331,30 @@ void SocketCanBus::read_available(std::vector<CanFrame>& out, TimePoint now) {
       go_down("closed by the peer", now);
       return;
     }
+    for (cmsghdr* c = CMSG_FIRSTHDR(&message); c != nullptr; c = CMSG_NXTHDR(&message, c)) {
+      if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SO_RXQ_OVFL) {
+        std::uint32_t drops = 0;
+        std::memcpy(&drops, CMSG_DATA(c), sizeof drops);
+        count_kernel_drops(drops);
+      }
+    }
     if (n != static_cast<ssize_t>(sizeof(can_frame))) {
-      ++frames_ignored_;
+      frames_ignored_.fetch_add(1, std::memory_order_relaxed);
       continue;
     }
     if ((raw.can_id & CAN_ERR_FLAG) != 0) {
-      handle_error_frame(raw.can_id & CAN_ERR_MASK, raw.data);
+      handle_error_frame(raw.can_id & CAN_ERR_MASK, raw.data, now);
       continue;
     }
     const std::uint32_t id = raw.can_id & CAN_SFF_MASK;
     if ((raw.can_id & (CAN_EFF_FLAG | CAN_RTR_FLAG)) != 0 || id > kMaxHandId ||
         raw.len > CAN_MAX_DLEN) {
-      ++frames_ignored_;
+      frames_ignored_.fetch_add(1, std::memory_order_relaxed);
       continue;
     }
+    // A controller that delivers frames is on the bus again, even if its
+    // restart report was lost (the queue may have overflowed).
+    if (bus_off_.load()) end_bus_off("frames arrive again");
     CanFrame frame;
     frame.id = id;
     frame.length = raw.len;
@@ -286,7 +391,7 @@ Result<void, BusError> SocketCanBus::receive(std::vector<CanFrame>& out, Duratio
     try_open(now);  // the backoff ran out during the wait
   }
 
-  if (fd_ || out.size() > frames_before) return {};
+  if (can_carry_frames() || out.size() > frames_before) return {};
   return dh3::fail(BusError::link_down);
 }
 

@@ -13,7 +13,18 @@
 // When the interface goes down (ENETDOWN), disappears, or the fd fails or
 // reaches EOF, the bus reports link_down and reopens through the opener with
 // backoff during later receive() calls.
+//
+// The controller's error frames are counted by kind (diagnostics()) and
+// logged, at most once per kind every few seconds except for bus-off and its
+// end. Bus-off takes the link down with the socket kept open, until the
+// controller reports that it restarted (or frames arrive again, or the
+// interface is taken down and up). Frames the kernel drops because the
+// receive queue was full are counted from the socket's SO_RXQ_OVFL figure,
+// which the kernel hands over with the next frame it queues.
 
+#include <array>
+#include <atomic>
+#include <bitset>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -36,12 +47,18 @@ struct SocketCanOptions {
 /// why it could not.
 using CanSocketOpener = std::function<Result<UniqueFd, std::string>()>;
 
+/// The kinds an error frame (can_id with CAN_ERR_FLAG, 8 data bytes) reports,
+/// bit i for ErrorFrameKind i. Pure, for the tests.
+[[nodiscard]] std::bitset<kErrorFrameKinds> classify_error_frame(std::uint32_t can_id,
+                                                                 const std::uint8_t* data);
+
 /// Empty if the kernel can create PF_CAN sockets, else the reason, e.g.
 /// "kernel has no CAN support: socket(PF_CAN) failed: Address family not
 /// supported by protocol".
 [[nodiscard]] std::string kernel_can_support_problem();
 
-/// socket(PF_CAN, SOCK_RAW, CAN_RAW), receive filter, error-frame mask, bind to
+/// socket(PF_CAN, SOCK_RAW, CAN_RAW), receive filter, error-frame mask,
+/// SO_RXQ_OVFL, bind to
 /// `interface`. Fails with a clear reason when the interface is missing, is not
 /// a CAN interface, or is down.
 [[nodiscard]] Result<UniqueFd, std::string> open_can_raw_socket(const std::string& interface);
@@ -70,6 +87,7 @@ class SocketCanBus final : public Bus {
   void wake() override { wake_.wake(); }
   [[nodiscard]] LinkState link_state() const override { return tracker_.state(); }
   [[nodiscard]] std::uint32_t bit_rate() const override { return options_.bit_rate; }
+  [[nodiscard]] BusDiagnostics diagnostics() const override;
 
   /// Diagnostics, read on the loop thread.
   struct Counters {
@@ -87,8 +105,11 @@ class SocketCanBus final : public Bus {
  private:
   void try_open(TimePoint now);
   void go_down(std::string_view reason, TimePoint now);
+  [[nodiscard]] bool can_carry_frames() const { return fd_.valid() && !bus_off_.load(); }
   void read_available(std::vector<CanFrame>& out, TimePoint now);
-  void handle_error_frame(std::uint32_t can_id, const std::uint8_t* data);
+  void count_kernel_drops(std::uint32_t drops_so_far);
+  void handle_error_frame(std::uint32_t can_id, const std::uint8_t* data, TimePoint now);
+  void end_bus_off(std::string_view why);
 
   std::string spec_;
   CanSocketOpener opener_;
@@ -99,8 +120,17 @@ class SocketCanBus final : public Bus {
   UniqueFd fd_;
   std::uint64_t frames_sent_ = 0;
   std::uint64_t frames_received_ = 0;
-  std::uint64_t frames_ignored_ = 0;
   std::uint64_t error_frames_ = 0;
+  /// The socket's SO_RXQ_OVFL figure when last seen (it counts per socket).
+  std::uint32_t kernel_drops_seen_ = 0;
+  /// When each kind was last logged, so a babbling bus cannot flood the log.
+  std::array<TimePoint, kErrorFrameKinds> last_logged_{};
+  std::array<std::uint64_t, kErrorFrameKinds> logged_count_{};
+  // Read by diagnostics() from any thread.
+  std::atomic<bool> bus_off_{false};
+  std::array<std::atomic<std::uint64_t>, kErrorFrameKinds> error_kinds_{};
+  std::atomic<std::uint64_t> rx_overflow_drops_{0};
+  std::atomic<std::uint64_t> frames_ignored_{0};
 };
 
 }  // namespace dh3::bus
