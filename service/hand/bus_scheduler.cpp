@@ -141,6 +141,7 @@ class BusScheduler::Impl {
     out.counters = counters();
     out.bit_rate = bit_rate_;
     out.recent_frames_per_second = recent_frames_.frames_per_second();
+    out.diagnostics = bus_->diagnostics();
     if (bit_rate_ > 0) {
       out.line_load_percent =
           100.0 * out.recent_frames_per_second * kBitsPerFrame / static_cast<double>(bit_rate_);

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "bus/bus.hpp"
 #include "common/clock.hpp"
 #include "hand/hand_types.hpp"
 #include "protocol/registers.hpp"
@@ -86,6 +87,8 @@ struct BusMetrics {
   /// recent_frames_per_second x kBitsPerFrame as percent of bit_rate; nullopt
   /// when the bit rate is unknown.
   std::optional<double> line_load_percent;
+  /// The backend's own view of the controller (error frames, kernel drops).
+  bus::BusDiagnostics diagnostics;
   std::vector<HandMetrics> hands;  ///< by CAN ID
 };
 

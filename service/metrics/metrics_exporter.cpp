@@ -88,6 +88,19 @@ std::vector<MetricFamily> families(const std::vector<hand::BusMetrics>& buses) {
                      "Frames sent and received over the last 5 s, at 111 bits each (no stuff "
                      "bits), in percent of the bus's bit rate",
                      MetricType::Gauge);
+  auto error_frames = family("dh3_bus_error_frames_total",
+                             "Error frames the CAN controller reported, by kind",
+                             MetricType::Counter);
+  auto bus_off =
+      family("dh3_bus_off", "1 while the CAN controller is bus-off (the link is down)",
+             MetricType::Gauge);
+  auto overflow = family("dh3_bus_rx_overflow_drops_total",
+                         "Frames the kernel dropped because the receive queue was full",
+                         MetricType::Counter);
+  auto ignored = family("dh3_bus_frames_ignored_total",
+                        "Frames no DH-3 hand sends that reached the service (the kernel filter "
+                        "keeps most of them out unseen)",
+                        MetricType::Counter);
 
   for (const hand::BusMetrics& bus : buses) {
     const std::vector<ClientMetric::Label> bus_label{{"bus", bus.bus}};
@@ -99,6 +112,16 @@ std::vector<MetricFamily> families(const std::vector<hand::BusMetrics>& buses) {
     add_counter(reconnects, bus_label, bus.counters.reconnects);
     add_gauge(link_up, bus_label, bus.link_up ? 1.0 : 0.0);
     if (bus.line_load_percent) add_gauge(load, bus_label, *bus.line_load_percent);
+    if (const bus::BusDiagnostics& seen = bus.diagnostics; seen.sees_controller) {
+      for (std::size_t i = 0; i < bus::kErrorFrameKinds; ++i) {
+        const auto kind = static_cast<bus::ErrorFrameKind>(i);
+        add_counter(error_frames, {{"bus", bus.bus}, {"kind", std::string(to_string(kind))}},
+                    seen.error_frames[i]);
+      }
+      add_gauge(bus_off, bus_label, seen.bus_off ? 1.0 : 0.0);
+      add_counter(overflow, bus_label, seen.rx_overflow_drops);
+      add_counter(ignored, bus_label, seen.frames_ignored);
+    }
 
     for (const hand::HandMetrics& h : bus.hands) {
       for (const hand::CommandTally& tally : h.commands) {
@@ -115,7 +138,8 @@ std::vector<MetricFamily> families(const std::vector<hand::BusMetrics>& buses) {
   }
   std::vector<MetricFamily> out;
   for (MetricFamily* f : {&commands, &timeouts, &retries, &round_trip, &online, &sent, &received,
-                          &errors, &reconnects, &link_up, &load}) {
+                          &errors, &reconnects, &link_up, &load, &error_frames, &bus_off,
+                          &overflow, &ignored}) {
     if (!f->metric.empty()) out.push_back(std::move(*f));
   }
   return out;

@@ -12,6 +12,11 @@
 //   dh3_bus_errors_total{kind}            unexpected_frame | bus_error
 //   dh3_bus_reconnects_total, dh3_bus_link_up
 //   dh3_bus_load_percent                  only for buses that know their bit rate
+// and for buses on a CAN controller (SocketCAN) only:
+//   dh3_bus_error_frames_total{kind}      error frames by bus::ErrorFrameKind name
+//   dh3_bus_off                           1 while the controller is bus-off
+//   dh3_bus_rx_overflow_drops_total       frames the kernel dropped, receive queue full
+//   dh3_bus_frames_ignored_total          frames no DH-3 hand sends that got through
 
 #include <functional>
 #include <memory>

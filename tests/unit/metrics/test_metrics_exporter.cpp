@@ -119,6 +119,34 @@ TEST(MetricsText, ABusWithoutABitRateHasNoLoadSeries) {
   EXPECT_EQ(metric_value(text, R"(dh3_bus_frames_sent_total{bus="left"})"), 120.0);
 }
 
+TEST(MetricsText, ACanControllerBusHasErrorFrameOverflowAndBusOffSeries) {
+  auto figures = sample_figures();
+  auto& seen = figures[0].diagnostics;
+  seen.sees_controller = true;
+  seen.bus_off = true;
+  seen.error_frames[static_cast<std::size_t>(bus::ErrorFrameKind::bus_off)] = 2;
+  seen.error_frames[static_cast<std::size_t>(bus::ErrorFrameKind::error_passive)] = 5;
+  seen.rx_overflow_drops = 17;
+  seen.frames_ignored = 3;
+  const std::string text = render(figures);
+  EXPECT_EQ(metric_value(text, R"(dh3_bus_error_frames_total{bus="left",kind="bus_off"})"), 2.0)
+      << text;
+  EXPECT_EQ(metric_value(text, R"(dh3_bus_error_frames_total{bus="left",kind="error_passive"})"),
+            5.0);
+  // Every kind is there from the start, so rate() works from the first error.
+  EXPECT_EQ(metric_value(text, R"(dh3_bus_error_frames_total{bus="left",kind="no_ack"})"), 0.0);
+  EXPECT_EQ(metric_value(text, R"(dh3_bus_off{bus="left"})"), 1.0);
+  EXPECT_EQ(metric_value(text, R"(dh3_bus_rx_overflow_drops_total{bus="left"})"), 17.0);
+  EXPECT_EQ(metric_value(text, R"(dh3_bus_frames_ignored_total{bus="left"})"), 3.0);
+}
+
+TEST(MetricsText, ABusThatSeesNoControllerHasNoControllerSeries) {
+  const std::string text = render(sample_figures());
+  EXPECT_THAT(text, Not(HasSubstr("dh3_bus_error_frames_total")));
+  EXPECT_THAT(text, Not(HasSubstr("dh3_bus_off")));
+  EXPECT_THAT(text, Not(HasSubstr("dh3_bus_rx_overflow_drops_total")));
+}
+
 // The names a dashboard filters on are the ones the contract gives the
 // commands a client sends and the results it gets back.
 TEST(MetricsNames, CommandTypesAreTheContractsNames) {
