@@ -21,6 +21,9 @@ build_pkgs=(
   libgtest-dev libgmock-dev
   clang libclang-rt-14-dev   # libFuzzer targets (tests/fuzz)
   iproute2 iputils-ping procps python3 python3-yaml openssl systemd
+  # tests/kernel: a real Linux kernel with CAN, vcan and vxcan as a process
+  # (the build machines' kernel has no CAN), insmod, and candump/cangen.
+  user-mode-linux kmod can-utils
 )
 
 want=("${build_pkgs[@]}")

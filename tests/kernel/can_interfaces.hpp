@@ -1,0 +1,120 @@
+#pragma once
+// What the kernel tests share: a vcan interface of the test's own (created,
+// taken down and up, deleted and created again with `ip link`) and a raw CAN
+// socket that plays the other nodes on it. These run only inside a kernel
+// with CAN (tests/kernel/uml-run.sh boots one); elsewhere they skip with the
+// reason.
+
+#include <gtest/gtest.h>
+#include <linux/can.h>
+#include <linux/can/raw.h>
+#include <net/if.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bus/fd_util.hpp"
+#include "bus/socketcan_bus.hpp"
+
+namespace dh3::test {
+
+/// Skips the calling test unless the kernel has CAN; use as the first line.
+#define DH3_REQUIRE_KERNEL_CAN()                                                        \
+  do {                                                                                  \
+    if (const std::string problem = ::dh3::bus::kernel_can_support_problem();            \
+        !problem.empty()) {                                                             \
+      GTEST_SKIP() << problem << " (tests/kernel/uml-run.sh runs this in a kernel with CAN)"; \
+    }                                                                                   \
+  } while (false)
+
+inline bool run_command(const std::string& command) {
+  return std::system((command + " >/dev/null 2>&1").c_str()) == 0;
+}
+
+/// A vcan interface named after the test process, up, deleted at the end.
+class VcanInterface {
+ public:
+  explicit VcanInterface(const std::string& prefix = "dh3vcan")
+      : name_(prefix + std::to_string(::getpid() % 100000)) {
+    created_ = create();
+  }
+  ~VcanInterface() {
+    if (::if_nametoindex(name_.c_str()) != 0) run_command("ip link del dev " + name_);
+  }
+  VcanInterface(const VcanInterface&) = delete;
+  VcanInterface& operator=(const VcanInterface&) = delete;
+
+  [[nodiscard]] const std::string& name() const { return name_; }
+  [[nodiscard]] bool created() const { return created_; }
+  bool create() {
+    return run_command("ip link add dev " + name_ + " type vcan") && set_up(true);
+  }
+  bool remove() { return run_command("ip link del dev " + name_); }
+  bool set_up(bool up) {
+    return run_command("ip link set " + std::string(up ? "up" : "down") + " dev " + name_);
+  }
+
+ private:
+  std::string name_;
+  bool created_ = false;
+};
+
+/// A raw CAN socket bound to one interface, with no filter: it sees every
+/// frame others send there, and what it sends reaches every other socket.
+class RawCanSocket {
+ public:
+  explicit RawCanSocket(const std::string& interface)
+      : fd_(::socket(PF_CAN, SOCK_RAW | SOCK_CLOEXEC, CAN_RAW)) {
+    if (!fd_) return;
+    sockaddr_can address{};
+    address.can_family = AF_CAN;
+    address.can_ifindex = static_cast<int>(::if_nametoindex(interface.c_str()));
+    if (::bind(fd_.get(), reinterpret_cast<sockaddr*>(&address), sizeof address) != 0) {
+      fd_.reset();
+    }
+  }
+  [[nodiscard]] bool valid() const { return fd_.valid(); }
+  [[nodiscard]] int fd() const { return fd_.get(); }
+
+  /// Also sees error frames (and may write them: vcan delivers them as sent).
+  void receive_error_frames() {
+    const can_err_mask_t all = CAN_ERR_MASK;
+    ::setsockopt(fd_.get(), SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &all, sizeof all);
+  }
+
+  /// Blocking send of one classic frame; false if the kernel refused it.
+  bool send(std::uint32_t can_id, const std::vector<std::uint8_t>& data) {
+    can_frame frame{};
+    frame.can_id = can_id;
+    frame.len = static_cast<std::uint8_t>(std::min<std::size_t>(data.size(), CAN_MAX_DLEN));
+    std::memcpy(frame.data, data.data(), frame.len);
+    return ::write(fd_.get(), &frame, sizeof frame) == static_cast<ssize_t>(sizeof frame);
+  }
+
+  /// The next frame within `timeout_ms`; an error the socket holds (ENETDOWN
+  /// after the interface went down) is consumed and the wait goes on.
+  std::optional<can_frame> receive(int timeout_ms = 10000) {
+    for (int round = 0; round < 4; ++round) {
+      pollfd p{fd_.get(), POLLIN, 0};
+      if (::poll(&p, 1, timeout_ms) <= 0) return std::nullopt;
+      can_frame frame{};
+      const ssize_t n = ::recv(fd_.get(), &frame, sizeof frame, MSG_DONTWAIT);
+      if (n == static_cast<ssize_t>(sizeof frame)) return frame;
+      if (n < 0 && (errno == ENETDOWN || errno == ENODEV || errno == EAGAIN)) continue;
+      return std::nullopt;
+    }
+    return std::nullopt;
+  }
+
+ private:
+  bus::UniqueFd fd_;
+};
+
+}  // namespace dh3::test
