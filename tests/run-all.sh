@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The README's test command: install dependencies, configure, build, run every
-# test; then the whole suite again under AddressSanitizer + UBSan and the hand,
-# bus and service tests under ThreadSanitizer (tests/sanitize/run-sanitized.sh).
+# test (kernel CAN tests inside user-mode Linux and container tests included);
+# then the whole suite again under AddressSanitizer + UBSan and the hand, bus
+# and service tests under ThreadSanitizer (tests/sanitize/run-sanitized.sh).
+# Prints how long each phase took.
 #   tests/run-all.sh [extra ctest args]
 # BUILD_DIR (default build) and JOBS (default 2) may be set; SANITIZERS=0 skips
 # the sanitizer builds (for a quick local run; CI runs them).
@@ -10,25 +12,45 @@ cd "$(dirname "$0")/.."
 build=${BUILD_DIR:-build}
 jobs=${JOBS:-2}
 
+phases=()
+phase_started=$SECONDS
+# Ends the phase named $1: prints and remembers how long it took.
+end_phase() {
+  local took=$((SECONDS - phase_started))
+  phases+=("$(printf '%-28s %4d min %02d s' "$1" $((took / 60)) $((took % 60)))")
+  echo "== phase '$1' took $((took / 60)) min $((took % 60)) s"
+  phase_started=$SECONDS
+}
+print_phases() {
+  echo "== time per phase"
+  printf '   %s\n' "${phases[@]}"
+  echo "   total                        $((SECONDS / 60)) min $((SECONDS % 60)) s"
+}
+
 deploy/install-deps.sh
+end_phase "install dependencies"
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo
 cmake --build "$build" -j "$jobs"
+end_phase "build"
 status=0
 ctest --test-dir "$build" --output-on-failure -j "$jobs" "$@" || status=$?
 
 # ctest lists skipped tests without their reason; print the reason each gave
-# (GoogleTest's "Skipped" message, or a netns script's "SKIP:" line).
+# (GoogleTest's "Skipped" message, or a script's "SKIP:" line).
 log="$build/Testing/Temporary/LastTest.log"
 if [[ -f $log ]] && grep -q -E ': Skipped$|^SKIP: ' "$log"; then
   echo "Skipped tests and their reasons:"
   awk '/: Skipped$/ { getline reason; print "  " reason } /^SKIP: / { print "  " $0 }' "$log" | sort -u
 fi
+end_phase "tests"
 
 if [[ ${SANITIZERS:-1} != 0 ]]; then
   for mode in address thread; do
     JOBS=$jobs tests/sanitize/run-sanitized.sh "$mode" "$@" || status=1
+    end_phase "$mode sanitizer"
   done
 else
   echo "SANITIZERS=0: the sanitizer runs were skipped"
 fi
+print_phases
 exit "$status"

@@ -34,7 +34,11 @@ case $mode in
     # deploy.image_build: a second, plain Release build of the image's steps.
     # install.client_consumer: builds and links an out-of-tree program against
     #   the installed package; a packaging check, not code that runs.
-    selection=(-E '^(fuzz\.|deploy\.image_build$|install\.client_consumer$)')
+    # Labels kernel and container: they run the plain build's programs inside
+    #   user-mode Linux and in container images; the sanitized programs are
+    #   tested on the host.
+    selection=(-E '^(fuzz\.|deploy\.image_build$|install\.client_consumer$)'
+               -LE '^(kernel|container)$')
     # new_delete_type_mismatch=0: Debian's libfastrtps 2.9 frees objects of its
     # own with a smaller size than it allocated them with (~RTPSReader and
     # ~RTPSWriter, seen on every reader and writer deleted). Allocation and
