@@ -107,11 +107,15 @@ dh3::Result<int, std::string> open_can_interface(const std::string& interface) {
   return opened.value().release();
 }
 
-/// Runs `server` until it stops, then prints the interval line if checked.
+/// Prints `ready_line` once a stop signal would reach `server`, runs it until
+/// it stops, then prints the interval line if the interval is checked.
 template <typename Server>
-int serve(Server& server, std::atomic<Server*>& global, bool interval_checked) {
+int serve(Server& server, std::atomic<Server*>& global, const std::string& ready_line,
+          bool interval_checked) {
   global.store(&server);
   install_stop_handlers();
+  std::printf("%s\n", ready_line.c_str());
+  std::fflush(stdout);
   server.run();
   global.store(nullptr);
   if (interval_checked) {
@@ -248,9 +252,9 @@ int main(int argc, char** argv) {
       return 1;
     }
     dh3::sim::CanServer& server = *opened.value();
-    std::printf("serving %zu hands on %s\n", server.hand_count(), can_interface.c_str());
-    std::fflush(stdout);
-    return serve(server, g_can_server, interval_checked);
+    return serve(server, g_can_server,
+                 "serving " + std::to_string(server.hand_count()) + " hands on " + can_interface,
+                 interval_checked);
   }
 
   auto opened = dh3::sim::TransferBoxServer::open(options, dh3::SystemClock::instance());
@@ -259,7 +263,5 @@ int main(int argc, char** argv) {
     return 1;
   }
   dh3::sim::TransferBoxServer& server = *opened.value();
-  std::printf("listening %s\n", server.address().c_str());
-  std::fflush(stdout);
-  return serve(server, g_box_server, interval_checked);
+  return serve(server, g_box_server, "listening " + server.address(), interval_checked);
 }
