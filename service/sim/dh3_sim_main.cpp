@@ -1,7 +1,10 @@
 // dh3-sim: simulated DH-3 hands served as the vendor's transfer box over TCP,
 // so dh3-service (bus "tcp:HOST:PORT") or any client of the box runs without
-// hardware. Prints "listening HOST:PORT" on stdout once ready; logs go to
-// stderr; control commands come on stdin (see --help).
+// hardware, or (--can IFACE) as nodes on a SocketCAN interface such as vcan0
+// (bus "socketcan:IFACE"). Prints "listening HOST:PORT" or "serving N hands on
+// IFACE" on stdout once ready; logs go to stderr; control commands come on
+// stdin (see --help). With --min-interval-ms it prints "interval violations: N"
+// on stdout as its last line.
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -13,7 +16,9 @@
 #include <string>
 #include <vector>
 
+#include "bus/socketcan_bus.hpp"
 #include "common/clock.hpp"
+#include "sim/can_server.hpp"
 #include "sim/transfer_box_server.hpp"
 
 namespace {
@@ -21,10 +26,13 @@ namespace {
 using dh3::sim::SimHandOptions;
 
 // The one place with global state: a signal handler can reach nothing else.
-std::atomic<dh3::sim::TransferBoxServer*> g_server{nullptr};
+// One of the two is set, for the transport in use.
+std::atomic<dh3::sim::TransferBoxServer*> g_box_server{nullptr};
+std::atomic<dh3::sim::CanServer*> g_can_server{nullptr};
 
 extern "C" void on_stop_signal(int /*signal*/) {
-  if (dh3::sim::TransferBoxServer* server = g_server.load()) server->request_stop();
+  if (dh3::sim::TransferBoxServer* server = g_box_server.load()) server->request_stop();
+  if (dh3::sim::CanServer* server = g_can_server.load()) server->request_stop();
 }
 
 void install_stop_handlers() {
@@ -91,13 +99,44 @@ std::pair<std::uint8_t, std::int32_t> parse_placement(const std::string& text,
   return {id, position};
 }
 
+/// The CAN_RAW socket dh3-sim's hands use, bound to `interface`: the same
+/// socket (and kernel filter for IDs 0-255) as dh3-service's socketcan bus.
+dh3::Result<int, std::string> open_can_interface(const std::string& interface) {
+  auto opened = dh3::bus::open_can_raw_socket(interface);
+  if (!opened) return dh3::fail(opened.error());
+  return opened.value().release();
+}
+
+/// Prints `ready_line` once a stop signal would reach `server`, runs it until
+/// it stops, then prints the interval line if the interval is checked.
+template <typename Server>
+int serve(Server& server, std::atomic<Server*>& global, const std::string& ready_line,
+          bool interval_checked) {
+  global.store(&server);
+  install_stop_handlers();
+  std::printf("%s\n", ready_line.c_str());
+  std::fflush(stdout);
+  server.run();
+  global.store(nullptr);
+  if (interval_checked) {
+    std::printf("interval violations: %llu\n",
+                static_cast<unsigned long long>(server.interval_violations()));
+    std::fflush(stdout);
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{
-      "dh3-sim: simulated DH-3 hands served as a transfer box over TCP (14-byte frames).\n"
-      "Prints 'listening HOST:PORT' on stdout when ready; logs go to stderr."};
+      "dh3-sim: simulated DH-3 hands served as a transfer box over TCP (14-byte frames),\n"
+      "or with --can as nodes on a SocketCAN interface (8-byte payloads, CAN ID = hand ID).\n"
+      "Prints 'listening HOST:PORT' (TCP) or 'serving N hands on IFACE' (CAN) on stdout\n"
+      "when ready; logs go to stderr."};
   std::string listen = "127.0.0.1:0";
+  std::string can_interface;
+  int min_interval_ms = 0;
   std::string hand_list = "1";
   std::vector<std::string> objects;
   std::vector<std::string> obstacles;
@@ -109,6 +148,18 @@ int main(int argc, char** argv) {
   std::string log_level = "info";
   app.add_option("--listen", listen, "HOST:PORT to listen on (IPv4); port 0 picks a free one")
       ->capture_default_str();
+  app.add_option("--can", can_interface,
+                 "serve the hands on this SocketCAN interface (e.g. vcan0) instead of TCP")
+      ->excludes("--listen");
+  app.add_option(
+         "--min-interval-ms", min_interval_ms,
+         "log (stderr) every frame a hand receives sooner than MS after the previous frame to "
+         "it, answer 'violations' with 'ok N', print 'interval violations: N' at exit. A frame "
+         "to ID 0 counts for every hand. On CAN a frame's time is the kernel's receive "
+         "timestamp; on TCP it is when dh3-sim read it (frames that arrive together count as "
+         "sent together). 0: off")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--hands", hand_list, "CAN IDs of the simulated hands, e.g. 1,2,3 or 1-8")
       ->capture_default_str();
   app.add_option("--object", objects, "ID:POS: an object between hand ID's fingers at POS (0-100)")
@@ -140,6 +191,7 @@ int main(int argc, char** argv) {
   dh3::sim::TransferBoxServerOptions options;
   try {
     app.parse(argc, argv);
+    options.min_interval = std::chrono::milliseconds(min_interval_ms);
     const std::size_t colon = listen.rfind(':');
     if (colon == std::string::npos) {
       throw CLI::ValidationError("--listen", "expected HOST:PORT, got " + listen);
@@ -183,18 +235,33 @@ int main(int argc, char** argv) {
 
   options.control_in = 0;   // stdin
   options.control_out = 1;  // stdout
+  const bool interval_checked = min_interval_ms > 0;
+
+  if (!can_interface.empty()) {
+    dh3::sim::CanServerOptions can;
+    can.interface_name = can_interface;
+    can.hands = options.hands;
+    can.control_in = options.control_in;
+    can.control_out = options.control_out;
+    can.min_interval = options.min_interval;
+    auto opened = dh3::sim::CanServer::open(
+        can, [can_interface] { return open_can_interface(can_interface); },
+        dh3::SystemClock::instance());
+    if (!opened) {
+      spdlog::critical("dh3-sim: cannot serve on {}: {}", can_interface, opened.error());
+      return 1;
+    }
+    dh3::sim::CanServer& server = *opened.value();
+    return serve(server, g_can_server,
+                 "serving " + std::to_string(server.hand_count()) + " hands on " + can_interface,
+                 interval_checked);
+  }
+
   auto opened = dh3::sim::TransferBoxServer::open(options, dh3::SystemClock::instance());
   if (!opened) {
     spdlog::critical("dh3-sim: cannot start: {}", dh3::sim::to_string(opened.error()));
     return 1;
   }
   dh3::sim::TransferBoxServer& server = *opened.value();
-  g_server.store(&server);
-  install_stop_handlers();
-
-  std::printf("listening %s\n", server.address().c_str());
-  std::fflush(stdout);
-  server.run();
-  g_server.store(nullptr);
-  return 0;
+  return serve(server, g_box_server, "listening " + server.address(), interval_checked);
 }

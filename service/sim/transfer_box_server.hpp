@@ -1,25 +1,23 @@
 #pragma once
 // Simulated DH-3 hands served as the vendor's transfer box over TCP: clients
 // send 14-byte frames (FF FE FD FC, gripper ID, 8-byte payload, FB) and get the
-// hands' replies the same way. The heart of `dh3-sim`, a class so tests can
-// run it in-process too.
+// hands' replies the same way. One of dh3-sim's transports (the other is
+// CanServer); a class so tests can run it in-process too.
 //
 // Several clients may be connected: a reply goes to the connection that sent
 // the request, unsolicited frames (initialization finished) to every one.
 // Requests to an ID without a hand get no reply, as on a real bus.
 //
-// An optional control channel (a file descriptor, stdin for dh3-sim) takes one
-// command per line and answers each with one line starting with "ok" or
-// "error"; see kControlHelp. The answers let a test know the command took
-// effect before it sends its next frame.
+// The hands, the control channel (see kControlHelp; `kick` is this transport's
+// own command) and the interval check are SimHost's. For the interval check a
+// frame's time is when the server read it from its connection: TCP carries no
+// send time, so frames that arrive together count as sent together.
 //
 // Threading: run() serves everything on the calling thread with poll(); only
 // request_stop() may be called from elsewhere (also from a signal handler).
 
-#include <atomic>
 #include <cstdint>
 #include <memory>
-#include <queue>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -27,8 +25,7 @@
 #include "common/clock.hpp"
 #include "common/result.hpp"
 #include "protocol/stream_decoder.hpp"
-#include "sim/hand_set.hpp"
-#include "sim/sim_hand.hpp"
+#include "sim/sim_host.hpp"
 
 namespace dh3::sim {
 
@@ -43,6 +40,9 @@ struct TransferBoxServerOptions {
   int control_in = -1;
   /// Answers to control commands go here, one line each; -1: not written.
   int control_out = -1;
+  /// Frames to one hand closer together than this are counted and logged as
+  /// interval violations; zero: not checked.
+  Duration min_interval = Duration::zero();
   /// A client that does not read its replies is disconnected when this much
   /// is waiting for it.
   std::size_t max_pending_bytes = 1U << 20;
@@ -57,15 +57,12 @@ enum class ServerError : std::uint8_t {
 
 [[nodiscard]] std::string_view to_string(ServerError error);
 
-/// The control commands, for --help.
-extern const std::string_view kControlHelp;
-
-class TransferBoxServer {
+class TransferBoxServer final : private SimTransport {
  public:
   /// Binds and listens; the hands start now (not initialized).
   [[nodiscard]] static Result<std::unique_ptr<TransferBoxServer>, ServerError> open(
       TransferBoxServerOptions options, const Clock& clock);
-  ~TransferBoxServer();
+  ~TransferBoxServer() override;
   TransferBoxServer(const TransferBoxServer&) = delete;
   TransferBoxServer& operator=(const TransferBoxServer&) = delete;
 
@@ -79,11 +76,14 @@ class TransferBoxServer {
   void run();
 
   /// Makes run() return soon. Any thread; async-signal-safe.
-  void request_stop();
+  void request_stop() { host_.request_stop(); }
 
   /// Executes one control command and returns its answer line (no newline).
   /// Only on run()'s thread, or while run() is not running.
-  std::string execute(std::string_view command);
+  std::string execute(std::string_view command) { return host_.execute(command, *this); }
+
+  /// Interval violations over all hands so far (run()'s thread, or after it).
+  [[nodiscard]] std::uint64_t interval_violations() const { return host_.interval_violations(); }
 
  private:
   struct Client {
@@ -93,51 +93,32 @@ class TransferBoxServer {
     protocol::StreamDecoder decoder;
     std::vector<std::uint8_t> out;  ///< bytes not yet taken by the socket
   };
-  /// A frame to send at `due`; client_id 0 means every client.
-  struct Scheduled {
-    TimePoint due;
-    std::uint64_t sequence = 0;
-    std::uint64_t client_id = 0;
-    protocol::Message message;
-  };
-  struct ScheduledLater {
-    bool operator()(const Scheduled& a, const Scheduled& b) const {
-      return a.due != b.due ? a.due > b.due : a.sequence > b.sequence;
-    }
-  };
 
   TransferBoxServer(TransferBoxServerOptions options, const Clock& clock);
   [[nodiscard]] Result<void, ServerError> listen();
 
-  void serve_due(TimePoint now);
-  void schedule(const std::vector<Outgoing>& frames, std::uint64_t client_id);
-  [[nodiscard]] int poll_timeout_ms(TimePoint now) const;
+  // SimTransport
+  void add_poll_fds(std::vector<pollfd>& fds) override;
+  void on_poll(std::span<const pollfd> fds) override;
+  void send(std::uint64_t destination, const protocol::Message& message) override;
+  void flush() override;
+  std::optional<std::string> execute_own(std::span<const std::string_view> words) override;
+  void on_stop() override { kick_all(); }
+
   void accept_clients();
   void read_client(Client& client);
   void write_client(Client& client);
   void queue_for(Client& client, const protocol::Message& message);
   void close_client(Client& client, std::string_view why);
-  void read_control();
-  void answer_control(const std::string& line);
   void kick_all();
-  /// The hand answering on `id`, advanced to now (its unsolicited frames sent).
-  SimHand* hand_now(std::uint8_t id);
 
   TransferBoxServerOptions options_;
-  const Clock& clock_;
-  HandSet hands_;
+  SimHost host_;
   int listen_fd_ = -1;
-  int wake_pipe_[2] = {-1, -1};
   std::uint16_t port_ = 0;
-  std::atomic<bool> stop_requested_{false};
   std::vector<std::unique_ptr<Client>> clients_;
   std::uint64_t next_client_id_ = 1;
-  std::priority_queue<Scheduled, std::vector<Scheduled>, ScheduledLater> scheduled_;
-  std::uint64_t next_sequence_ = 0;
-  std::vector<Outgoing> replies_;           // scratch
-  std::vector<Outgoing> unsolicited_;       // scratch
   std::vector<protocol::Message> decoded_;  // scratch
-  std::string control_buffer_;
 };
 
 }  // namespace dh3::sim

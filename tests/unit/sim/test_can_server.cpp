@@ -1,0 +1,372 @@
+// The CAN transport behind `dh3-sim --can`, in-process on the fd path it shares
+// with real CAN sockets: the tests hand it one end of an AF_UNIX SOCK_SEQPACKET
+// socketpair carrying struct can_frame and play the bus on the other end. The
+// payloads are the protocol document's examples, byte for byte (the CAN form is
+// the 14-byte form without header, gripper ID and end; the ID is the CAN ID).
+
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <linux/can.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <sys/time.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstring>
+#include <deque>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "sim/can_server.hpp"
+#include "support/raw_tcp_client.hpp"
+
+namespace dh3::sim {
+namespace {
+
+using namespace std::chrono_literals;
+using dh3::test::bytes_from_hex;
+
+constexpr int kDeadlineMs = 10000;
+
+SimHandOptions hand(std::uint8_t id) {
+  SimHandOptions options;
+  options.id = id;
+  options.init_time = 20ms;
+  return options;
+}
+
+/// Both ends of a socketpair: `bus` is the test's, `server` goes to the server.
+struct BusPair {
+  BusPair() {
+    int fds[2] = {-1, -1};
+    EXPECT_EQ(::socketpair(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0, fds), 0);
+    bus = fds[0];
+    server = fds[1];
+  }
+  ~BusPair() {
+    if (bus >= 0) ::close(bus);
+  }
+  BusPair(const BusPair&) = delete;
+  BusPair& operator=(const BusPair&) = delete;
+  int bus = -1;
+  int server = -1;  ///< owned by the server once opened
+};
+
+/// A pipe whose ends close with it.
+struct Pipe {
+  Pipe() { EXPECT_EQ(::pipe2(fds, O_CLOEXEC), 0); }
+  ~Pipe() {
+    for (const int fd : fds) {
+      if (fd >= 0) ::close(fd);
+    }
+  }
+  Pipe(const Pipe&) = delete;
+  Pipe& operator=(const Pipe&) = delete;
+  int fds[2] = {-1, -1};
+};
+
+can_frame frame_of(canid_t id, std::string_view hex) {
+  can_frame frame{};
+  frame.can_id = id;
+  const std::vector<std::uint8_t> bytes = bytes_from_hex(hex);
+  frame.len = static_cast<std::uint8_t>(bytes.size());
+  std::copy(bytes.begin(), bytes.end(), frame.data);
+  return frame;
+}
+
+void send_frame(int fd, const can_frame& frame) {
+  ASSERT_EQ(::send(fd, &frame, sizeof frame, MSG_NOSIGNAL), static_cast<ssize_t>(sizeof frame));
+}
+
+/// The next frame on `fd` as "ID: payload hex", or "<nothing>" within the deadline.
+std::string next_frame(int fd, int timeout_ms = kDeadlineMs) {
+  pollfd p{fd, POLLIN, 0};
+  if (::poll(&p, 1, timeout_ms) <= 0) return "<nothing>";
+  can_frame frame{};
+  const ssize_t got = ::recv(fd, &frame, sizeof frame, MSG_DONTWAIT);
+  if (got != static_cast<ssize_t>(sizeof frame)) return "<" + std::to_string(got) + " bytes>";
+  return std::to_string(frame.can_id) + ": " +
+         dh3::protocol::to_hex(std::span(frame.data, frame.len));
+}
+
+/// Sends `request` to hand `id` and returns the next frame on the bus.
+std::string exchange(int fd, canid_t id, std::string_view request) {
+  send_frame(fd, frame_of(id, request));
+  return next_frame(fd);
+}
+
+/// Reads one line from `fd` (blocking; the server answers every command).
+std::string read_line(int fd) {
+  std::string line;
+  char c = 0;
+  while (::read(fd, &c, 1) == 1 && c != '\n') line += c;
+  return line;
+}
+
+/// A server on its own thread; its control channel is a pair of pipes.
+class Running {
+ public:
+  Running(CanServerOptions options, CanFdOpener opener, const Clock& clock = SystemClock::instance()) {
+    options.control_in = control_in_.fds[0];
+    options.control_out = control_out_.fds[1];
+    auto opened = CanServer::open(std::move(options), std::move(opener), clock);
+    EXPECT_TRUE(opened.ok()) << (opened.ok() ? "" : opened.error());
+    if (!opened) return;
+    server_ = std::move(opened.value());
+    thread_ = std::thread([this] { server_->run(); });
+  }
+  ~Running() { stop(); }
+  Running(const Running&) = delete;
+  Running& operator=(const Running&) = delete;
+
+  [[nodiscard]] bool started() const { return server_ != nullptr; }
+  CanServer& server() { return *server_; }
+  /// Sends a control command and returns its answer.
+  std::string control(const std::string& command) {
+    const std::string line = command + "\n";
+    EXPECT_EQ(::write(control_in_.fds[1], line.data(), line.size()),
+              static_cast<ssize_t>(line.size()));
+    return read_line(control_out_.fds[0]);
+  }
+  void stop() {
+    if (server_) server_->request_stop();
+    if (thread_.joinable()) thread_.join();
+  }
+
+ private:
+  Pipe control_in_;
+  Pipe control_out_;
+  std::unique_ptr<CanServer> server_;
+  std::thread thread_;
+};
+
+/// An opener that hands over `fd` once.
+CanFdOpener once(int fd) {
+  return [fd]() -> Result<int, std::string> { return fd; };
+}
+
+CanServerOptions options_with(std::vector<SimHandOptions> hands) {
+  CanServerOptions options;
+  options.interface_name = "testcan";
+  options.hands = std::move(hands);
+  return options;
+}
+
+TEST(CanServer, AnswersTheDocumentsExamplesByteForByte) {
+  BusPair pair;
+  Running running(options_with({hand(1)}), once(pair.server));
+  ASSERT_TRUE(running.started());
+  // Read whether feedback is enabled: "no"; set it; read again: "yes".
+  EXPECT_EQ(exchange(pair.bus, 1, "08 01 00 00 00 00 00 00"), "1: 08 01 00 00 00 00 00 00");
+  EXPECT_EQ(exchange(pair.bus, 1, "08 01 01 00 00 00 00 00"), "1: 08 01 01 00 A5 00 00 00");
+  EXPECT_EQ(exchange(pair.bus, 1, "08 01 00 00 00 00 00 00"), "1: 08 01 00 00 A5 00 00 00");
+  // Initialize, then unsolicited "initialization finished", nothing asked.
+  EXPECT_EQ(exchange(pair.bus, 1, "08 02 01 00 00 00 00 00"), "1: 08 02 01 00 00 00 00 00");
+  EXPECT_EQ(next_frame(pair.bus), "1: 08 02 00 00 00 00 00 00");
+  EXPECT_EQ(exchange(pair.bus, 1, "08 02 00 00 00 00 00 00"), "1: 08 02 00 00 01 00 00 00");
+  // Force, firmware version, baud rate.
+  EXPECT_EQ(exchange(pair.bus, 1, "05 02 01 00 1E 00 00 00"), "1: 05 02 01 00 1E 00 00 00");
+  EXPECT_EQ(exchange(pair.bus, 1, "05 02 00 00 00 00 00 00"), "1: 05 02 00 00 1E 00 00 00");
+  EXPECT_EQ(exchange(pair.bus, 1, "13 01 00 00 00 00 00 00"), "1: 13 01 00 00 00 02 01 04");
+  EXPECT_EQ(exchange(pair.bus, 1, "14 01 01 00 02 00 00 00"), "1: 14 01 01 00 02 00 00 00");
+  EXPECT_EQ(exchange(pair.bus, 1, "14 01 00 00 00 00 00 00"), "1: 14 01 00 00 02 00 00 00");
+  // Position set and, once arrived, read.
+  EXPECT_EQ(exchange(pair.bus, 1, "06 02 01 00 3C 00 00 00"), "1: 06 02 01 00 3C 00 00 00");
+  std::string status;
+  const auto deadline = std::chrono::steady_clock::now() + 10s;
+  while (status != "1: 0F 01 00 00 02 00 00 00" && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(10ms);  // command pacing, not a wait for time
+    status = exchange(pair.bus, 1, "0F 01 00 00 00 00 00 00");
+  }
+  EXPECT_EQ(status, "1: 0F 01 00 00 02 00 00 00") << "arrived, data-field form (design.md 2)";
+  EXPECT_EQ(exchange(pair.bus, 1, "06 02 00 00 00 00 00 00"), "1: 06 02 00 00 3C 00 00 00");
+  // Set the CAN ID to 2 with ID 0: the reply carries ID 0.
+  EXPECT_EQ(exchange(pair.bus, 0, "12 01 01 00 02 00 00 00"), "0: 12 01 01 00 02 00 00 00");
+}
+
+TEST(CanServer, OnlyTheAddressedHandAnswers) {
+  BusPair pair;
+  Running running(options_with({hand(1), hand(3)}), once(pair.server));
+  ASSERT_TRUE(running.started());
+  EXPECT_EQ(exchange(pair.bus, 3, "05 02 01 00 1E 00 00 00"), "3: 05 02 01 00 1E 00 00 00");
+  // Nobody is 2: the next frame on the bus is hand 1's answer.
+  send_frame(pair.bus, frame_of(2, "13 01 00 00 00 00 00 00"));
+  EXPECT_EQ(exchange(pair.bus, 1, "05 02 00 00 00 00 00 00"), "1: 05 02 00 00 32 00 00 00");
+}
+
+TEST(CanServer, ForeignFramesAreIgnoredAndCounted) {
+  BusPair pair;
+  Running running(options_with({hand(1)}), once(pair.server));
+  ASSERT_TRUE(running.started());
+  const std::string version = "13 01 00 00 00 00 00 00";
+  send_frame(pair.bus, frame_of(CAN_EFF_FLAG | 1, version));            // extended
+  send_frame(pair.bus, frame_of(CAN_RTR_FLAG | 1, version));            // remote request
+  send_frame(pair.bus, frame_of(CAN_ERR_FLAG | 1, version));            // error frame
+  send_frame(pair.bus, frame_of(0x101, version));                       // ID over 255
+  send_frame(pair.bus, frame_of(1, "13 01 00 00 00 00 00"));            // 7 bytes
+  send_frame(pair.bus, frame_of(1, "13 01 07 00 00 00 00 00"));         // R/W byte 07
+  const char short_datagram[3] = {1, 2, 3};
+  ASSERT_EQ(::send(pair.bus, short_datagram, sizeof short_datagram, 0), 3);
+  // The first frame on the bus is the answer to the one real request.
+  EXPECT_EQ(exchange(pair.bus, 1, version), "1: 13 01 00 00 00 02 01 04");
+  running.stop();
+  EXPECT_EQ(running.server().counters().foreign_frames, 7u);
+  EXPECT_EQ(running.server().counters().frames_received, 1u);
+  EXPECT_EQ(running.server().counters().frames_sent, 1u);
+}
+
+TEST(CanServer, ControlCommandsWorkAndQuitEndsTheRun) {
+  BusPair pair;
+  Running running(options_with({hand(1), hand(4)}), once(pair.server));
+  ASSERT_TRUE(running.started());
+  EXPECT_EQ(running.control("hands"), "ok hands 1 4");
+  EXPECT_EQ(running.control("mute 1"), "ok mute 1");
+  send_frame(pair.bus, frame_of(1, "13 01 00 00 00 00 00 00"));  // lost
+  EXPECT_EQ(exchange(pair.bus, 4, "13 01 00 00 00 00 00 00"), "4: 13 01 00 00 00 02 01 04");
+  EXPECT_EQ(running.control("unmute 1"), "ok unmute 1");
+  EXPECT_EQ(running.control("corrupt 1 1"), "ok corrupt 1 1");
+  EXPECT_EQ(exchange(pair.bus, 1, "13 01 00 00 00 00 00 00"), "1: 13 01 00 00 FF 02 01 04");
+  EXPECT_EQ(running.control("kick"), "error unknown command 'kick' (see --help)")
+      << "kick is the TCP transport's";
+  EXPECT_EQ(running.control("violations"),
+            "error the interval check is off (start with --min-interval-ms)");
+  EXPECT_EQ(running.control("quit"), "ok quit");
+  running.stop();  // returns: run() has ended by itself
+}
+
+TEST(CanServer, CountsFramesToOneHandCloserThanTheMinimumInterval) {
+  FakeClock clock;
+  BusPair pair;
+  CanServerOptions options = options_with({hand(1), hand(2)});
+  options.min_interval = 20ms;
+  options.kernel_timestamps = false;  // the read time, from the fake clock
+  Running running(options, once(pair.server), clock);
+  ASSERT_TRUE(running.started());
+  const std::string version = "13 01 00 00 00 02 01 04";
+  EXPECT_EQ(exchange(pair.bus, 1, "13 01 00 00 00 00 00 00"), "1: " + version);
+  clock.advance(5ms);
+  EXPECT_EQ(exchange(pair.bus, 1, "13 01 00 00 00 00 00 00"), "1: " + version);
+  EXPECT_EQ(running.control("violations"), "ok 1");
+  EXPECT_EQ(exchange(pair.bus, 2, "13 01 00 00 00 00 00 00"), "2: " + version);
+  EXPECT_EQ(running.control("violations"), "ok 1") << "hand 2's first frame";
+  clock.advance(25ms);
+  EXPECT_EQ(exchange(pair.bus, 1, "13 01 00 00 00 00 00 00"), "1: " + version);
+  EXPECT_EQ(running.control("violations"), "ok 1") << "25 ms after the previous one";
+  // ID 0 reaches both hands: 0 ms after hand 1's frame, 25 ms after hand 2's.
+  send_frame(pair.bus, frame_of(0, "12 01 00 00 00 00 00 00"));
+  EXPECT_EQ(next_frame(pair.bus), "0: 12 01 00 00 01 00 00 00");
+  EXPECT_EQ(next_frame(pair.bus), "0: 12 01 00 00 02 00 00 00");
+  EXPECT_EQ(running.control("violations"), "ok 2");
+  // A frame to an ID without a hand counts for nobody.
+  send_frame(pair.bus, frame_of(7, "13 01 00 00 00 00 00 00"));
+  send_frame(pair.bus, frame_of(7, "13 01 00 00 00 00 00 00"));
+  EXPECT_EQ(exchange(pair.bus, 2, "05 02 00 00 00 00 00 00"), "2: 05 02 00 00 32 00 00 00");
+  EXPECT_EQ(running.control("violations"), "ok 3") << "only hand 2's frame, 0 ms after ID 0";
+  running.stop();
+  EXPECT_EQ(running.server().interval_violations(), 3u);
+}
+
+TEST(CanServer, MeasuresWithTheKernelsReceiveTimestampNotTheReadTime) {
+  // The socketpair stamps datagrams as they are queued, like a CAN socket. The
+  // fake clock says the two requests were read an hour apart; the stamps say
+  // they were queued within the test's round trip, far less than 10 minutes.
+  FakeClock clock;
+  BusPair pair;
+  const int on = 1;
+  if (::setsockopt(pair.server, SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof on) != 0) {
+    GTEST_SKIP() << "this kernel has no receive timestamps on AF_UNIX sockets";
+  }
+  CanServerOptions options = options_with({hand(1)});
+  options.min_interval = 10min;
+  Running running(options, once(pair.server), clock);
+  ASSERT_TRUE(running.started());
+  EXPECT_EQ(exchange(pair.bus, 1, "13 01 00 00 00 00 00 00"), "1: 13 01 00 00 00 02 01 04");
+  clock.advance(1h);
+  EXPECT_EQ(exchange(pair.bus, 1, "13 01 00 00 00 00 00 00"), "1: 13 01 00 00 00 02 01 04");
+  EXPECT_EQ(running.control("violations"), "ok 1");
+}
+
+TEST(CanServer, ReadTimeIsUsedWhereTheFdHasNoTimestamps) {
+  // The same exchange as above without kernel stamps: an hour apart by the clock.
+  FakeClock clock;
+  BusPair pair;
+  CanServerOptions options = options_with({hand(1)});
+  options.min_interval = 10min;
+  options.kernel_timestamps = false;
+  Running running(options, once(pair.server), clock);
+  ASSERT_TRUE(running.started());
+  EXPECT_EQ(exchange(pair.bus, 1, "13 01 00 00 00 00 00 00"), "1: 13 01 00 00 00 02 01 04");
+  clock.advance(1h);
+  EXPECT_EQ(exchange(pair.bus, 1, "13 01 00 00 00 00 00 00"), "1: 13 01 00 00 00 02 01 04");
+  EXPECT_EQ(running.control("violations"), "ok 0");
+}
+
+TEST(CanServer, ReopensTheInterfaceWhenItsFdFailsAndTheHandsKeepTheirState) {
+  BusPair first;
+  BusPair second;
+  std::mutex mutex;
+  std::deque<Result<int, std::string>> opens;
+  opens.emplace_back(first.server);
+  opens.emplace_back(fail(std::string("no network interface named 'testcan'")));
+  opens.emplace_back(second.server);
+  CanFdOpener opener = [&]() -> Result<int, std::string> {
+    const std::lock_guard lock(mutex);
+    if (opens.empty()) return fail(std::string("no more"));
+    Result<int, std::string> next = std::move(opens.front());
+    opens.pop_front();
+    return next;
+  };
+  CanServerOptions options = options_with({hand(1)});
+  options.reopen_interval = 10ms;
+  Running running(options, opener);
+  ASSERT_TRUE(running.started());
+  EXPECT_EQ(exchange(first.bus, 1, "05 02 01 00 1E 00 00 00"), "1: 05 02 01 00 1E 00 00 00");
+  ::close(first.bus);  // the interface goes away
+  first.bus = -1;
+  // Served again on the second fd (after one failed try), force still 30.
+  EXPECT_EQ(exchange(second.bus, 1, "05 02 00 00 00 00 00 00"), "1: 05 02 00 00 1E 00 00 00");
+  running.stop();
+  EXPECT_EQ(running.server().counters().reopens, 1u);
+}
+
+TEST(CanServer, OpeningFailsWithTheOpenersReason) {
+  auto opened = CanServer::open(
+      options_with({hand(1)}),
+      []() -> Result<int, std::string> {
+        return fail(std::string("no network interface named 'vcan9'"));
+      },
+      SystemClock::instance());
+  ASSERT_FALSE(opened.ok());
+  EXPECT_EQ(opened.error(), "no network interface named 'vcan9'");
+}
+
+TEST(CanServerTimestamp, ReadsNanosecondAndMicrosecondStamps) {
+  alignas(cmsghdr) unsigned char control[CMSG_SPACE(sizeof(timespec))] = {};
+  msghdr message{};
+  message.msg_control = control;
+  message.msg_controllen = sizeof control;
+  cmsghdr* c = CMSG_FIRSTHDR(&message);
+  c->cmsg_level = SOL_SOCKET;
+  c->cmsg_type = SCM_TIMESTAMPNS;
+  c->cmsg_len = CMSG_LEN(sizeof(timespec));
+  const timespec ns{1700000000, 123456789};
+  std::memcpy(CMSG_DATA(c), &ns, sizeof ns);
+  EXPECT_EQ(receive_timestamp(message), std::chrono::seconds(1700000000) + 123456789ns);
+
+  c->cmsg_type = SCM_TIMESTAMP;
+  c->cmsg_len = CMSG_LEN(sizeof(timeval));
+  const timeval us{1700000000, 654321};
+  std::memcpy(CMSG_DATA(c), &us, sizeof us);
+  EXPECT_EQ(receive_timestamp(message), std::chrono::seconds(1700000000) + 654321us);
+
+  c->cmsg_type = SCM_RIGHTS;
+  EXPECT_EQ(receive_timestamp(message), std::nullopt);
+  message.msg_controllen = 0;
+  EXPECT_EQ(receive_timestamp(message), std::nullopt);
+}
+
+}  // namespace
+}  // namespace dh3::sim
