@@ -232,7 +232,7 @@ class BusScheduler::Impl {
       }
       if (scan_) {
         if (scan_->next_id <= 255) consider(scan_->next_probe_at);
-        for (const auto& [id, deadline] : scan_->pending) consider(deadline);
+        for (const auto& [id, probe] : scan_->pending) consider(probe.deadline);
       } else if (discover_ && options_.discovery_interval > Duration::zero()) {
         consider(next_discovery_at_);
       }
@@ -251,7 +251,11 @@ class BusScheduler::Impl {
     std::vector<ScanCompletion> waiting;
     int next_id = 1;
     TimePoint next_probe_at{};
-    std::map<std::uint8_t, TimePoint> pending;  ///< probed, not answered yet
+    struct Probe {
+      TimePoint sent{};
+      TimePoint deadline{};
+    };
+    std::map<std::uint8_t, Probe> pending;  ///< probed, not answered yet
   };
 
   HandDriver* add_driver(HandConfig config, TimePoint now) {
@@ -336,10 +340,16 @@ class BusScheduler::Impl {
       if (!driver->on_frame(*message, now)) unexpected(protocol::describe(*message));
       return;
     }
-    if (scan_ && scan_->pending.erase(id) > 0 && message->reg == protocol::reg::kFirmwareVersion) {
-      spdlog::info("{}: found a hand with CAN ID {}", name_, id);
-      add_driver(HandConfig{id, {}}, now)->on_discovered(*message, now);
-      return;
+    if (scan_ && message->reg == protocol::reg::kFirmwareVersion) {
+      if (const auto probe = scan_->pending.find(id); probe != scan_->pending.end()) {
+        spdlog::info("{}: found a hand with CAN ID {}", name_, id);
+        HandDriver* found = add_driver(HandConfig{id, {}}, now);
+        // The probe was this hand's first frame: its own reads keep the interval to it.
+        found->hold_sends_until(probe->second.sent + options_.command_interval);
+        scan_->pending.erase(probe);
+        found->on_discovered(*message, now);
+        return;
+      }
     }
     unexpected(protocol::describe(*message));
   }
@@ -354,6 +364,7 @@ class BusScheduler::Impl {
 
   void send_due(TimePoint now) {
     if (!link_up_) return;
+    reserve_for_id_zero(now);
     const std::size_t n = order_.size();
     for (std::size_t k = 0; k < n; ++k) {
       const std::size_t index = (rr_ + k) % n;
@@ -361,7 +372,9 @@ class BusScheduler::Impl {
         rr_ = index;  // this hand goes first when the line has room again
         return;
       }
-      HandDriver& driver = *drivers_[order_[index]];
+      const std::uint8_t id = order_[index];
+      if (id == 0 && !id_zero_may_send(now)) continue;
+      HandDriver& driver = *drivers_[id];
       const auto message = driver.next_frame(now);
       if (!message) continue;
       const auto sent = bus_->send(to_frame(*message));
@@ -369,6 +382,8 @@ class BusScheduler::Impl {
         frames_sent_.fetch_add(1);
         recent_frames_.count(1);
         line_used(now);
+        last_sent_[id] = now;
+        if (id == 0) id_zero_sent(now);
         continue;
       }
       driver.unsend();
@@ -387,6 +402,62 @@ class BusScheduler::Impl {
     // Round robin: a different hand leads every pass, so none is always last.
     if (n > 0) rr_ = (rr_ + 1) % n;
     send_probes(now);
+  }
+
+  // ---- pacing across senders ------------------------------------------------
+  //
+  // Each driver paces its own frames (SchedulerOptions::command_interval). Two
+  // kinds of frame reach a hand from elsewhere: the scan's discovery probes
+  // (handled where a probe is answered) and frames to ID 0, which every hand on
+  // the bus receives. A frame to ID 0 therefore waits until no hand, and no
+  // probe, had a frame within the interval, and every hand and the scan wait the
+  // interval after it. While it waits, the others are held, so it cannot starve
+  // behind hands that keep polling.
+
+  void reserve_for_id_zero(TimePoint now) {
+    HandDriver* id_zero = drivers_[0].get();
+    if (!id_zero || !id_zero->has_command_frame()) {
+      id_zero_slot_.reset();
+      return;
+    }
+    if (id_zero_slot_) return;
+    TimePoint slot = std::max({now, id_zero->paced_until(), others_clear_at()});
+    id_zero_slot_ = slot;
+    id_zero->hold_sends_until(slot);
+    for (std::uint8_t id : order_) {
+      if (id != 0) drivers_[id]->hold_sends_until(slot + options_.command_interval);
+    }
+  }
+
+  /// When the interval since the last frame to any hand (or probe) has passed.
+  [[nodiscard]] TimePoint others_clear_at() const {
+    TimePoint clear{};
+    for (std::uint8_t id : order_) {
+      if (id != 0 && last_sent_[id]) clear = std::max(clear, *last_sent_[id]);
+    }
+    if (last_probe_at_) clear = std::max(clear, *last_probe_at_);
+    return clear + options_.command_interval;
+  }
+
+  [[nodiscard]] bool id_zero_may_send(TimePoint now) {
+    if (now >= others_clear_at()) return true;
+    id_zero_slot_.reset();  // something went out after all (a delayed send): reserve again
+    return false;
+  }
+
+  void id_zero_sent(TimePoint now) {
+    id_zero_slot_.reset();
+    for (std::uint8_t id : order_) {
+      if (id != 0) drivers_[id]->hold_sends_until(now + options_.command_interval);
+    }
+  }
+
+  /// Probes wait while a frame to ID 0 waits, and the interval after one.
+  [[nodiscard]] TimePoint probes_allowed_at() const {
+    TimePoint allowed{};
+    if (last_sent_[0]) allowed = *last_sent_[0] + options_.command_interval;
+    if (id_zero_slot_) allowed = std::max(allowed, *id_zero_slot_ + options_.command_interval);
+    return allowed;
   }
 
   // ---- line budget -----------------------------------------------------------
@@ -409,6 +480,10 @@ class BusScheduler::Impl {
 
   void send_probes(TimePoint now) {
     if (!scan_) return;
+    if (const TimePoint allowed = probes_allowed_at(); now < allowed) {
+      scan_->next_probe_at = std::max(scan_->next_probe_at, allowed);
+      return;
+    }
     while (scan_->next_id <= 255 && now >= scan_->next_probe_at && line_allows(now)) {
       const auto id = static_cast<std::uint8_t>(scan_->next_id);
       if (drivers_[id]) {
@@ -425,7 +500,8 @@ class BusScheduler::Impl {
       frames_sent_.fetch_add(1);
       recent_frames_.count(1);
       line_used(now);
-      scan_->pending[id] = now + options_.reply_timeout;
+      last_probe_at_ = now;
+      scan_->pending[id] = Scan::Probe{now, now + options_.reply_timeout};
       ++scan_->next_id;
       scan_->next_probe_at = now + options_.probe_spacing;
       if (options_.probe_spacing > Duration::zero()) return;
@@ -440,7 +516,7 @@ class BusScheduler::Impl {
       }
       return;
     }
-    std::erase_if(scan_->pending, [&](const auto& entry) { return now >= entry.second; });
+    std::erase_if(scan_->pending, [&](const auto& entry) { return now >= entry.second.deadline; });
     if (scan_->next_id > 255 && scan_->pending.empty()) {
       finish_scan();
       discovered_once_ = true;
@@ -524,6 +600,11 @@ class BusScheduler::Impl {
   TimePoint next_discovery_at_{};
   std::optional<Scan> scan_;
   std::vector<bus::CanFrame> frames_;
+  /// When a frame last went out to each CAN ID (ID 0 included), and the last probe.
+  std::array<std::optional<TimePoint>, 256> last_sent_{};
+  std::optional<TimePoint> last_probe_at_;
+  /// A frame to ID 0 waits for this time; the others are held past it.
+  std::optional<TimePoint> id_zero_slot_;
   Duration line_spacing_{};  ///< zero: no line budget
   TimePoint line_next_at_{};
 

@@ -167,6 +167,14 @@ std::optional<Message> HandDriver::next_frame(TimePoint now) {
   return frame;
 }
 
+void HandDriver::hold_sends_until(TimePoint until) {
+  next_send_at_ = std::max(next_send_at_, until);
+}
+
+bool HandDriver::has_command_frame() const {
+  return !in_flight_ && (resend_ || active_ || !queue_.empty());
+}
+
 void HandDriver::unsend() {
   if (!in_flight_) return;
   resend_ = *in_flight_;
@@ -761,8 +769,9 @@ void HandDriver::on_link_down(TimePoint now) {
 
 void HandDriver::on_link_up(TimePoint now) {
   consecutive_timeouts_ = 0;
+  // Probe at once, but not sooner than the pacing allows after the last frame
+  // sent before the link went down.
   next_probe_at_ = now;
-  next_send_at_ = now;
   flush(now);
 }
 

@@ -74,6 +74,13 @@ class HandDriver {
   /// The frame returned by next_frame() could not be sent (would_block): it
   /// is offered again on the next call.
   void unsend();
+  /// Sends nothing before `until` (the scheduler's pacing across senders: a
+  /// discovery probe it sent itself, a frame to ID 0 that this hand received).
+  void hold_sends_until(TimePoint until);
+  /// The earliest time this hand's pacing lets it send again.
+  [[nodiscard]] TimePoint paced_until() const { return next_send_at_; }
+  /// It has a command frame (or a re-send) ready to go once its pacing allows.
+  [[nodiscard]] bool has_command_frame() const;
 
   /// A frame from this hand's CAN ID. Returns false if it matched nothing.
   bool on_frame(const protocol::Message& message, TimePoint now);
