@@ -362,11 +362,14 @@ class BusScheduler::Impl {
     }
   }
 
-  void send_due(TimePoint now) {
+  void send_due(TimePoint pass_started) {
     if (!link_up_) return;
-    reserve_for_id_zero(now);
+    reserve_for_id_zero(pass_started);
     const std::size_t n = order_.size();
     for (std::size_t k = 0; k < n; ++k) {
+      // The pass may have spent milliseconds on replies, status and events
+      // before it got here: pace on the time of each send, not of the pass.
+      const TimePoint now = clock_.now();
       const std::size_t index = (rr_ + k) % n;
       if (!line_allows(now)) {
         rr_ = index;  // this hand goes first when the line has room again
@@ -382,8 +385,11 @@ class BusScheduler::Impl {
         frames_sent_.fetch_add(1);
         recent_frames_.count(1);
         line_used(now);
-        last_sent_[id] = now;
-        if (id == 0) id_zero_sent(now);
+        // The interval counts from when the frame left, which is after now.
+        const TimePoint left = clock_.now();
+        driver.hold_sends_until(left + options_.command_interval);
+        last_sent_[id] = left;
+        if (id == 0) id_zero_sent(left);
         continue;
       }
       driver.unsend();
@@ -401,7 +407,7 @@ class BusScheduler::Impl {
     }
     // Round robin: a different hand leads every pass, so none is always last.
     if (n > 0) rr_ = (rr_ + 1) % n;
-    send_probes(now);
+    send_probes(clock_.now());
   }
 
   // ---- pacing across senders ------------------------------------------------
@@ -500,8 +506,9 @@ class BusScheduler::Impl {
       frames_sent_.fetch_add(1);
       recent_frames_.count(1);
       line_used(now);
-      last_probe_at_ = now;
-      scan_->pending[id] = Scan::Probe{now, now + options_.reply_timeout};
+      const TimePoint left = clock_.now();
+      last_probe_at_ = left;
+      scan_->pending[id] = Scan::Probe{left, left + options_.reply_timeout};
       ++scan_->next_id;
       scan_->next_probe_at = now + options_.probe_spacing;
       if (options_.probe_spacing > Duration::zero()) return;
