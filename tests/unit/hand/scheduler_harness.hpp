@@ -82,7 +82,10 @@ class RecordingBus final : public bus::Bus {
 
 class RecordingObserver final : public HandObserver {
  public:
-  void on_state(const HandState& state) override { states.push_back(state); }
+  void on_state(const HandState& state) override {
+    states.push_back(state);
+    if (while_publishing) while_publishing();
+  }
   void on_event(const HandEvent& event) override { events.push_back(event); }
   void on_link(bus::LinkState state) override { links.push_back(state); }
 
@@ -103,6 +106,8 @@ class RecordingObserver final : public HandObserver {
   std::vector<HandState> states;
   std::vector<HandEvent> events;
   std::vector<bus::LinkState> links;
+  /// Runs inside each on_state, on the loop thread: a slow publisher.
+  std::function<void()> while_publishing;
 };
 
 inline sim::SimHandOptions sim_hand(std::uint8_t id) {

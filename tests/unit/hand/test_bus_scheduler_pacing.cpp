@@ -123,5 +123,22 @@ TEST(BusSchedulerPacing, FramesToIdZeroKeepTheIntervalToTheHandThatReceivesThem)
                                   << joined(violations);
 }
 
+TEST(BusSchedulerPacing, TheIntervalCountsFromWhenAFrameLeftNotFromWhenTheLoopPassBegan) {
+  // Publishing a status takes time (a DDS write on a loaded machine: several
+  // milliseconds), and a pass publishes before it sends. Frames must still be
+  // 20 ms apart as the hand sees them.
+  const std::vector<std::uint8_t> ids{1, 2};
+  SchedulerHarness h(sim_hands(ids), configs(ids));
+  h.observer.while_publishing = [&h] { h.clock.advance(3ms); };
+  h.bring_up(ids);
+  submit_and_run(h, 1, move(30));
+  submit_and_run(h, 2, cmd(CommandKind::rotate_to, 60));
+  submit_and_run(h, 1, grasp(50));
+  h.run_for(2s);
+  ASSERT_GT(h.recorder().sent.size(), 40u);
+  const auto violations = pacing_violations(h.recorder(), ids, test_options().command_interval);
+  EXPECT_TRUE(violations.empty()) << violations.size() << " frames too soon:\n" << joined(violations);
+}
+
 }  // namespace
 }  // namespace dh3::hand::test
