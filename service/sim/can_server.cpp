@@ -21,15 +21,6 @@ constexpr canid_t kMaxHandId = 0xFF;
 // loop from the hands' own frames and the control channel.
 constexpr int kMaxFramesPerRound = 256;
 
-SimHostOptions host_options(const CanServerOptions& options) {
-  SimHostOptions host;
-  host.hands = options.hands;
-  host.control_in = options.control_in;
-  host.control_out = options.control_out;
-  host.min_interval = options.min_interval;
-  return host;
-}
-
 }  // namespace
 
 std::optional<Duration> receive_timestamp(const msghdr& message) {
@@ -54,7 +45,7 @@ std::optional<Duration> receive_timestamp(const msghdr& message) {
 CanServer::CanServer(CanServerOptions options, CanFdOpener opener, const Clock& clock)
     : options_(std::move(options)),
       opener_(std::move(opener)),
-      host_(host_options(options_), clock) {}
+      host_(options_, clock) {}
 
 Result<std::unique_ptr<CanServer>, std::string> CanServer::open(CanServerOptions options,
                                                                 CanFdOpener opener,
