@@ -65,8 +65,8 @@ class Dh3SimCanKernel : public ::testing::Test {
   }
 
   void start_sim(std::vector<std::string> args) {
-    std::vector<std::string> all{"--can", vcan_->name(), "--init-time-ms", "100", "--speed", "1000",
-                                 "--log-level", "warn"};
+    std::vector<std::string> all{"--can",   vcan_->name(), "--init-time-ms", "100",
+                                 "--speed", "1000",        "--log-level",    "warn"};
     all.insert(all.end(), args.begin(), args.end());
     sim_ = std::make_unique<Process>(DH3_SIM_PATH, all);
     ASSERT_TRUE(sim_->started());
@@ -182,7 +182,8 @@ TEST_F(Dh3SimCanKernel, TheHandsWaitOutTheInterfaceGoingDownAndUp) {
   ASSERT_TRUE(vcan_->set_up(true));
   // The test's own socket may report the down once (ENETDOWN); take it.
   can_frame ignored{};
-  [[maybe_unused]] const ssize_t pending_error = ::recv(bus_, &ignored, sizeof ignored, MSG_DONTWAIT);
+  [[maybe_unused]] const ssize_t pending_error =
+      ::recv(bus_, &ignored, sizeof ignored, MSG_DONTWAIT);
   EXPECT_EQ(exchange(1, "05 02 00 00 00 00 00 00"), "1: 05 02 00 00 1E 00 00 00");
   EXPECT_EQ(control("quit"), "ok quit");
 }
