@@ -86,12 +86,10 @@ class Dh3SimCanKernel : public ::testing::Test {
     ASSERT_EQ(::write(bus_, &frame, sizeof frame), static_cast<ssize_t>(sizeof frame));
   }
 
-  /// The next frame on the bus as "ID: payload", or "<nothing>".
-  std::string next_frame() {
+  /// The next frame on the bus as "ID: payload", or "<nothing>" within `timeout`.
+  std::string next_frame(std::chrono::milliseconds timeout = kDeadline) {
     pollfd p{bus_, POLLIN, 0};
-    if (::poll(&p, 1, static_cast<int>(std::chrono::milliseconds(kDeadline).count())) <= 0) {
-      return "<nothing>";
-    }
+    if (::poll(&p, 1, static_cast<int>(timeout.count())) <= 0) return "<nothing>";
     can_frame frame{};
     if (::read(bus_, &frame, sizeof frame) != static_cast<ssize_t>(sizeof frame)) return "<error>";
     return std::to_string(frame.can_id) + ": " +
@@ -185,6 +183,27 @@ TEST_F(Dh3SimCanKernel, TheHandsWaitOutTheInterfaceGoingDownAndUp) {
   [[maybe_unused]] const ssize_t pending_error =
       ::recv(bus_, &ignored, sizeof ignored, MSG_DONTWAIT);
   EXPECT_EQ(exchange(1, "05 02 00 00 00 00 00 00"), "1: 05 02 00 00 1E 00 00 00");
+  EXPECT_EQ(control("quit"), "ok quit");
+}
+
+TEST_F(Dh3SimCanKernel, TheHandsComeBackWhenTheInterfaceIsCreatedAgain) {
+  start_sim({"--hands", "1"});
+  ASSERT_TRUE(sim_->wait_for_line("serving ", kDeadline));
+  EXPECT_EQ(exchange(1, "05 02 01 00 1E 00 00 00"), "1: 05 02 01 00 1E 00 00 00");
+  ASSERT_TRUE(vcan_->recreate());
+  // Deleting the interface unbound the test's socket too.
+  ::close(bus_);
+  bus_ = open_raw_socket(vcan_->name());
+  ASSERT_GE(bus_, 0);
+  // dh3-sim reopens the interface every 0.5 s; until then requests are lost.
+  std::string reply;
+  const auto deadline = std::chrono::steady_clock::now() + kDeadline;
+  do {
+    std::this_thread::sleep_for(kPacing);  // command pacing, not a wait for time
+    send(1, "05 02 00 00 00 00 00 00");
+    reply = next_frame(200ms);
+  } while (reply == "<nothing>" && std::chrono::steady_clock::now() < deadline);
+  EXPECT_EQ(reply, "1: 05 02 00 00 1E 00 00 00") << "the hand kept its force (30)";
   EXPECT_EQ(control("quit"), "ok quit");
 }
 

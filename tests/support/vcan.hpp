@@ -41,6 +41,11 @@ class OwnVcan {
   [[nodiscard]] bool ready() const { return owned_ && why_.empty(); }
   [[nodiscard]] const std::string& why() const { return why_; }
   [[nodiscard]] const std::string& name() const { return name_; }
+  /// Deletes the interface and creates it again, up; true on success.
+  bool recreate() const {
+    return shell("ip link del dev " + name_).empty() &&
+           shell("ip link add dev " + name_ + " type vcan").empty() && set_up(true);
+  }
   /// `ip link set up|down`; true on success.
   bool set_up(bool up) const {
     return shell("ip link set " + std::string(up ? "up" : "down") + " dev " + name_).empty();
