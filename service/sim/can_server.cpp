@@ -21,15 +21,6 @@ constexpr canid_t kMaxHandId = 0xFF;
 // loop from the hands' own frames and the control channel.
 constexpr int kMaxFramesPerRound = 256;
 
-SimHostOptions host_options(const CanServerOptions& options) {
-  SimHostOptions host;
-  host.hands = options.hands;
-  host.control_in = options.control_in;
-  host.control_out = options.control_out;
-  host.min_interval = options.min_interval;
-  return host;
-}
-
 }  // namespace
 
 std::optional<Duration> receive_timestamp(const msghdr& message) {
@@ -52,15 +43,12 @@ std::optional<Duration> receive_timestamp(const msghdr& message) {
 }
 
 CanServer::CanServer(CanServerOptions options, CanFdOpener opener, const Clock& clock)
-    : options_(std::move(options)),
-      opener_(std::move(opener)),
-      host_(host_options(options_), clock) {}
+    : options_(std::move(options)), opener_(std::move(opener)), host_(options_, clock) {}
 
 Result<std::unique_ptr<CanServer>, std::string> CanServer::open(CanServerOptions options,
                                                                 CanFdOpener opener,
                                                                 const Clock& clock) {
-  std::unique_ptr<CanServer> server(
-      new CanServer(std::move(options), std::move(opener), clock));
+  std::unique_ptr<CanServer> server(new CanServer(std::move(options), std::move(opener), clock));
   if (!server->host_.start()) return fail("cannot create a pipe: " + errno_text());
   if (auto opened = server->open_fd(); !opened) return fail(opened.error());
   return server;
@@ -78,9 +66,10 @@ Result<void, std::string> CanServer::open_fd() {
   if (options_.kernel_timestamps) {
     const int on = 1;
     if (::setsockopt(fd_, SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof on) != 0) {
-      spdlog::warn("dh3-sim: {}: no kernel receive timestamps ({}); the interval check uses "
-                   "the time of reading",
-                   options_.interface_name, errno_text());
+      spdlog::warn(
+          "dh3-sim: {}: no kernel receive timestamps ({}); the interval check uses "
+          "the time of reading",
+          options_.interface_name, errno_text());
     }
   }
   return {};
@@ -129,8 +118,7 @@ void CanServer::read_frames() {
   }
 }
 
-void CanServer::handle_frame(const void* data, std::size_t size,
-                             std::optional<Duration> received) {
+void CanServer::handle_frame(const void* data, std::size_t size, std::optional<Duration> received) {
   can_frame frame{};
   if (size != sizeof frame) {
     ++counters_.foreign_frames;
@@ -216,10 +204,9 @@ void CanServer::lose_fd(std::string_view reason) {
   fd_ = -1;
   down_reported_ = false;
   next_reopen_ = host_.clock().now() + options_.reopen_interval;
-  spdlog::warn("dh3-sim: lost {} ({}); opening it again every {} ms", options_.interface_name,
-               reason,
-               std::chrono::duration_cast<std::chrono::milliseconds>(options_.reopen_interval)
-                   .count());
+  spdlog::warn(
+      "dh3-sim: lost {} ({}); opening it again every {} ms", options_.interface_name, reason,
+      std::chrono::duration_cast<std::chrono::milliseconds>(options_.reopen_interval).count());
 }
 
 std::optional<TimePoint> CanServer::next_timer() const {

@@ -49,17 +49,10 @@ namespace dh3::sim {
 /// why there is none, e.g. "no network interface named 'vcan0'".
 using CanFdOpener = std::function<Result<int, std::string>()>;
 
-struct CanServerOptions {
+/// The hands, control channel and interval check (SimHostOptions) and the interface.
+struct CanServerOptions : SimHostOptions {
   /// The interface's name, for log lines ("vcan0").
   std::string interface_name = "can";
-  std::vector<SimHandOptions> hands;
-  /// Control commands come from here, one per line; -1: no control channel.
-  int control_in = -1;
-  /// Answers to control commands go here, one line each; -1: not written.
-  int control_out = -1;
-  /// Frames to one hand closer together than this are counted and logged as
-  /// interval violations; zero: not checked.
-  Duration min_interval = Duration::zero();
   /// Ask every opened fd for kernel receive timestamps (SO_TIMESTAMPNS). Tests
   /// that drive the interval check with a FakeClock turn it off.
   bool kernel_timestamps = true;

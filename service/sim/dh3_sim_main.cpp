@@ -239,11 +239,8 @@ int main(int argc, char** argv) {
 
   if (!can_interface.empty()) {
     dh3::sim::CanServerOptions can;
+    static_cast<dh3::sim::SimHostOptions&>(can) = options;  // hands, control, interval
     can.interface_name = can_interface;
-    can.hands = options.hands;
-    can.control_in = options.control_in;
-    can.control_out = options.control_out;
-    can.min_interval = options.min_interval;
     auto opened = dh3::sim::CanServer::open(
         can, [can_interface] { return open_can_interface(can_interface); },
         dh3::SystemClock::instance());

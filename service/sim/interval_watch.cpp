@@ -14,10 +14,11 @@ bool IntervalWatch::note(std::uint8_t hand_id, Duration at, const protocol::Mess
   if (gap >= minimum_) return false;
   ++violations_;
   using Milliseconds = std::chrono::duration<double, std::milli>;
-  spdlog::warn("dh3-sim: interval violation: hand {} received {} {:.3f} ms after its previous "
-               "frame (minimum {:.0f} ms; {} so far)",
-               hand_id, protocol::describe(frame), Milliseconds(gap).count(),
-               Milliseconds(minimum_).count(), violations_);
+  spdlog::warn(
+      "dh3-sim: interval violation: hand {}: [{}] came {:.3f} ms after the previous "
+      "frame to it (minimum {:.0f} ms; {} so far)",
+      hand_id, protocol::describe(frame), Milliseconds(gap).count(), Milliseconds(minimum_).count(),
+      violations_);
   return true;
 }
 

@@ -11,7 +11,8 @@
 //
 // Times are durations since an epoch the caller keeps fixed: the kernel's
 // receive timestamp on CAN (CLOCK_REALTIME), the steady clock's read time on
-// TCP. A time earlier than the previous one (the real-time clock was stepped
+// TCP. A muted hand counts too: the check judges the sender, who cannot know.
+// A time earlier than the previous one (the real-time clock was stepped
 // back) is no violation; it restarts that hand's measurement.
 
 #include <array>

@@ -76,8 +76,8 @@ std::string describe_state(const SimHand& hand) {
         << " grip_status=" << static_cast<int>(hand.grip_status())
         << " rotation=" << hand.rotation()
         << " rotation_status=" << static_cast<int>(hand.rotation_status())
-        << " closing_force=" << hand.closing_force()
-        << " opening_force=" << hand.opening_force() << " muted=" << hand.muted();
+        << " closing_force=" << hand.closing_force() << " opening_force=" << hand.opening_force()
+        << " muted=" << hand.muted();
   return state.str();
 }
 
@@ -113,7 +113,8 @@ SimHost::SimHost(SimHostOptions options, const Clock& clock)
     : options_(std::move(options)), clock_(clock), watch_(options_.min_interval) {
   const TimePoint now = clock_.now();
   for (const SimHandOptions& hand : options_.hands) {
-    if (hands_.add(hand, now)) spdlog::warn("dh3-sim: hand {} given twice, keeping the last", hand.id);
+    if (hands_.add(hand, now))
+      spdlog::warn("dh3-sim: hand {} given twice, keeping the last", hand.id);
   }
 }
 

@@ -25,7 +25,6 @@
 #include <vector>
 
 #include "common/clock.hpp"
-#include "common/result.hpp"
 #include "protocol/codec.hpp"
 #include "sim/hand_set.hpp"
 #include "sim/interval_watch.hpp"

@@ -21,15 +21,6 @@ namespace {
 
 constexpr std::size_t kReadChunk = 4096;
 
-SimHostOptions host_options(const TransferBoxServerOptions& options) {
-  SimHostOptions host;
-  host.hands = options.hands;
-  host.control_in = options.control_in;
-  host.control_out = options.control_out;
-  host.min_interval = options.min_interval;
-  return host;
-}
-
 }  // namespace
 
 std::string_view to_string(ServerError error) {
@@ -47,7 +38,7 @@ std::string_view to_string(ServerError error) {
 }
 
 TransferBoxServer::TransferBoxServer(TransferBoxServerOptions options, const Clock& clock)
-    : options_(std::move(options)), host_(host_options(options_), clock) {}
+    : options_(std::move(options)), host_(options_, clock) {}
 
 Result<std::unique_ptr<TransferBoxServer>, ServerError> TransferBoxServer::open(
     TransferBoxServerOptions options, const Clock& clock) {

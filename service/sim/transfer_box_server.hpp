@@ -29,20 +29,12 @@
 
 namespace dh3::sim {
 
-struct TransferBoxServerOptions {
+/// The hands, control channel and interval check (SimHostOptions) and where to listen.
+struct TransferBoxServerOptions : SimHostOptions {
   /// IPv4 address to listen on ("localhost" means 127.0.0.1).
   std::string host = "127.0.0.1";
   /// 0 picks a free port; port() tells which.
   std::uint16_t port = 0;
-  std::vector<SimHandOptions> hands;
-  /// Control commands come from here, one per line; -1: no control channel.
-  /// End of file closes the channel, the server goes on.
-  int control_in = -1;
-  /// Answers to control commands go here, one line each; -1: not written.
-  int control_out = -1;
-  /// Frames to one hand closer together than this are counted and logged as
-  /// interval violations; zero: not checked.
-  Duration min_interval = Duration::zero();
   /// A client that does not read its replies is disconnected when this much
   /// is waiting for it.
   std::size_t max_pending_bytes = 1U << 20;

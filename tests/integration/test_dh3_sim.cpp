@@ -373,12 +373,76 @@ TEST_F(Dh3SimTest, TheEndOfStdinDoesNotStopItButSigintDoes) {
   EXPECT_EQ(WEXITSTATUS(*status), 0);
 }
 
+// -------------------------------------------------------- --min-interval-ms (TCP)
+
+TEST_F(Dh3SimTest, FramesCloserThanTheMinimumIntervalAreCountedAndReportedAtExit) {
+  start({"--hands", "1,2", "--min-interval-ms", "20"});
+  EXPECT_EQ(sim_->control("violations"), "ok 0");
+  // Two frames to hand 1 in one write are read together: 0 ms apart.
+  ASSERT_TRUE(
+      box_->send_hex("FF FE FD FC 01 13 01 00 00 00 00 00 00 FB "
+                     "FF FE FD FC 01 05 02 00 00 00 00 00 00 FB"));
+  EXPECT_EQ(box_->read_hex(kFrame, kDeadline), "FF FE FD FC 01 13 01 00 00 00 02 01 04 FB");
+  EXPECT_EQ(box_->read_hex(kFrame, kDeadline), "FF FE FD FC 01 05 02 00 00 32 00 00 00 FB");
+  EXPECT_EQ(sim_->control("violations"), "ok 1");
+  // Hand 2 has its own interval: its first frame is no violation.
+  EXPECT_EQ(exchange("FF FE FD FC 02 13 01 00 00 00 00 00 00 FB"),
+            "FF FE FD FC 02 13 01 00 00 00 02 01 04 FB");
+  // Further apart than the minimum: the sim read the last frame to hand 1
+  // before it answered, and the next one is sent 50 ms after that answer.
+  std::this_thread::sleep_for(50ms);  // the spacing under test, not a wait for an event
+  EXPECT_EQ(exchange("FF FE FD FC 01 13 01 00 00 00 00 00 00 FB"),
+            "FF FE FD FC 01 13 01 00 00 00 02 01 04 FB");
+  EXPECT_EQ(sim_->control("violations"), "ok 1");
+  EXPECT_EQ(sim_->control("quit"), "ok quit");
+  EXPECT_EQ(sim_->process().read_line(kDeadline), "interval violations: 1");
+  const auto status = sim_->process().wait_exit(kDeadline);
+  ASSERT_TRUE(status.has_value()) << "dh3-sim did not stop";
+  EXPECT_EQ(WEXITSTATUS(*status), 0);
+  EXPECT_EQ(sim_->process().read_line(kDeadline), std::nullopt) << "nothing after the last line";
+}
+
+TEST_F(Dh3SimTest, TheIntervalLineIsPrintedAlsoForZeroAndOnSigterm) {
+  start({"--hands", "1", "--min-interval-ms", "20"});
+  EXPECT_EQ(exchange("FF FE FD FC 01 13 01 00 00 00 00 00 00 FB"),
+            "FF FE FD FC 01 13 01 00 00 00 02 01 04 FB");
+  ASSERT_TRUE(sim_->process().send_signal(SIGTERM));
+  EXPECT_EQ(sim_->process().read_line(kDeadline), "interval violations: 0");
+  const auto status = sim_->process().wait_exit(kDeadline);
+  ASSERT_TRUE(status.has_value()) << "dh3-sim did not stop";
+  EXPECT_EQ(WEXITSTATUS(*status), 0);
+}
+
+TEST_F(Dh3SimTest, WithoutAMinimumIntervalNothingIsCounted) {
+  start();
+  EXPECT_EQ(sim_->control("violations"),
+            "error the interval check is off (start with --min-interval-ms)");
+  EXPECT_EQ(sim_->control("quit"), "ok quit");
+  EXPECT_EQ(sim_->process().read_line(kDeadline), std::nullopt) << "no interval line";
+}
+
 TEST(Dh3SimCommandLine, BadArgumentsAreRefusedWithAnError) {
   Process sim(DH3_SIM_PATH, {"--hands", "0"});
   ASSERT_TRUE(sim.started());
   const auto status = sim.wait_exit(kDeadline);
   ASSERT_TRUE(status.has_value());
   EXPECT_NE(WEXITSTATUS(*status), 0);
+}
+
+TEST(Dh3SimCommandLine, CanAndListenExcludeEachOther) {
+  Process sim(DH3_SIM_PATH, {"--can", "vcan0", "--listen", "127.0.0.1:0"});
+  const auto status = sim.wait_exit(kDeadline);
+  ASSERT_TRUE(status.has_value());
+  EXPECT_NE(WEXITSTATUS(*status), 0);
+}
+
+TEST(Dh3SimCommandLine, AnInterfaceThatCannotServeIsRefused) {
+  // Without kernel CAN: "kernel has no CAN support"; with it: no such interface.
+  Process sim(DH3_SIM_PATH, {"--can", "dh3nosuchcan0", "--hands", "1"});
+  const auto status = sim.wait_exit(kDeadline);
+  ASSERT_TRUE(status.has_value());
+  EXPECT_EQ(WEXITSTATUS(*status), 1);
+  EXPECT_EQ(sim.read_line(kDeadline), std::nullopt) << "no ready line";
 }
 
 TEST(Dh3SimCommandLine, APortInUseIsRefused) {

@@ -1,9 +1,7 @@
 // The transfer-box server behind dh3-sim, in-process on a real loopback socket:
 // opening, serving frames, the control channel, stopping.
 
-#include <fcntl.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <string>
@@ -11,75 +9,33 @@
 
 #include "sim/transfer_box_server.hpp"
 #include "support/raw_tcp_client.hpp"
+#include "unit/sim/server_test_support.hpp"
 
 namespace dh3::sim {
 namespace {
 
 using namespace std::chrono_literals;
 using dh3::test::RawTcpClient;
+using test::Pipe;
+using test::read_line;
+using test::write_text;
+constexpr auto hand = test::fast_hand;
 
 constexpr auto kDeadline = 10s;
 
-SimHandOptions hand(std::uint8_t id) {
-  SimHandOptions options;
-  options.id = id;
-  options.init_time = 20ms;
-  return options;
-}
-
-/// A pipe whose ends close with it.
-struct Pipe {
-  Pipe() { EXPECT_EQ(::pipe2(fds, O_CLOEXEC), 0); }
-  ~Pipe() {
-    close_read();
-    close_write();
-  }
-  void close_read() {
-    if (fds[0] >= 0) ::close(fds[0]);
-    fds[0] = -1;
-  }
-  void close_write() {
-    if (fds[1] >= 0) ::close(fds[1]);
-    fds[1] = -1;
-  }
-  [[nodiscard]] int read_end() const { return fds[0]; }
-  [[nodiscard]] int write_end() const { return fds[1]; }
-  int fds[2] = {-1, -1};
-};
-
 /// A server running on its own thread until destroyed.
-class Running {
+class Running : public test::ServerThread<TransferBoxServer> {
  public:
-  explicit Running(TransferBoxServerOptions options) {
-    auto opened = TransferBoxServer::open(std::move(options), SystemClock::instance());
-    EXPECT_TRUE(opened.ok());
-    if (!opened) return;
-    server_ = std::move(opened.value());
-    thread_ = std::thread([this] { server_->run(); });
-  }
-  ~Running() {
-    if (server_) server_->request_stop();
-    if (thread_.joinable()) thread_.join();
-  }
-  TransferBoxServer& server() { return *server_; }
-  void join() { thread_.join(); }
+  explicit Running(TransferBoxServerOptions options)
+      : ServerThread(open_or_null(std::move(options))) {}
 
  private:
-  std::unique_ptr<TransferBoxServer> server_;
-  std::thread thread_;
+  static std::unique_ptr<TransferBoxServer> open_or_null(TransferBoxServerOptions options) {
+    auto opened = TransferBoxServer::open(std::move(options), SystemClock::instance());
+    EXPECT_TRUE(opened.ok());
+    return opened ? std::move(opened.value()) : nullptr;
+  }
 };
-
-void write_text(int fd, const std::string& text) {
-  ASSERT_EQ(::write(fd, text.data(), text.size()), static_cast<ssize_t>(text.size()));
-}
-
-/// Reads one line from `fd` (blocking; the server answers every command).
-std::string read_line(int fd) {
-  std::string line;
-  char c = 0;
-  while (::read(fd, &c, 1) == 1 && c != '\n') line += c;
-  return line;
-}
 
 TEST(TransferBoxServer, ListensOnAFreePortAndAnswersFrames) {
   TransferBoxServerOptions options;
