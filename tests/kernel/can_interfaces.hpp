@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <optional>
@@ -34,37 +35,65 @@ namespace dh3::test {
     }                                                                                   \
   } while (false)
 
-inline bool run_command(const std::string& command) {
-  return std::system((command + " >/dev/null 2>&1").c_str()) == 0;
-}
-
-/// A vcan interface named after the test process, up, deleted at the end.
-class VcanInterface {
+/// A vcan interface of a test's own: created and brought up with `ip link`
+/// (root and the vcan module), deleted at the end; why() says what failed.
+class OwnVcan {
  public:
-  explicit VcanInterface(const std::string& prefix = "dh3vcan")
-      : name_(prefix + std::to_string(::getpid() % 100000)) {
-    created_ = create();
+  /// Creates and brings up `prefix` + this process's id (at most 15 characters).
+  explicit OwnVcan(const std::string& prefix)
+      : name_((prefix + std::to_string(::getpid() % 100000)).substr(0, 15)) {
+    const std::string created = shell("ip link add dev " + name_ + " type vcan");
+    if (!created.empty()) {
+      why_ = "cannot create a vcan interface (`ip link add dev " + name_ +
+             " type vcan` needs root and the vcan module): " + created;
+      return;
+    }
+    owned_ = true;
+    if (const std::string up = shell("ip link set up dev " + name_); !up.empty()) {
+      why_ = "cannot bring " + name_ + " up: " + up;
+    }
   }
-  ~VcanInterface() {
-    if (::if_nametoindex(name_.c_str()) != 0) run_command("ip link del dev " + name_);
+  ~OwnVcan() {
+    if (owned_ && ::if_nametoindex(name_.c_str()) != 0) shell("ip link del dev " + name_);
   }
-  VcanInterface(const VcanInterface&) = delete;
-  VcanInterface& operator=(const VcanInterface&) = delete;
+  OwnVcan(const OwnVcan&) = delete;
+  OwnVcan& operator=(const OwnVcan&) = delete;
 
+  [[nodiscard]] bool ready() const { return owned_ && why_.empty(); }
+  [[nodiscard]] const std::string& why() const { return why_; }
   [[nodiscard]] const std::string& name() const { return name_; }
-  [[nodiscard]] bool created() const { return created_; }
-  bool create() {
-    return run_command("ip link add dev " + name_ + " type vcan") && set_up(true);
+  /// Deletes the interface; true on success.
+  bool remove() const { return shell("ip link del dev " + name_).empty(); }
+  /// Creates it (again), up; true on success.
+  bool create() const {
+    return shell("ip link add dev " + name_ + " type vcan").empty() && set_up(true);
   }
-  bool remove() { return run_command("ip link del dev " + name_); }
-  bool set_up(bool up) {
-    return run_command("ip link set " + std::string(up ? "up" : "down") + " dev " + name_);
+  /// Deletes the interface and creates it again, up; true on success.
+  bool recreate() const { return remove() && create(); }
+  /// `ip link set up|down`; true on success.
+  bool set_up(bool up) const {
+    return shell("ip link set " + std::string(up ? "up" : "down") + " dev " + name_).empty();
   }
 
  private:
+  /// Runs `command`; empty on success, else its output (or its exit status).
+  static std::string shell(const std::string& command) {
+    FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
+    if (pipe == nullptr) return "popen failed";
+    std::string output;
+    char buffer[256];
+    while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) output += buffer;
+    const int status = ::pclose(pipe);
+    if (status == 0) return {};
+    while (!output.empty() && (output.back() == '\n' || output.back() == ' ')) output.pop_back();
+    return output.empty() ? "exit status " + std::to_string(status) : output;
+  }
+
   std::string name_;
-  bool created_ = false;
+  std::string why_;
+  bool owned_ = false;
 };
+
 
 /// A raw CAN socket bound to one interface, with no filter: it sees every
 /// frame others send there, and what it sends reaches every other socket.

@@ -22,13 +22,13 @@ namespace {
 
 using namespace std::chrono_literals;
 using test::RawCanSocket;
-using test::VcanInterface;
+using test::OwnVcan;
 
 class SocketCanKernel : public ::testing::Test {
  protected:
   void SetUp() override {
     DH3_REQUIRE_KERNEL_CAN();
-    ASSERT_TRUE(vcan_.created()) << "ip link add " << vcan_.name() << " type vcan failed";
+    ASSERT_TRUE(vcan_.ready()) << vcan_.why();
     SocketCanOptions options;
     options.reconnect.initial_backoff = 20ms;
     options.reconnect.max_backoff = 200ms;
@@ -69,7 +69,7 @@ class SocketCanKernel : public ::testing::Test {
     return bus_->diagnostics().error_frames[static_cast<std::size_t>(kind)];
   }
 
-  VcanInterface vcan_;
+  OwnVcan vcan_{"dh3vcan"};
   std::unique_ptr<SocketCanBus> bus_;
   RawCanSocket hands_{vcan_.name()};
 };

@@ -7,6 +7,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -42,6 +43,21 @@ inline std::optional<double> metric_value(std::string_view text, std::string_vie
     }
   }
   return std::nullopt;
+}
+
+/// Scrapes until `done(text)` holds or `deadline` passes; the last text scraped.
+inline std::string scrape_until(std::uint16_t port,
+                                const std::function<bool(const std::string&)>& done,
+                                std::chrono::milliseconds deadline = std::chrono::seconds(20)) {
+  const auto until = std::chrono::steady_clock::now() + deadline;
+  std::string text;
+  while (std::chrono::steady_clock::now() < until) {
+    if (auto body = scrape_metrics(port)) {
+      text = std::move(*body);
+      if (done(text)) break;
+    }
+  }
+  return text;
 }
 
 }  // namespace dh3::test

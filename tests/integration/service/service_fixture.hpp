@@ -82,6 +82,47 @@ class ServiceProcess {
   Process process_;
 };
 
+/// dh3-service with --metrics 127.0.0.1:0 and its log joined to stdout, so
+/// the test can read the address the metrics endpoint was bound to.
+class MetricsService {
+ public:
+  explicit MetricsService(const std::string& config_path)
+      : process_("/bin/sh",
+                 {"-c", "exec " + std::string(DH3_SERVICE_PATH) + " --domain " +
+                            std::to_string(test_domain()) + " --name " + name_ + " --config " +
+                            config_path + " --metrics 127.0.0.1:0 2>&1"},
+                 Process::Stdin::dev_null) {
+    const std::string marker = "metrics at http://127.0.0.1:";
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while (std::chrono::steady_clock::now() < deadline) {
+      auto line = process_.read_line(std::chrono::seconds(1));
+      if (!line) continue;
+      std::fprintf(stderr, "%s\n", line->c_str());
+      const auto at = line->find(marker);
+      if (at == std::string::npos) continue;
+      port_ = static_cast<std::uint16_t>(std::stoi(line->substr(at + marker.size())));
+      return;
+    }
+  }
+
+  [[nodiscard]] std::uint16_t port() const { return port_; }
+  [[nodiscard]] const std::string& name() const { return name_; }
+
+  std::optional<int> stop() {
+    process_.send_signal(SIGTERM);
+    // Read the log to its end, so a full pipe never holds the service up.
+    while (auto line = process_.read_line(std::chrono::seconds(20))) std::fprintf(stderr, "%s\n", line->c_str());
+    const auto status = process_.wait_exit(std::chrono::seconds(20));
+    if (!status || !WIFEXITED(*status)) return std::nullopt;
+    return WEXITSTATUS(*status);
+  }
+
+ private:
+  std::string name_ = test_service_name();
+  Process process_;
+  std::uint16_t port_ = 0;
+};
+
 /// Runs dh3-service with stderr joined to stdout until it exits; its exit
 /// code (-1 if it did not exit normally) and output.
 inline std::pair<int, std::string> run_to_exit(const std::string& args) {
@@ -93,12 +134,17 @@ inline std::pair<int, std::string> run_to_exit(const std::string& args) {
   return {status && WIFEXITED(*status) ? WEXITSTATUS(*status) : -1, output};
 }
 
-/// dh3-sim as a child process: a transfer box on a free loopback port with
-/// the control channel on its stdin.
+/// dh3-sim as a child process with the control channel on its stdin: a
+/// transfer box on a free loopback port, or with `can_interface` the hands as
+/// nodes on that CAN interface.
 class SimProcess {
  public:
-  explicit SimProcess(std::vector<std::string> args)
-      : process_(DH3_SIM_PATH, listen_args(std::move(args))) {
+  explicit SimProcess(std::vector<std::string> args, const std::string& can_interface = {})
+      : process_(DH3_SIM_PATH, transport_args(std::move(args), can_interface)) {
+    if (!can_interface.empty()) {
+      serving_ = process_.wait_for_line("serving ", std::chrono::seconds(10)).has_value();
+      return;
+    }
     if (auto line = process_.wait_for_line("listening ", std::chrono::seconds(10))) {
       const auto colon = line->rfind(':');
       port_ = static_cast<std::uint16_t>(std::stoi(line->substr(colon + 1)));
@@ -106,6 +152,9 @@ class SimProcess {
   }
   [[nodiscard]] std::uint16_t port() const { return port_; }
   [[nodiscard]] std::string bus_spec() const { return "tcp:127.0.0.1:" + std::to_string(port_); }
+  /// On CAN: it said it serves its hands.
+  [[nodiscard]] bool serving() const { return serving_; }
+  Process& process() { return process_; }
 
   /// Runs a control command; its answer line ("ok ..." or "error ...").
   std::string control(const std::string& command) {
@@ -118,12 +167,18 @@ class SimProcess {
   }
 
  private:
-  static std::vector<std::string> listen_args(std::vector<std::string> args) {
-    args.insert(args.begin(), {"--listen", "127.0.0.1:0"});
+  static std::vector<std::string> transport_args(std::vector<std::string> args,
+                                                 const std::string& can_interface) {
+    if (can_interface.empty()) {
+      args.insert(args.begin(), {"--listen", "127.0.0.1:0"});
+    } else {
+      args.insert(args.begin(), {"--can", can_interface});
+    }
     return args;
   }
   Process process_;
   std::uint16_t port_ = 0;
+  bool serving_ = false;
 };
 
 /// "FF FE FD FC 01 06 02 01 00 3C 00 00 00 FB" for each 14-byte frame in `bytes`.

@@ -22,7 +22,7 @@
 #include "protocol/codec.hpp"
 #include "support/process.hpp"
 #include "support/raw_tcp_client.hpp"
-#include "support/vcan.hpp"
+#include "kernel/can_interfaces.hpp"
 
 namespace {
 
