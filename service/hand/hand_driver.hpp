@@ -199,8 +199,9 @@ class HandDriver {
   std::uint64_t finger_epoch_ = 0;
   bool hold_untouched_ = false;  ///< holding a catch, no finger command sent since
   EndOfMotion end_of_motion_;
-  /// A status value outside the document, reported once.
-  std::int32_t last_undefined_status_ = 0;
+  /// Status values outside the document, reported once per axis.
+  std::int32_t last_undefined_grip_status_ = 0;
+  std::int32_t last_undefined_rotation_status_ = 0;
 
   std::vector<HandEvent> pending_events_;
   std::vector<std::pair<Completion, CommandResult>> pending_completions_;

@@ -231,7 +231,7 @@ void HandDriver::on_initialized_flag(std::int32_t value, TimePoint now) {
 void HandDriver::on_grip_status(std::int32_t status, TimePoint now) {
   const GripReading reading = read_grip_status(
       status, FingerView{state_.grip, finger_motion_, hold_untouched_, state_.position,
-                         last_undefined_status_});
+                         last_undefined_grip_status_});
   if (reading.hold_starts) hold_untouched_ = true;
   if (reading.motion_ended) {
     finger_motion_ended(*reading.grip, *reading.event);
@@ -242,7 +242,7 @@ void HandDriver::on_grip_status(std::int32_t status, TimePoint now) {
     emit(EventKind::dropped, now, status,
          fmt::format("object lost at position {} while holding", state_.position));
   } else if (reading.event == EventKind::fault) {
-    last_undefined_status_ = status;
+    last_undefined_grip_status_ = status;
     emit(EventKind::fault, now, status,
          fmt::format("grip status {} is not one the document defines", status));
   }
@@ -267,7 +267,7 @@ void HandDriver::finger_motion_ended(GripState grip, EventKind event) {
 
 void HandDriver::on_rotation_status(std::int32_t status, TimePoint now) {
   const RotationReading reading = read_rotation_status(
-      status, RotationView{rotation_motion_, state_.rotation, last_undefined_status_});
+      status, RotationView{rotation_motion_, state_.rotation, last_undefined_rotation_status_});
   if (reading.motion_ended) rotation_motion_.reset();
   if (reading.state) state_.rotation_state = *reading.state;
   if (reading.event == EventKind::rotation_arrived) {
@@ -278,7 +278,7 @@ void HandDriver::on_rotation_status(std::int32_t status, TimePoint now) {
                      state_.rotation_target),
          state_.rotation, state_.rotation_target);
   } else if (reading.event == EventKind::fault) {
-    last_undefined_status_ = status;
+    last_undefined_rotation_status_ = status;
     emit(EventKind::fault, now, status,
          fmt::format("rotation status {} is not one the document defines", status));
   }
