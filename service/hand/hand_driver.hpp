@@ -9,9 +9,9 @@
 //
 // How it reads what the hand says (design.md readings 1-3, 9):
 // - A reply matches the frame in flight on (hand, function, sub-function); any
-//   other frame is unexpected, except an 0x0802 frame while initializing, which
-//   is the unsolicited "initialization finished" signal and is confirmed by
-//   reading 0x0802.
+//   other frame is unexpected, except an 0x0802 frame while initializing with
+//   the feedback (0x0801) enabled, which is the unsolicited "initialization
+//   finished" signal and is confirmed by reading 0x0802.
 // - Grip and rotation status values: see status_reading.hpp.
 // - Before any motion command, the hand's initialization flag (0x0802) is read
 //   if it is not known yet, so a command right after start-up is not refused

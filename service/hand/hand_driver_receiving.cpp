@@ -32,7 +32,8 @@ bool HandDriver::on_frame(const Message& message, TimePoint now) {
     flush(now);
     return true;
   }
-  if (Initializing* init = initializing(); init && message.reg == reg::kInitialize) {
+  if (Initializing* init = initializing();
+      init && message.reg == reg::kInitialize && online()->init_feedback_enabled) {
     // The unsolicited "initialization finished" frame (reading 3): confirm it.
     on_answer(now);
     init->check_now = true;

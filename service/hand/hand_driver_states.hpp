@@ -68,7 +68,8 @@ struct Online {
   InitState init = InitUnknown{};
   PollSchedule poll;
   std::deque<protocol::Register> refresh;  ///< read afresh after coming online
-  /// 0x0801 enabled since the hand came online (its echo, or a read of 0xA5).
+  /// 0x0801 enabled since the hand came online (its echo, or a read of 0xA5): only
+  /// then is an unsolicited 0x0802 frame the "initialization finished" signal.
   bool init_feedback_enabled = false;
 };
 

@@ -205,5 +205,25 @@ TEST(BusSchedulerEvents, AStatusValueOutsideTheDocumentIsReportedOncePerAxis) {
   EXPECT_EQ(faults_mentioning(h, "rotation status 7").size(), 1u);
 }
 
+TEST(BusSchedulerEvents, An0x0802FrameIsTheFinishedSignalOnlyWithTheFeedbackEnabled) {
+  SchedulerHarness h(sim_hands({1}), configs({1}));
+  ASSERT_TRUE(h.run_until([&] { return h.state(1) && h.state(1)->online; }));
+  // Initialization started by a raw write: the feedback (0x0801) was never enabled.
+  std::optional<CommandResult> started;
+  h.scheduler->submit(1, write(reg::kInitialize, 0), [&](const CommandResult& r) { started = r; });
+  ASSERT_TRUE(h.run_until([&] { return started.has_value(); }));
+  ASSERT_TRUE(started->ok());
+  const auto unexpected_before = h.scheduler->counters().unexpected_frames;
+  protocol::Message stray = protocol::make_read(1, reg::kInitialize);
+  stray.data = 1;
+  h.recorder().inject(stray);
+  h.run_for(1ms);
+  EXPECT_EQ(h.scheduler->counters().unexpected_frames - unexpected_before, 1u)
+      << "without 0x0801 enabled an unsolicited 0x0802 frame is a stray frame";
+  // The regular reads of 0x0802 still see the initialization finish.
+  ASSERT_TRUE(h.run_until([&] { return h.state(1)->initialized; }, 5s));
+  EXPECT_EQ(h.observer.events_of(EventKind::initialized, 1).size(), 1u);
+}
+
 }  // namespace
 }  // namespace dh3::hand::test
