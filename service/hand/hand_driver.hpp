@@ -108,7 +108,8 @@ class HandDriver {
  private:
   // Sending (hand_driver_sending.cpp).
   [[nodiscard]] std::optional<protocol::Message> job_frame(TimePoint now);
-  [[nodiscard]] std::optional<protocol::Message> initialize_frame(TimePoint now, InitializeStep step);
+  [[nodiscard]] std::optional<protocol::Message> initialize_frame(TimePoint now,
+                                                                  InitializeStep step);
   [[nodiscard]] std::optional<protocol::Message> grasp_frame(TimePoint now, GraspStep step);
   [[nodiscard]] std::optional<protocol::Message> stop_frame(TimePoint now, StopStep step);
   [[nodiscard]] std::optional<protocol::Message> background_frame(TimePoint now);

@@ -92,7 +92,8 @@ void HandDriver::apply_read(Register r, const Message& reply, TimePoint now) {
   } else if (r == reg::kInitialize) {
     on_initialized_flag(reply.data, now);
   } else if (r == reg::kInitFeedback) {
-    if (Online* on = online()) on->init_feedback_enabled = reply.data == protocol::kInitFeedbackEnabled;
+    if (Online* on = online())
+      on->init_feedback_enabled = reply.data == protocol::kInitFeedbackEnabled;
   }
 }
 
@@ -230,9 +231,9 @@ void HandDriver::on_initialized_flag(std::int32_t value, TimePoint now) {
 }
 
 void HandDriver::on_grip_status(std::int32_t status, TimePoint now) {
-  const GripReading reading = read_grip_status(
-      status, FingerView{state_.grip, finger_motion_, hold_untouched_, state_.position,
-                         last_undefined_grip_status_});
+  const GripReading reading =
+      read_grip_status(status, FingerView{state_.grip, finger_motion_, hold_untouched_,
+                                          state_.position, last_undefined_grip_status_});
   if (reading.hold_starts) hold_untouched_ = true;
   if (reading.motion_ended) {
     finger_motion_ended(*reading.grip, *reading.event);

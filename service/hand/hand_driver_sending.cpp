@@ -110,7 +110,8 @@ std::optional<Message> HandDriver::job_frame(TimePoint now) {
   if (!active_) return std::nullopt;
   const std::uint8_t id = state_.can_id;
   const Command& command = active_->job.command;
-  if (active_->check_initialized_first) return send_job(protocol::make_read(id, reg::kInitialize), now);
+  if (active_->check_initialized_first)
+    return send_job(protocol::make_read(id, reg::kInitialize), now);
 
   switch (command.kind) {
     case CommandKind::initialize:
@@ -158,7 +159,8 @@ std::optional<Message> HandDriver::grasp_frame(TimePoint now, GraspStep step) {
   const std::uint8_t id = state_.can_id;
   switch (step) {
     case GraspStep::set_force:
-      return send_job(protocol::make_write(id, reg::kClosingForce, active_->job.command.value), now);
+      return send_job(protocol::make_write(id, reg::kClosingForce, active_->job.command.value),
+                      now);
     case GraspStep::close:
       finger_motion_sent(0, true);
       return send_job(protocol::make_write(id, reg::kPosition, 0), now);
@@ -192,8 +194,8 @@ std::optional<Message> HandDriver::background_frame(TimePoint now) {
   auto& offline = std::get<Offline>(link_);
   if (now < offline.next_probe_at) return std::nullopt;
   offline.next_probe_at = now + options_.offline_probe_interval;
-  return send(protocol::make_read(state_.can_id, reg::kFirmwareVersion), Purpose::probe, now,
-              false, options_.reply_timeout);
+  return send(protocol::make_read(state_.can_id, reg::kFirmwareVersion), Purpose::probe, now, false,
+              options_.reply_timeout);
 }
 
 std::optional<Message> HandDriver::online_frame(Online& on, TimePoint now) {
@@ -234,7 +236,8 @@ std::optional<Message> HandDriver::online_frame(Online& on, TimePoint now) {
 
 void HandDriver::poll_soon() {
   // A motion started while idle: poll soon, not at the idle period.
-  if (Online* on = online()) on->poll.next_round_at = std::min(on->poll.next_round_at, next_send_at_);
+  if (Online* on = online())
+    on->poll.next_round_at = std::min(on->poll.next_round_at, next_send_at_);
 }
 
 void HandDriver::finger_motion_sent(std::int32_t target, bool gripping) {

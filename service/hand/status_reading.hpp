@@ -67,7 +67,7 @@ struct RotationView {
 /// What a rotation status value means.
 struct RotationReading {
   std::optional<RotationState> state{};  ///< the rotation's new state, if it changes
-  std::optional<EventKind> event{};  ///< rotation_arrived, rotation_blocked or fault
+  std::optional<EventKind> event{};      ///< rotation_arrived, rotation_blocked or fault
   bool motion_ended = false;
   bool stale = false;
   friend bool operator==(const RotationReading&, const RotationReading&) = default;
