@@ -1,24 +1,25 @@
 #pragma once
-// One DH-3 hand as the bus loop drives it: its state machine (configured ->
-// online -> initializing -> ready, offline after consecutive timeouts), its
+// One DH-3 hand as the bus loop drives it: its link (offline -> online, and back
+// after consecutive timeouts, link loss or shutdown), its initialization, its
 // command queue, the one frame it has in flight, its status poller and the
-// detection of the events a user cares about. Loop thread only; the scheduler
-// decides when the hand may send and hands it the replies addressed to it.
+// detection of the events a user cares about. The states are the types of
+// hand_driver_states.hpp; what a status value means is status_reading.hpp.
+// Loop thread only; the scheduler decides when the hand may send and hands it
+// the replies addressed to it.
 //
 // How it reads what the hand says (design.md readings 1-3, 9):
 // - A reply matches the frame in flight on (hand, function, sub-function); any
-//   other frame is unexpected, except an 0x0802 frame while initializing, which
-//   is the unsolicited "initialization finished" signal and is confirmed by
-//   reading 0x0802.
-// - Grip status 3 is "caught" (event grasped). Status 2 after a finger motion
-//   is "arrived", unless the motion was a grasp or a move to 0 (fully closed):
-//   then nothing was there to catch (event missed). Status leaving 3 while no
-//   finger command was sent since the catch is a drop. A status 2 or 3 that
-//   cannot belong to the running motion (position far from the new target, or
-//   3 while opening) is a stale reading from before the command and ignored.
+//   other frame is unexpected, except an 0x0802 frame while initializing with
+//   the feedback (0x0801) enabled, which is the unsolicited "initialization
+//   finished" signal and is confirmed by reading 0x0802.
+// - Grip and rotation status values: see status_reading.hpp.
 // - Before any motion command, the hand's initialization flag (0x0802) is read
 //   if it is not known yet, so a command right after start-up is not refused
 //   for lack of knowledge.
+//
+// The code is split by job: hand_driver.cpp (commands in, lifecycle, time,
+// reporting), hand_driver_sending.cpp (which frame goes next, the steps of each
+// command), hand_driver_receiving.cpp (replies and what they change).
 
 #include <atomic>
 #include <cstdint>
@@ -27,11 +28,13 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "bus/bus.hpp"
 #include "hand/bus_scheduler.hpp"
 #include "hand/hand_counters.hpp"
+#include "hand/hand_driver_states.hpp"
 #include "hand/hand_types.hpp"
 #include "protocol/codec.hpp"
 
@@ -59,11 +62,7 @@ class HandDriver {
   HandDriver(HandConfig config, DriverContext& context, std::atomic<int>& queued,
              HandCounters& counters, TimePoint now, bool anonymous = false);
 
-  struct Job {
-    Command command;
-    Completion done;
-    TimePoint submitted{};
-  };
+  using Job = DriverJob;
 
   /// Adds a command (already validated and counted in `queued`).
   void enqueue(Job job, TimePoint now);
@@ -107,64 +106,58 @@ class HandDriver {
   void on_discovered(const protocol::Message& reply, TimePoint now);
 
  private:
-  enum class Purpose : std::uint8_t { job, poll, probe, refresh, init_check, confirm_position };
-
-  struct InFlight {
-    protocol::Message message;
-    Purpose purpose = Purpose::poll;
-    TimePoint sent{};
-    TimePoint deadline{};
-    Duration reply_timeout{};
-    int attempts = 1;
-    bool retryable = true;
-  };
-
-  /// A command that finished sending and waits for the hand to get somewhere.
-  struct Waiter {
-    Job job;
-    TimePoint deadline{};
-    std::uint64_t epoch = 0;  ///< finger motion it waits for (grasp, release)
-    bool confirming = false;  ///< outcome known, reading the final position
-    GraspOutcome outcome = GraspOutcome::none;
-  };
-
-  struct ActiveJob {
-    Job job;
-    int stage = 0;
-    std::int32_t held = -1;    ///< stop: the position / rotation read, to be written back
-    bool motion_sent = false;  ///< its motion frame went out: it can no longer be taken back
-  };
-
-  // Sending.
+  // Sending (hand_driver_sending.cpp).
   [[nodiscard]] std::optional<protocol::Message> job_frame(TimePoint now);
+  [[nodiscard]] std::optional<protocol::Message> initialize_frame(TimePoint now,
+                                                                  InitializeStep step);
+  [[nodiscard]] std::optional<protocol::Message> grasp_frame(TimePoint now, GraspStep step);
+  [[nodiscard]] std::optional<protocol::Message> stop_frame(TimePoint now, StopStep step);
   [[nodiscard]] std::optional<protocol::Message> background_frame(TimePoint now);
+  [[nodiscard]] std::optional<protocol::Message> online_frame(Online& online, TimePoint now);
   void start_next_job(TimePoint now);
   protocol::Message send(protocol::Message message, Purpose purpose, TimePoint now, bool retryable,
                          Duration reply_timeout);
+  protocol::Message send_job(protocol::Message message, TimePoint now);
+  void finger_motion_sent(std::int32_t target, bool gripping);
+  void rotation_motion_sent(std::int32_t target);
+  void poll_soon();
 
-  // Receiving.
+  // Receiving (hand_driver_receiving.cpp).
   void on_reply(const InFlight& sent, const protocol::Message& reply, TimePoint now);
   void on_job_reply(const protocol::Message& sent, const protocol::Message& reply, TimePoint now);
+  /// A write's echo; false if the hand refused it (the job then failed).
+  bool on_write_echo(const protocol::Message& sent, const protocol::Message& reply, TimePoint now);
+  /// The next step of the active job after its frame was answered.
+  void advance_job(const protocol::Message& reply, TimePoint now);
+  void advance_stop(StopStep& step, const protocol::Message& reply);
   void apply_read(protocol::Register reg, const protocol::Message& reply, TimePoint now);
   void on_grip_status(std::int32_t status, TimePoint now);
   void on_rotation_status(std::int32_t status, TimePoint now);
   void on_initialized_flag(std::int32_t value, TimePoint now);
+  void on_position_confirmed(TimePoint now);
+  void finger_motion_ended(GripState grip, EventKind event);
+
+  // Lifecycle and time (hand_driver.cpp).
   void on_answer(TimePoint now);
   void on_timeout(TimePoint now);
+  void on_init_deadlines(TimePoint now);
+  /// The one reset path: going offline, link loss and shutdown.
+  void lose_link(TimePoint now, LinkLoss loss, const std::string& why);
+  void set_init(InitState init);
+  [[nodiscard]] Online* online() { return std::get_if<Online>(&link_); }
+  [[nodiscard]] const Online* online() const { return std::get_if<Online>(&link_); }
+  [[nodiscard]] Initializing* initializing();
+  [[nodiscard]] const Initializing* initializing() const;
+  [[nodiscard]] bool init_known() const;
+  [[nodiscard]] bool moving() const;
 
-  // Finishing.
-  void finish_active(const CommandResult& result);
-  void finish_waiter(std::optional<Waiter>& waiter, const CommandResult& result);
-  void fail_everything(CommandError error);
+  // Finishing and reporting (hand_driver.cpp).
   void cancel_motion(bool fingers, bool rotation);
-  void go_offline(TimePoint now, const std::string& why);
-
-  // Motion bookkeeping.
-  void finger_motion_sent(std::int32_t target, bool gripping);
-  void rotation_motion_sent(std::int32_t target);
-  void finger_motion_ended(GripState state, EventKind event);
+  void finish_active(const CommandResult& result);
+  void finish_init_waiter(const CommandResult& result);
+  void finish_motion_waiter(const CommandResult& result);
+  void fail_everything(CommandError error);
   void emit_ending_event(TimePoint now);
-
   void emit(EventKind kind, TimePoint now, std::int32_t value = 0, std::string message = {},
             std::optional<std::int32_t> position = {}, std::optional<std::int32_t> target = {});
   /// Counts the job's result and queues its completion for flush().
@@ -174,7 +167,6 @@ class HandDriver {
   /// so that whoever hears of an event or a result finds the state behind it.
   void flush(TimePoint now);
   [[nodiscard]] Duration reply_timeout_for(const Job& job) const;
-  [[nodiscard]] bool moving() const;
   [[nodiscard]] std::string label() const;
 
   DriverContext& context_;
@@ -182,51 +174,35 @@ class HandDriver {
   std::atomic<int>& queued_;
   HandCounters& counters_;
   bool anonymous_;
+  /// What is published; `online` and `initialized` mirror link_ (initialized:
+  /// as last known while the initialization is unknown).
   HandState state_;
   HandState published_;
   bool ever_published_ = false;
 
+  Link link_;
+  int consecutive_timeouts_ = 0;
+
+  // Commands.
   std::deque<Job> queue_;
   std::optional<ActiveJob> active_;
-  std::optional<Waiter> init_waiter_;
-  std::optional<Waiter> motion_waiter_;
+  std::optional<InitWaiter> init_waiter_;
+  std::optional<MotionWaiter> motion_waiter_;
+
+  // Frames.
   std::optional<InFlight> in_flight_;
   std::optional<InFlight> resend_;  ///< timed out (or not sent), to be sent again
-
   TimePoint next_send_at_{};
-  int consecutive_timeouts_ = 0;
-  TimePoint next_probe_at_{};
 
-  // Status polling: a round reads these in turn; rounds start every
-  // poll_interval_moving while something moves, poll_interval_idle otherwise.
-  std::size_t poll_index_ = 0;
-  std::size_t round_length_ = 0;
-  bool poll_round_running_ = false;
-  TimePoint next_poll_round_at_{};
-  std::deque<protocol::Register> refresh_;  ///< read afresh after coming online
-
-  // Initialization.
-  bool init_known_ = false;    ///< 0x0802 read at least once since online
-  bool initializing_ = false;  ///< an initialization runs; 0x0802 is watched
-  TimePoint init_deadline_{};
-  TimePoint next_init_check_at_{};
-  bool init_check_now_ = false;  ///< the unsolicited frame came: confirm at once
-  bool init_feedback_enabled_ = false;
-
-  // Finger motion: epoch counts position writes sent.
+  // Motions. The epoch counts finger position writes sent.
+  std::optional<FingerMotion> finger_motion_;
+  std::optional<RotationMotion> rotation_motion_;
   std::uint64_t finger_epoch_ = 0;
-  bool finger_motion_active_ = false;
-  bool finger_motion_gripping_ = false;
-  bool finger_motion_closing_ = false;
-  bool finger_command_since_caught_ = true;
-  bool need_position_confirm_ = false;
-  bool rotation_motion_active_ = false;
-  struct PendingEvent {
-    EventKind kind;
-    std::int32_t value;
-  };
-  std::optional<PendingEvent> ending_event_;  ///< waits for the confirming position read
-  std::int32_t last_odd_status_ = 0;  ///< a status value outside the document, reported once
+  bool hold_untouched_ = false;  ///< holding a catch, no finger command sent since
+  EndOfMotion end_of_motion_;
+  /// Status values outside the document, reported once per axis.
+  std::int32_t last_undefined_grip_status_ = 0;
+  std::int32_t last_undefined_rotation_status_ = 0;
 
   std::vector<HandEvent> pending_events_;
   std::vector<std::pair<Completion, CommandResult>> pending_completions_;

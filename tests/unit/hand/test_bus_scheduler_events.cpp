@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+
 #include "unit/hand/scheduler_harness.hpp"
 
 namespace dh3::hand::test {
@@ -162,6 +164,65 @@ TEST(BusSchedulerEvents, EveryStateChangeIsPublishedWithARisingSequence) {
   const std::size_t published = h.observer.states.size();
   h.run_for(3s);
   EXPECT_EQ(h.observer.states.size(), published);
+}
+
+/// Waits for the next read of `r` to go out and answers it with `value`
+/// before the (slower) simulated hand does; the hand's own reply then arrives
+/// as a stray frame.
+void answer_next_read(SchedulerHarness& h, protocol::Register r, std::int32_t value) {
+  const std::size_t before = h.sent_to(1, r).size();
+  ASSERT_TRUE(h.run_until([&] { return h.sent_to(1, r).size() > before; }, 5s));
+  protocol::Message reply = protocol::make_read(1, r);
+  reply.data = value;
+  h.recorder().inject(reply);
+  h.run_for(1ms);
+}
+
+std::vector<HandEvent> faults_mentioning(const SchedulerHarness& h, const std::string& text) {
+  std::vector<HandEvent> found;
+  for (const auto& e : h.observer.events_of(EventKind::fault, 1)) {
+    if (e.message.find(text) != std::string::npos) found.push_back(e);
+  }
+  return found;
+}
+
+TEST(BusSchedulerEvents, AStatusValueOutsideTheDocumentIsReportedOncePerAxis) {
+  auto sim = sim_hands({1});
+  sim[0].reply_delay = 5ms;
+  SchedulerHarness h(sim, configs({1}));
+  h.bring_up({1});
+  answer_next_read(h, reg::kGripStatus, 7);
+  ASSERT_EQ(faults_mentioning(h, "grip status 7").size(), 1u);
+  // The same value on the other axis is news of its own.
+  answer_next_read(h, reg::kRotationStatus, 7);
+  const auto rotation = faults_mentioning(h, "rotation status 7");
+  ASSERT_EQ(rotation.size(), 1u);
+  EXPECT_EQ(rotation[0].value, 7);
+  // Repeats on either axis are not reported again.
+  answer_next_read(h, reg::kGripStatus, 7);
+  answer_next_read(h, reg::kRotationStatus, 7);
+  EXPECT_EQ(faults_mentioning(h, "grip status 7").size(), 1u);
+  EXPECT_EQ(faults_mentioning(h, "rotation status 7").size(), 1u);
+}
+
+TEST(BusSchedulerEvents, An0x0802FrameIsTheFinishedSignalOnlyWithTheFeedbackEnabled) {
+  SchedulerHarness h(sim_hands({1}), configs({1}));
+  ASSERT_TRUE(h.run_until([&] { return h.state(1) && h.state(1)->online; }));
+  // Initialization started by a raw write: the feedback (0x0801) was never enabled.
+  std::optional<CommandResult> started;
+  h.scheduler->submit(1, write(reg::kInitialize, 0), [&](const CommandResult& r) { started = r; });
+  ASSERT_TRUE(h.run_until([&] { return started.has_value(); }));
+  ASSERT_TRUE(started->ok());
+  const auto unexpected_before = h.scheduler->counters().unexpected_frames;
+  protocol::Message stray = protocol::make_read(1, reg::kInitialize);
+  stray.data = 1;
+  h.recorder().inject(stray);
+  h.run_for(1ms);
+  EXPECT_EQ(h.scheduler->counters().unexpected_frames - unexpected_before, 1u)
+      << "without 0x0801 enabled an unsolicited 0x0802 frame is a stray frame";
+  // The regular reads of 0x0802 still see the initialization finish.
+  ASSERT_TRUE(h.run_until([&] { return h.state(1)->initialized; }, 5s));
+  EXPECT_EQ(h.observer.events_of(EventKind::initialized, 1).size(), 1u);
 }
 
 }  // namespace

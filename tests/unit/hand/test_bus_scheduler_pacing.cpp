@@ -56,11 +56,13 @@ TEST(BusSchedulerPacing, NoHandReceivesTwoFramesCloserThanTheCommandInterval) {
   // Discovered, not configured: the first frames a hand sees are the scan's probe
   // and then the driver's reads of its state.
   SchedulerHarness h(sim_hands(ids), {});
-  ASSERT_TRUE(h.run_until([&] {
-    auto one = h.state(1);
-    auto two = h.state(2);
-    return one && one->online && two && two->online;
-  }, 5s));
+  ASSERT_TRUE(h.run_until(
+      [&] {
+        auto one = h.state(1);
+        auto two = h.state(2);
+        return one && one->online && two && two->online;
+      },
+      5s));
   h.bring_up(ids);
 
   // Commands of every kind, on both hands at once, with polls in between.
