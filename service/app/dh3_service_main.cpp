@@ -172,7 +172,12 @@ int main(int argc, char** argv) {
     exporter = std::move(*started);
     spdlog::info("metrics at http://{}/metrics", exporter->address());
   }
-  (*service)->start();
+  if (auto started = (*service)->start(); !started) {
+    spdlog::critical("{}", started.error());
+    exporter.reset();
+    service->reset();  // stops what did start: the buses, every hand published offline
+    return kExitStartFailed;
+  }
 
   int signal_number = 0;
   sigwait(&stop_signals, &signal_number);

@@ -22,7 +22,7 @@ bool is_admin(msg::CommandType command) {
 }
 
 /// CAN ID 0 reaches whichever hand is there: only for the CAN ID register
-/// (design.md reading 10).
+/// (docs/protocol-notes.md reading 10).
 bool allows_id_zero(const msg::CommandRequest& request) {
   return request.command() == msg::SET_CAN_ID ||
          (request.command() == msg::READ_REGISTER &&

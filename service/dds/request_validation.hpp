@@ -1,8 +1,8 @@
 #pragma once
-// Checks a command request before anything reaches a bus (design.md: "Out-of-range
-// values never reach the bus") and turns it into what the hand layer or the
-// lease table needs. Every rejection carries the code and a message that says
-// what was wrong.
+// Checks a command request before anything reaches a bus (out-of-range values
+// never do: docs/protocol-notes.md reading 12) and turns it into what the hand
+// layer or the lease table needs. Every rejection carries the code and a
+// message that says what was wrong.
 
 #include <cstdint>
 #include <string>

@@ -144,7 +144,7 @@ class Service::Impl {
   }
 
   Result<void, std::string> init(std::vector<BusSetup> setups);
-  void start();
+  Result<void, std::string> start();
   void stop();
   [[nodiscard]] std::vector<hand::BusMetrics> metrics() const {
     std::vector<hand::BusMetrics> out;
@@ -243,6 +243,11 @@ class Service::Impl {
   void republish_status(HandKey hand);
   void publish_info();
 
+  // Set-up: each step names the entity it could not create.
+  Result<void, std::string> create_topics_and_writers();
+  Result<void, std::string> create_request_reader();
+  [[nodiscard]] std::string cannot_create(const std::string& what) const;
+
   void destroy_dds();
 
   ServiceOptions options_;
@@ -256,6 +261,7 @@ class Service::Impl {
   ParticipantListener participant_listener_{*this};
   RequestListener request_listener_{*this};
   fdds::DomainParticipant* participant_ = nullptr;
+  bool security_from_profile_ = false;  ///< the XML profile enables DDS Security
   fdds::Publisher* publisher_ = nullptr;
   fdds::Subscriber* subscriber_ = nullptr;
   fdds::Topic* status_topic_ = nullptr;
@@ -318,34 +324,12 @@ Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups) {
     }
     return fail(error);
   }
+  security_from_profile_ = has_property(*qos, "dds.sec.auth.plugin");
   if (!options_.security_dir.empty()) {
     spdlog::info("DDS Security on: identity '{}' in '{}'", options_.security_identity,
                  options_.security_dir);
   }
-
-  const contract::Topics contract_topics = contract::create_topics(*participant_);
-  status_topic_ = contract_topics.status;
-  event_topic_ = contract_topics.event;
-  info_topic_ = contract_topics.info;
-  request_topic_ = contract_topics.request;
-  reply_topic_ = contract_topics.reply;
-  publisher_ = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
-  subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
-  if (!contract_topics.complete() || publisher_ == nullptr || subscriber_ == nullptr) {
-    return fail(std::string("cannot create the dh3 topics"));
-  }
-  status_writer_ =
-      publisher_->create_datawriter(status_topic_, contract::writer_qos(TopicRole::hand_status));
-  event_writer_ =
-      publisher_->create_datawriter(event_topic_, contract::writer_qos(TopicRole::hand_event));
-  info_writer_ =
-      publisher_->create_datawriter(info_topic_, contract::writer_qos(TopicRole::service_info));
-  reply_writer_ =
-      publisher_->create_datawriter(reply_topic_, contract::writer_qos(TopicRole::reply));
-  if (status_writer_ == nullptr || event_writer_ == nullptr || info_writer_ == nullptr ||
-      reply_writer_ == nullptr) {
-    return fail(std::string("cannot create the dh3 writers"));
-  }
+  if (auto created = create_topics_and_writers(); !created) return created;
 
   for (auto& setup : setups) {
     std::vector<HandDirectory::Hand> hands;
@@ -369,8 +353,72 @@ Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups) {
   return {};
 }
 
-void Service::Impl::start() {
-  if (started_) return;
+std::string Service::Impl::cannot_create(const std::string& what) const {
+  std::string message = "cannot create " + what;
+  if (!options_.security_dir.empty()) {
+    return message + ": the DDS Security permissions of identity '" + options_.security_identity +
+           "' in '" + options_.security_dir + "' must allow it (Fast DDS logs what it refused)";
+  }
+  if (security_from_profile_) {
+    return message + ": the DDS Security permissions the XML profile names must allow it";
+  }
+  return message + " (Fast DDS logs why)";
+}
+
+Result<void, std::string> Service::Impl::create_topics_and_writers() {
+  const contract::Topics contract_topics = contract::create_topics(*participant_);
+  status_topic_ = contract_topics.status;
+  event_topic_ = contract_topics.event;
+  info_topic_ = contract_topics.info;
+  request_topic_ = contract_topics.request;
+  reply_topic_ = contract_topics.reply;
+  const std::pair<fdds::Topic*, const std::string&> topics[] = {
+      {status_topic_, dh3::topics::HAND_STATUS},    {event_topic_, dh3::topics::HAND_EVENT},
+      {info_topic_, dh3::topics::SERVICE_INFO},     {request_topic_, dh3::topics::COMMAND_REQUEST},
+      {reply_topic_, dh3::topics::COMMAND_REPLY}};
+  for (const auto& [topic, name] : topics) {
+    if (topic == nullptr) return fail(cannot_create("the topic " + name));
+  }
+  publisher_ = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+  if (publisher_ == nullptr) return fail(cannot_create(std::string("the DDS publisher")));
+  subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+  if (subscriber_ == nullptr) return fail(cannot_create(std::string("the DDS subscriber")));
+
+  const auto writer = [this](fdds::DataWriter*& out, fdds::Topic* topic,
+                             TopicRole role) -> Result<void, std::string> {
+    out = publisher_->create_datawriter(topic, contract::writer_qos(role));
+    if (out == nullptr) return fail(cannot_create("the writer of " + topic->get_name()));
+    return {};
+  };
+  if (auto created = writer(status_writer_, status_topic_, TopicRole::hand_status); !created) {
+    return created;
+  }
+  if (auto created = writer(event_writer_, event_topic_, TopicRole::hand_event); !created) {
+    return created;
+  }
+  if (auto created = writer(info_writer_, info_topic_, TopicRole::service_info); !created) {
+    return created;
+  }
+  return writer(reply_writer_, reply_topic_, TopicRole::reply);
+}
+
+Result<void, std::string> Service::Impl::create_request_reader() {
+  // KEEP_ALL on our side (history is not part of matching): a burst of
+  // requests from many clients is held back by reliable flow control instead of
+  // overwriting requests not yet taken, which would then never be answered.
+  auto request_qos = contract::reader_qos(TopicRole::request);
+  request_qos.history().kind = fdds::KEEP_ALL_HISTORY_QOS;
+  request_reader_ = subscriber_->create_datareader(request_topic_, request_qos, &request_listener_,
+                                                   fdds::StatusMask::data_available());
+  if (request_reader_ == nullptr) {
+    // Without it the service would run and never answer a request.
+    return fail(cannot_create("the reader of " + request_topic_->get_name()));
+  }
+  return {};
+}
+
+Result<void, std::string> Service::Impl::start() {
+  if (started_) return {};
   started_ = true;
   publish_info();
   for (std::size_t i = 0; i < buses_.size(); ++i) {
@@ -384,16 +432,10 @@ void Service::Impl::start() {
   for (auto& bus : buses_) bus->scheduler->start();
   lease_timer_ = std::thread([this] { lease_timer_loop(); });
   // Last: requests are only taken once everything they need runs.
-  // KEEP_ALL on our side (history is not part of matching): a burst of
-  // requests from many clients is held back by reliable flow control instead of
-  // overwriting requests not yet taken, which would then never be answered.
-  auto request_qos = contract::reader_qos(TopicRole::request);
-  request_qos.history().kind = fdds::KEEP_ALL_HISTORY_QOS;
-  request_reader_ = subscriber_->create_datareader(request_topic_, request_qos, &request_listener_,
-                                                   fdds::StatusMask::data_available());
-  if (request_reader_ == nullptr) spdlog::error("cannot create the command request reader");
+  if (auto created = create_request_reader(); !created) return created;
   spdlog::info("service '{}' on DDS domain {}: {} bus(es), admin commands {}", options_.name,
                options_.domain, buses_.size(), options_.allow_admin ? "allowed" : "refused");
+  return {};
 }
 
 void Service::Impl::stop() {
@@ -782,8 +824,8 @@ Result<std::unique_ptr<Service>, std::string> Service::create(ServiceOptions opt
   return std::unique_ptr<Service>(new Service(std::move(impl)));
 }
 
-void Service::start() {
-  impl_->start();
+Result<void, std::string> Service::start() {
+  return impl_->start();
 }
 std::vector<hand::BusMetrics> Service::metrics() const {
   return impl_->metrics();

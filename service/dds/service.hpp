@@ -85,8 +85,11 @@ class Service {
   Service& operator=(const Service&) = delete;
 
   /// Publishes the service info and every configured hand's status, starts the
-  /// buses' loops and begins answering requests.
-  void start();
+  /// buses' loops and begins answering requests. Fails, saying which, if the
+  /// request reader cannot be created (e.g. DDS Security permissions that do
+  /// not allow it): a service that cannot take requests must not run. Then
+  /// stop() (or the destructor) ends what was started.
+  [[nodiscard]] Result<void, std::string> start();
   /// Orderly stop: new requests are answered CANCELLED, the buses stop (their
   /// pending commands end CANCELLED), every hand is published offline, and the
   /// last samples are given shutdown_ack_timeout to be acknowledged. Idempotent.

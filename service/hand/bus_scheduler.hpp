@@ -30,7 +30,7 @@ struct HandConfig {
 
 /// Tuning of one bus. Defaults follow the document (20 ms between commands).
 struct SchedulerOptions {
-  /// Minimum time between two frames to the same hand (design.md reading 9).
+  /// Minimum time between two frames to the same hand (docs/protocol-notes.md reading 9).
   Duration command_interval = std::chrono::milliseconds(20);
   /// Status poll period while a hand moves, and at rest.
   Duration poll_interval_moving = std::chrono::milliseconds(50);

@@ -1,6 +1,6 @@
 #pragma once
-// Checks a command before anything is queued (design.md: out-of-range values
-// never reach the bus). Pure: safe from any thread.
+// Checks a command before anything is queued: out-of-range values never reach
+// the bus (docs/protocol-notes.md reading 12). Pure: safe from any thread.
 
 #include <cstdint>
 #include <optional>

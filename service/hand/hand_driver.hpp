@@ -7,7 +7,7 @@
 // Loop thread only; the scheduler decides when the hand may send and hands it
 // the replies addressed to it.
 //
-// How it reads what the hand says (design.md readings 1-3, 9):
+// How it reads what the hand says (docs/protocol-notes.md readings 1-3, 9):
 // - A reply matches the frame in flight on (hand, function, sub-function); any
 //   other frame is unexpected, except an 0x0802 frame while initializing with
 //   the feedback (0x0801) enabled, which is the unsolicited "initialization

@@ -23,7 +23,7 @@ CommandResult ok(std::int32_t value, GraspOutcome grasp = GraspOutcome::none) {
 bool HandDriver::on_frame(const Message& message, TimePoint now) {
   if (in_flight_ && in_flight_->message.reg == message.reg) {
     // Matched on (hand, function, sub-function); the read/write byte is not
-    // compared (design.md reading 1).
+    // compared (docs/protocol-notes.md reading 1).
     const InFlight sent = *in_flight_;
     in_flight_.reset();
     counters_.observe_round_trip(now - sent.sent);

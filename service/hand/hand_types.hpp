@@ -90,7 +90,7 @@ struct HandState {
   std::int32_t rotation = -1;
   std::int32_t rotation_target = -1;
   RotationState rotation_state = RotationState::unknown;
-  std::int32_t firmware_version = 0;  ///< raw 0x1301 value (design.md reading 7)
+  std::int32_t firmware_version = 0;  ///< raw 0x1301 value (docs/protocol-notes.md reading 7)
   std::optional<CommandError> last_error;
   std::string last_error_message;
   std::uint64_t sequence = 0;  ///< increments on every change

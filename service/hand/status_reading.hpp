@@ -2,7 +2,7 @@
 // How the values of the two status registers (0x0F01 fingers, 0x0F02 rotation)
 // are read against what the driver knows: pure functions, no clock, no I/O.
 //
-// Fingers (design.md reading 2 for where the value sits):
+// Fingers (docs/protocol-notes.md reading 2 for where the value sits):
 // - 3 "caught" ends a closing motion with a catch (grasped); during an opening
 //   motion it is a stale reading from before the command and ignored.
 // - 0 or 2 while holding a catch with no finger command since is a drop; after

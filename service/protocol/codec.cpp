@@ -24,7 +24,7 @@ void write_payload(const Message& message, std::span<std::uint8_t, kPayloadSize>
   out[kSubFunctionOffset] = message.reg.sub_function;
   out[kAccessOffset] = static_cast<std::uint8_t>(message.access);
   out[kReserveOffset] = message.reserve;
-  // Two's complement, little endian, all 32 bits (design.md reading 8).
+  // Two's complement, little endian, all 32 bits (docs/protocol-notes.md reading 8).
   const auto bits = static_cast<std::uint32_t>(message.data);
   for (std::size_t i = 0; i < 4; ++i) {
     out[kDataOffset + i] = static_cast<std::uint8_t>((bits >> (8 * i)) & 0xFFU);

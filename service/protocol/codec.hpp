@@ -22,7 +22,7 @@ struct Message {
   std::uint8_t hand_id = 0;
   Register reg{};
   Access access = Access::read;
-  std::uint8_t reserve = 0;  ///< always 0 in what we send; see design.md reading 2
+  std::uint8_t reserve = 0;  ///< always 0 in what we send; see docs/protocol-notes.md reading 2
   std::int32_t data = 0;     ///< signed 32-bit, little endian on the wire
 
   friend constexpr bool operator==(const Message&, const Message&) = default;
@@ -61,7 +61,7 @@ enum class DecodeError : std::uint8_t {
   return Message{hand_id, r, Access::write, 0, value};
 }
 
-/// The value a status reply carries, per design.md reading 2: the data field,
+/// The value a status reply carries, per docs/protocol-notes.md reading 2: the data field,
 /// or, when the data field is zero and the reserve byte is not, the reserve byte
 /// (the document's own "arrived"/"caught" examples).
 [[nodiscard]] std::int32_t status_value(const Message& reply);

@@ -1,7 +1,7 @@
 #pragma once
 // The DH-3 register map (spec: "Command overview") and the value range the
 // document allows for each writable register. Out-of-range values are rejected,
-// never clamped (design.md: "Out-of-range values never reach the bus").
+// never clamped (docs/protocol-notes.md reading 12).
 
 #include <cstdint>
 #include <optional>
@@ -11,7 +11,7 @@
 namespace dh3::protocol {
 
 /// A register is a (function, sub-function) pair; `code()` is the 16-bit form
-/// the document and design.md use, e.g. 0x0602 for position.
+/// the document and docs/protocol-notes.md use, e.g. 0x0602 for position.
 struct Register {
   std::uint8_t function = 0;
   std::uint8_t sub_function = 0;

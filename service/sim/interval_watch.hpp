@@ -6,7 +6,7 @@
 // Per hand: a frame to a hand that comes sooner than the minimum after the
 // previous frame to the same hand is a violation, logged (one warning each) and
 // counted. A frame to ID 0 reaches every hand on the line (each hand's
-// controller accepts its own ID and 0, design.md reading 10), so it counts for
+// controller accepts its own ID and 0, docs/protocol-notes.md reading 10), so it counts for
 // every hand present. Frames to IDs without a hand count for nobody.
 //
 // Times are durations since an epoch the caller keeps fixed: the kernel's

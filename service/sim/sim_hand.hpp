@@ -11,7 +11,7 @@
 // - Reads return the register's value in the data field. Position and rotation
 //   read the fingers' current place, rounded to whole percent, also while moving.
 //   Status reads (0x0F01, 0x0F02) put the status in the data field, never in the
-//   reserve byte (design.md reading 2).
+//   reserve byte (docs/protocol-notes.md reading 2).
 // - Writes that are applied are echoed byte for byte.
 // - Writes that cannot be applied are answered, not ignored, with the value the
 //   register keeps: an out-of-range value (force outside 20-100, position or
@@ -50,7 +50,7 @@
 //   take effect only after reboot(): until then the hand keeps answering on its
 //   old ID. A read returns the stored value. The baud rate has no effect on the
 //   simulated line.
-// - ID 0 addresses any hand, but only for the CAN ID register (design.md
+// - ID 0 addresses any hand, but only for the CAN ID register (docs/protocol-notes.md
 //   reading 10); the reply carries ID 0, as in the document.
 // - Registers the document does not list get no reply (the hand does not
 //   understand them).

@@ -497,7 +497,10 @@ std::optional<Overhead> service_overhead(int domain, int count, Command command)
     std::fprintf(stderr, "%s\n", service.error().c_str());
     return std::nullopt;
   }
-  (*service)->start();
+  if (auto started = (*service)->start(); !started) {
+    std::fprintf(stderr, "%s\n", started.error().c_str());
+    return std::nullopt;
+  }
   test::Process client(
       bench::self_path(),
       {"--role", "client", "--domain", std::to_string(domain), "--service", options.name, "--count",

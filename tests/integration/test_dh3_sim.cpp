@@ -1,11 +1,11 @@
 // The real dh3-sim process, driven as a transfer box by a client written from
 // the protocol document alone: raw TCP, raw bytes, no project codec. Every
-// example frame of spec/dh3-protocol.md is sent with the hand in the state the
+// example frame of docs/dh3-protocol.md is sent with the hand in the state the
 // example describes, and the document's reply is expected byte for byte.
 //
 // Feedback (0x0F) examples: the document prints "arrived" and "caught" with the
 // status in the reserve byte (`0F 01 00 02 00 00 00 00`), one place before the
-// data field where every other example carries its value. design.md reading 2
+// data field where every other example carries its value. docs/protocol-notes.md reading 2
 // takes the data field as the status (the vendor's driver requires reserve 0
 // and reads the data field, which only works if hands send it there), so the
 // sim answers `0F 01 00 00 02 00 00 00`; these tests expect that form.

@@ -47,7 +47,7 @@ class TransferBoxVsSim : public ::testing::Test {
   }
 
   /// Sends `request` and returns the reply with the same (hand, register), per
-  /// design.md reading 1; nullopt if none came within 10 s. Other frames
+  /// docs/protocol-notes.md reading 1; nullopt if none came within 10 s. Other frames
   /// received meanwhile are kept in `others_`.
   std::optional<Message> transact(const Message& request) {
     if (!bus_->send(test::to_can_frame(request)).ok()) return std::nullopt;

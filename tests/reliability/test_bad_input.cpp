@@ -33,7 +33,7 @@ using ::testing::Eq;
 using ::testing::StartsWith;
 
 // ---------------------------------------------------------------------------
-// The protocol document's registers (docs: /work/shared/spec/dh3-protocol.md),
+// The protocol document's registers (docs/dh3-protocol.md),
 // written out here rather than taken from the service's codec.
 
 struct SpecRegister {

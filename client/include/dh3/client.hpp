@@ -1,7 +1,9 @@
 #pragma once
 // libdh3client: find DH-3 hands on a DDS domain and drive them.
 //
-//   dh3::Client client({.domain = 0});
+//   dh3::ClientOptions options;             // C++17: no designated initializers
+//   options.domain = 0;
+//   dh3::Client client(options);
 //   auto hand = client.wait_for_hand("cell/bus0/1", std::chrono::seconds(5));
 //   if (!hand) { std::cerr << hand.message() << "\n"; return 1; }
 //   if (auto r = hand->initialize(); !r) std::cerr << dh3::to_string(r.code) << ": " << r.message;

@@ -9,6 +9,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "service_fixture.hpp"
 
@@ -59,6 +60,63 @@ TEST(ServiceDeployment, CredentialsFastDdsRefusesEndStartUp) {
   EXPECT_THAT(output, HasSubstr("DDS Security did not accept the credentials of identity "
                                 "'service' in '" +
                                 pki.path() + "'"));
+}
+
+/// A test PKI (deploy/security/make-test-pki.sh) in a temporary directory,
+/// whose service identity may publish what the service publishes but not
+/// subscribe to command requests: its permissions are rewritten and signed
+/// again by the test PKI's permissions CA, as an administrator might get them
+/// wrong.
+class PkiWithoutRequestPermission {
+ public:
+  PkiWithoutRequestPermission() {
+    char pattern[] = "/tmp/dh3-pki-XXXXXX";
+    if (::mkdtemp(pattern) == nullptr) return;
+    dir_ = pattern;
+    const std::string script = std::string(DH3_SOURCE_DIR) + "/deploy/security/make-test-pki.sh";
+    if (!succeeded(script + " " + dir_.string())) return;
+    const auto permissions = dir_ / "service" / "permissions.xml";
+    std::stringstream text;
+    text << std::ifstream(permissions).rdbuf();
+    std::string xml = text.str();
+    const std::string granted = "<subscribe><topics><topic>dh3/command_request</topic>";
+    const auto at = xml.find(granted);
+    if (at == std::string::npos) return;
+    xml.replace(at, granted.size(), "<subscribe><topics><topic>dh3/not_the_requests</topic>");
+    std::ofstream(permissions) << xml;
+    made_ = succeeded("openssl smime -sign -text -in " + permissions.string() + " -out " +
+                      (dir_ / "service" / "permissions.p7s").string() + " -signer " +
+                      (dir_ / "permissions_ca.pem").string() + " -inkey " +
+                      (dir_ / "ca" / "permissions_ca.key.pem").string());
+  }
+  ~PkiWithoutRequestPermission() {
+    if (!dir_.empty()) std::filesystem::remove_all(dir_);
+  }
+  PkiWithoutRequestPermission(const PkiWithoutRequestPermission&) = delete;
+  PkiWithoutRequestPermission& operator=(const PkiWithoutRequestPermission&) = delete;
+  [[nodiscard]] bool made() const { return made_; }
+  [[nodiscard]] std::string path() const { return dir_.string(); }
+
+ private:
+  static bool succeeded(const std::string& command) {
+    Process shell("/bin/sh", {"-c", command + " >/dev/null 2>&1"}, Process::Stdin::dev_null);
+    const auto status = shell.wait_exit(std::chrono::seconds(120));
+    return status && WIFEXITED(*status) && WEXITSTATUS(*status) == 0;
+  }
+
+  std::filesystem::path dir_;
+  bool made_ = false;
+};
+
+// A request reader the service cannot create would leave it running without
+// ever answering: start-up ends instead, saying which entity and why.
+TEST(ServiceDeployment, PermissionsWithoutTheRequestTopicEndStartUp) {
+  const PkiWithoutRequestPermission pki;
+  if (!pki.made()) GTEST_SKIP() << "cannot make a test PKI here (openssl?)";
+  const auto [code, output] = run_to_exit("--bus sim:1 --security-dir " + pki.path());
+  EXPECT_EQ(code, 1) << output;
+  EXPECT_THAT(output, HasSubstr("cannot create the reader of dh3/command_request"));
+  EXPECT_THAT(output, HasSubstr("permissions of identity 'service' in '" + pki.path() + "'"));
 }
 
 TEST(ServiceDeployment, MissingCredentialsAreAConfigError) {

@@ -1,4 +1,4 @@
-// Codec tests: every byte example of spec/dh3-protocol.md, both directions,
+// Codec tests: every byte example of docs/dh3-protocol.md, both directions,
 // plus randomized round trips and the decoder's rejections.
 
 #include <gtest/gtest.h>
@@ -114,7 +114,7 @@ const SpecExample kSpecExamples[] = {
      msg(0, reg::kCanId, W, 0, 2)},
     {"ReadCanIdSend", "FF FE FD FC 02 12 01 00 00 00 00 00 00 FB", msg(2, reg::kCanId, R, 0, 0)},
     {"ReadCanIdReceive", "FF FE FD FC 02 12 01 00 00 02 00 00 00 FB", msg(2, reg::kCanId, R, 0, 2)},
-    // The document's "read" with ID 0 carries the write flag (design.md reading 1):
+    // The document's "read" with ID 0 carries the write flag (docs/protocol-notes.md reading 1):
     // it decodes faithfully as a write; matching replies ignores that byte.
     {"ReadCanIdWithId0Send", "FF FE FD FC 00 12 01 01 00 00 00 00 00 FB",
      msg(0, reg::kCanId, W, 0, 0)},

@@ -154,7 +154,7 @@ TEST(CanServer, AnswersTheDocumentsExamplesByteForByte) {
     std::this_thread::sleep_for(10ms);  // command pacing, not a wait for time
     status = exchange(pair.bus, 1, "0F 01 00 00 00 00 00 00");
   }
-  EXPECT_EQ(status, "1: 0F 01 00 00 02 00 00 00") << "arrived, data-field form (design.md 2)";
+  EXPECT_EQ(status, "1: 0F 01 00 00 02 00 00 00") << "arrived, data-field form (docs/protocol-notes.md reading 2)";
   EXPECT_EQ(exchange(pair.bus, 1, "06 02 00 00 00 00 00 00"), "1: 06 02 00 00 3C 00 00 00");
   // Set the CAN ID to 2 with ID 0: the reply carries ID 0.
   EXPECT_EQ(exchange(pair.bus, 0, "12 01 01 00 02 00 00 00"), "0: 12 01 01 00 02 00 00 00");
