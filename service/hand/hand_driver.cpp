@@ -132,65 +132,7 @@ void HandDriver::set_init(InitState init) {
 bool HandDriver::moving() const {
   // Status 0 also means "default" (after power-on or initialization), so only
   // motions we commanded, or a drop in progress, count as moving.
-<<<<<<< HEAD
   return finger_motion_ || rotation_motion_ || motion_waiter_.has_value();
-=======
-  return finger_motion_active_ || rotation_motion_active_ || motion_waiter_.has_value();
-}
-
-void HandDriver::finger_motion_sent(std::int32_t target, bool gripping) {
-  if (active_) active_->motion_sent = true;
-  // A grasp or release waiting for the previous motion to end is superseded.
-  finish_waiter(motion_waiter_, fail(CommandError::cancelled));
-  ++finger_epoch_;
-  finger_motion_active_ = true;
-  finger_motion_gripping_ = gripping;
-  finger_motion_closing_ = state_.position < 0 || target < state_.position;
-  finger_command_since_caught_ = true;
-  state_.target_position = target;
-  state_.grip = GripState::moving;
-  // A motion started while idle: poll soon, not at the idle period.
-  next_poll_round_at_ = std::min(next_poll_round_at_, next_send_at_);
-}
-
-void HandDriver::rotation_motion_sent(std::int32_t target) {
-  if (active_) active_->motion_sent = true;
-  rotation_motion_active_ = true;
-  state_.rotation_target = target;
-  state_.rotation_state = RotationState::moving;
-  next_poll_round_at_ = std::min(next_poll_round_at_, next_send_at_);
-}
-
-// ---------------------------------------------------------------------------
-// Receiving
-
-bool HandDriver::on_frame(const Message& message, TimePoint now) {
-  if (in_flight_ && in_flight_->message.reg == message.reg) {
-    // Matched on (hand, function, sub-function); the read/write byte is not
-    // compared (docs/protocol-notes.md reading 1).
-    const InFlight sent = *in_flight_;
-    in_flight_.reset();
-    counters_.observe_round_trip(now - sent.sent);
-    on_answer(now);
-    on_reply(sent, message, now);
-    flush(now);
-    return true;
-  }
-  if (message.reg == reg::kInitialize && initializing_) {
-    // The unsolicited "initialization finished" frame (reading 3): confirm it.
-    on_answer(now);
-    init_check_now_ = true;
-    flush(now);
-    return true;
-  }
-  return false;
-}
-
-void HandDriver::on_discovered(const Message& reply, TimePoint now) {
-  on_answer(now);
-  apply_read(reply.reg, reply, now);
-  flush(now);
->>>>>>> contract
 }
 
 void HandDriver::on_answer(TimePoint now) {
