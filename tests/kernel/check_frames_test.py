@@ -9,7 +9,7 @@ import tempfile
 
 here = pathlib.Path(__file__).resolve().parent
 checker = here / "check_frames.py"
-spec = here.parent.parent / "docs" / "dh3-protocol.md"
+spec = here.parent.parent / "docs/dh3-protocol.md"
 
 
 def spec_frames():
