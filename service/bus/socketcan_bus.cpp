@@ -276,14 +276,13 @@ void SocketCanBus::handle_error_frame(std::uint32_t can_id, const std::uint8_t* 
     const auto kind = static_cast<ErrorFrameKind>(i);
     const std::uint64_t total = error_kinds_[i].fetch_add(1, std::memory_order_relaxed) + 1;
     if (kind == ErrorFrameKind::bus_off || kind == ErrorFrameKind::restarted) continue;
-    if (logged_count_[i] != 0 && now - last_logged_[i] < kErrorLogInterval) continue;
+    if (last_logged_[i] && now - *last_logged_[i] < kErrorLogInterval) continue;
     const auto level = (kind == ErrorFrameKind::error_active) ? spdlog::level::info
                                                                : spdlog::level::warn;
     spdlog::log(level, "{}: CAN error frame: {} ({} so far; controller status 0x{:02X}, "
                 "protocol 0x{:02X}/0x{:02X}, tx/rx error counters {}/{})",
                 spec_, to_string(kind), total, data[1], data[2], data[3], data[6], data[7]);
     last_logged_[i] = now;
-    logged_count_[i] = total;
   }
   if (kinds.test(index_of(ErrorFrameKind::bus_off)) && !bus_off_.exchange(true)) {
     spdlog::warn("{}: CAN controller is bus-off; nothing can be sent until it restarts "

@@ -28,6 +28,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -124,8 +125,7 @@ class SocketCanBus final : public Bus {
   /// The socket's SO_RXQ_OVFL figure when last seen (it counts per socket).
   std::uint32_t kernel_drops_seen_ = 0;
   /// When each kind was last logged, so a babbling bus cannot flood the log.
-  std::array<TimePoint, kErrorFrameKinds> last_logged_{};
-  std::array<std::uint64_t, kErrorFrameKinds> logged_count_{};
+  std::array<std::optional<TimePoint>, kErrorFrameKinds> last_logged_{};
   // Read by diagnostics() from any thread.
   std::atomic<bool> bus_off_{false};
   std::array<std::atomic<std::uint64_t>, kErrorFrameKinds> error_kinds_{};
