@@ -8,6 +8,7 @@
 #include <prometheus/text_serializer.h>
 
 #include <charconv>
+#include <initializer_list>
 #include <exception>
 #include <limits>
 
@@ -60,49 +61,64 @@ void add_histogram(MetricFamily& family, std::vector<ClientMetric::Label> labels
   out.sample_sum = histogram.sum_seconds;
 }
 
-std::vector<MetricFamily> families(const std::vector<hand::BusMetrics>& buses) {
-  auto commands =
+/// Moves the families that have samples into `out`.
+void take_filled(std::initializer_list<MetricFamily*> families, std::vector<MetricFamily>& out) {
+  for (MetricFamily* f : families) {
+    if (!f->metric.empty()) out.push_back(std::move(*f));
+  }
+}
+
+/// The per-hand series.
+struct HandFamilies {
+  MetricFamily commands =
       family("dh3_hand_commands_total", "Commands that reached the hand layer, by type and result",
              MetricType::Counter);
-  auto timeouts =
+  MetricFamily timeouts =
       family("dh3_hand_timeouts_total", "Frames to the hand not answered within their deadline",
              MetricType::Counter);
-  auto retries =
+  MetricFamily retries =
       family("dh3_hand_retries_total", "Frames re-sent after a timeout", MetricType::Counter);
-  auto round_trip =
+  MetricFamily round_trip =
       family("dh3_hand_round_trip_seconds",
              "Time from a frame sent to the hand to its matching reply", MetricType::Histogram);
-  auto online =
+  MetricFamily online =
       family("dh3_hand_online", "1 while the hand answers, 0 otherwise", MetricType::Gauge);
-  auto sent = family("dh3_bus_frames_sent_total", "CAN frames sent", MetricType::Counter);
-  auto received =
-      family("dh3_bus_frames_received_total", "CAN frames received", MetricType::Counter);
-  auto errors = family("dh3_bus_errors_total",
-                       "Frames nobody waited for (kind=unexpected_frame) and sends or receives "
-                       "the bus refused on a live link (kind=bus_error)",
-                       MetricType::Counter);
-  auto reconnects =
-      family("dh3_bus_reconnects_total", "Link down to up transitions", MetricType::Counter);
-  auto link_up = family("dh3_bus_link_up", "1 while the link is up", MetricType::Gauge);
-  auto load = family("dh3_bus_load_percent",
-                     "Frames sent and received over the last 5 s, at 111 bits each (no stuff "
-                     "bits), in percent of the bus's bit rate",
-                     MetricType::Gauge);
-  auto error_frames = family("dh3_bus_error_frames_total",
-                             "Error frames the CAN controller reported, by kind",
-                             MetricType::Counter);
-  auto bus_off =
-      family("dh3_bus_off", "1 while the CAN controller is bus-off (the link is down)",
-             MetricType::Gauge);
-  auto overflow = family("dh3_bus_rx_overflow_drops_total",
-                         "Frames the kernel dropped because the receive queue was full",
-                         MetricType::Counter);
-  auto ignored = family("dh3_bus_frames_ignored_total",
-                        "Frames no DH-3 hand sends that reached the service (the kernel filter "
-                        "keeps most of them out unseen)",
-                        MetricType::Counter);
 
-  for (const hand::BusMetrics& bus : buses) {
+  void add(const std::string& bus, const hand::HandMetrics& h) {
+    for (const hand::CommandTally& tally : h.commands) {
+      auto labels = hand_labels(bus, h);
+      labels.push_back({"type", std::string(command_type_name(tally.kind, tally.reg))});
+      labels.push_back({"result", std::string(result_name(tally.error))});
+      add_counter(commands, std::move(labels), tally.count);
+    }
+    add_counter(timeouts, hand_labels(bus, h), h.timeouts);
+    add_counter(retries, hand_labels(bus, h), h.retries);
+    add_histogram(round_trip, hand_labels(bus, h), h.round_trip);
+    if (h.online) add_gauge(online, hand_labels(bus, h), *h.online ? 1.0 : 0.0);
+  }
+  void take(std::vector<MetricFamily>& out) {
+    take_filled({&commands, &timeouts, &retries, &round_trip, &online}, out);
+  }
+};
+
+/// The per-bus series every backend has.
+struct BusFamilies {
+  MetricFamily sent = family("dh3_bus_frames_sent_total", "CAN frames sent", MetricType::Counter);
+  MetricFamily received =
+      family("dh3_bus_frames_received_total", "CAN frames received", MetricType::Counter);
+  MetricFamily errors = family("dh3_bus_errors_total",
+                               "Frames nobody waited for (kind=unexpected_frame) and sends or "
+                               "receives the bus refused on a live link (kind=bus_error)",
+                               MetricType::Counter);
+  MetricFamily reconnects =
+      family("dh3_bus_reconnects_total", "Link down to up transitions", MetricType::Counter);
+  MetricFamily link_up = family("dh3_bus_link_up", "1 while the link is up", MetricType::Gauge);
+  MetricFamily load = family("dh3_bus_load_percent",
+                             "Frames sent and received over the last 5 s, at 111 bits each (no "
+                             "stuff bits), in percent of the bus's bit rate",
+                             MetricType::Gauge);
+
+  void add(const hand::BusMetrics& bus) {
     const std::vector<ClientMetric::Label> bus_label{{"bus", bus.bus}};
     add_counter(sent, bus_label, bus.counters.frames_sent);
     add_counter(received, bus_label, bus.counters.frames_received);
@@ -112,36 +128,57 @@ std::vector<MetricFamily> families(const std::vector<hand::BusMetrics>& buses) {
     add_counter(reconnects, bus_label, bus.counters.reconnects);
     add_gauge(link_up, bus_label, bus.link_up ? 1.0 : 0.0);
     if (bus.line_load_percent) add_gauge(load, bus_label, *bus.line_load_percent);
-    if (const bus::BusDiagnostics& seen = bus.diagnostics; seen.sees_controller) {
-      for (std::size_t i = 0; i < bus::kErrorFrameKinds; ++i) {
-        const auto kind = static_cast<bus::ErrorFrameKind>(i);
-        add_counter(error_frames, {{"bus", bus.bus}, {"kind", std::string(to_string(kind))}},
-                    seen.error_frames[i]);
-      }
-      add_gauge(bus_off, bus_label, seen.bus_off ? 1.0 : 0.0);
-      add_counter(overflow, bus_label, seen.rx_overflow_drops);
-      add_counter(ignored, bus_label, seen.frames_ignored);
-    }
+  }
+  void take(std::vector<MetricFamily>& out) {
+    take_filled({&sent, &received, &errors, &reconnects, &link_up, &load}, out);
+  }
+};
 
-    for (const hand::HandMetrics& h : bus.hands) {
-      for (const hand::CommandTally& tally : h.commands) {
-        auto labels = hand_labels(bus.bus, h);
-        labels.push_back({"type", std::string(command_type_name(tally.kind, tally.reg))});
-        labels.push_back({"result", std::string(result_name(tally.error))});
-        add_counter(commands, std::move(labels), tally.count);
-      }
-      add_counter(timeouts, hand_labels(bus.bus, h), h.timeouts);
-      add_counter(retries, hand_labels(bus.bus, h), h.retries);
-      add_histogram(round_trip, hand_labels(bus.bus, h), h.round_trip);
-      if (h.online) add_gauge(online, hand_labels(bus.bus, h), *h.online ? 1.0 : 0.0);
+/// What only a backend on a CAN controller (SocketCAN) sees.
+struct ControllerFamilies {
+  MetricFamily error_frames = family("dh3_bus_error_frames_total",
+                                     "Error frames the CAN controller reported, by kind",
+                                     MetricType::Counter);
+  MetricFamily bus_off = family(
+      "dh3_bus_off", "1 while the CAN controller is bus-off (the link is down)", MetricType::Gauge);
+  MetricFamily overflow = family("dh3_bus_rx_overflow_drops_total",
+                                 "Frames the kernel dropped because the receive queue was full",
+                                 MetricType::Counter);
+  MetricFamily ignored = family("dh3_bus_frames_ignored_total",
+                                "Frames no DH-3 hand sends that reached the service (the kernel "
+                                "filter keeps most of them out unseen)",
+                                MetricType::Counter);
+
+  void add(const std::string& bus, const bus::BusDiagnostics& seen) {
+    if (!seen.sees_controller) return;
+    const std::vector<ClientMetric::Label> bus_label{{"bus", bus}};
+    for (std::size_t i = 0; i < bus::kErrorFrameKinds; ++i) {
+      const auto kind = static_cast<bus::ErrorFrameKind>(i);
+      add_counter(error_frames, {{"bus", bus}, {"kind", std::string(to_string(kind))}},
+                  seen.error_frames[i]);
     }
+    add_gauge(bus_off, bus_label, seen.bus_off ? 1.0 : 0.0);
+    add_counter(overflow, bus_label, seen.rx_overflow_drops);
+    add_counter(ignored, bus_label, seen.frames_ignored);
+  }
+  void take(std::vector<MetricFamily>& out) {
+    take_filled({&error_frames, &bus_off, &overflow, &ignored}, out);
+  }
+};
+
+std::vector<MetricFamily> families(const std::vector<hand::BusMetrics>& buses) {
+  HandFamilies hands;
+  BusFamilies bus_families;
+  ControllerFamilies controllers;
+  for (const hand::BusMetrics& bus : buses) {
+    bus_families.add(bus);
+    controllers.add(bus.bus, bus.diagnostics);
+    for (const hand::HandMetrics& h : bus.hands) hands.add(bus.bus, h);
   }
   std::vector<MetricFamily> out;
-  for (MetricFamily* f : {&commands, &timeouts, &retries, &round_trip, &online, &sent, &received,
-                          &errors, &reconnects, &link_up, &load, &error_frames, &bus_off,
-                          &overflow, &ignored}) {
-    if (!f->metric.empty()) out.push_back(std::move(*f));
-  }
+  hands.take(out);
+  bus_families.take(out);
+  controllers.take(out);
   return out;
 }
 
