@@ -145,14 +145,7 @@ int main(int argc, char** argv) {
 
   dh3::dds::ServiceOptions options;
   options.name = config->name;
-  options.participant.domain = config->domain;
-  options.participant.interfaces = config->interfaces;
-  options.participant.udp_only = config->udp_only;
-  options.participant.discovery_servers = config->discovery_servers;
-  options.participant.xml_profile_file = config->xml_profile_file;
-  options.participant.xml_profile = config->xml_profile;
-  options.participant.security_dir = config->security_dir;
-  options.participant.security_identity = config->security_identity;
+  options.participant = config->participant;
   options.allow_admin = config->allow_admin;
   options.version = DH3_VERSION;
   options.host = host_name();
