@@ -2,8 +2,11 @@
  * idl/dh3.idl by Cyclone's own IDL compiler, as the README's contract section
  * tells other vendors to: it waits for a hand's status, asks the service for
  * the hand's firmware version (READ_REGISTER 0x1301) and waits for the reply.
+ * With "lease" it instead takes the hand's control lease under its
+ * participant's GUID prefix as client_id, as dh3's own clients do, and leaves
+ * the domain once it holds it.
  *
- *   cyclone_client DOMAIN SERVICE CAN_ID SECONDS
+ *   cyclone_client DOMAIN SERVICE CAN_ID SECONDS [lease]
  *
  * Prints what it saw; exit 0 when the reply is OK, 2 no status, 3 the request
  * writer never matched the service, 4 no reply, 5 a reply other than OK. */
@@ -15,7 +18,8 @@
 #include "dh3.h"
 
 #define MAX_SAMPLES 16
-#define CLIENT_ID "cyclone-client"
+
+static char client_id[32] = "cyclone-client";
 
 static dds_time_t deadline;
 
@@ -62,7 +66,7 @@ static int reply_code(dds_entity_t reader, uint64_t seq) {
   for (dds_return_t i = 0; i < n; ++i) {
     const dh3_msg_CommandReply* reply = samples[i];
     if (!infos[i].valid_data) continue;
-    if (strcmp(reply->client_id, CLIENT_ID) != 0 || reply->request_seq != seq) continue;
+    if (strcmp(reply->client_id, client_id) != 0 || reply->request_seq != seq) continue;
     printf("reply code %d value %d message '%s'\n", (int)reply->code, (int)reply->value,
            reply->message);
     code = 1 + (int)reply->code;
@@ -72,10 +76,11 @@ static int reply_code(dds_entity_t reader, uint64_t seq) {
 }
 
 int main(int argc, char** argv) {
-  if (argc != 5) {
-    fprintf(stderr, "usage: cyclone_client DOMAIN SERVICE CAN_ID SECONDS\n");
+  if (argc != 5 && !(argc == 6 && strcmp(argv[5], "lease") == 0)) {
+    fprintf(stderr, "usage: cyclone_client DOMAIN SERVICE CAN_ID SECONDS [lease]\n");
     return 1;
   }
+  const int lease = argc == 6;
   const dds_domainid_t domain = (dds_domainid_t)atoi(argv[1]);
   const char* service = argv[2];
   const uint16_t can_id = (uint16_t)atoi(argv[3]);
@@ -85,6 +90,13 @@ int main(int argc, char** argv) {
   if (participant < 0) {
     fprintf(stderr, "cannot create a participant: %s\n", dds_strretcode(-participant));
     return 1;
+  }
+  if (lease) {
+    /* The GUID prefix (its first 12 bytes) as 24 lowercase hex digits. */
+    dds_guid_t guid;
+    if (dds_get_guid(participant, &guid) < 0) return 1;
+    for (int i = 0; i < 12; ++i) snprintf(client_id + 2 * i, 3, "%02x", guid.v[i]);
+    printf("client_id %s\n", client_id);
   }
   dds_entity_t status = reader_for(participant, &dh3_msg_HandStatus_desc, dh3_topics_HAND_STATUS,
                                    1, 1);
@@ -119,13 +131,18 @@ int main(int argc, char** argv) {
 
   dh3_msg_CommandRequest request;
   memset(&request, 0, sizeof request);
-  request.client_id = CLIENT_ID;
+  request.client_id = client_id;
   request.request_seq = 1;
   request.hand.service = (char*)service;
   request.hand.bus = "bus0";
   request.hand.can_id = can_id;
-  request.command = dh3_msg_READ_REGISTER;
-  request.register_code = 0x1301;
+  if (lease) {
+    request.command = dh3_msg_ACQUIRE_LEASE;
+    request.value = 600000; /* ms: longer than any test, so only leaving can end it */
+  } else {
+    request.command = dh3_msg_READ_REGISTER;
+    request.register_code = 0x1301;
+  }
   if (dds_write(requests, &request) < 0) goto done;
 
   result = 4;
