@@ -20,6 +20,7 @@ build_pkgs=(
   prometheus-cpp-dev
   libgtest-dev libgmock-dev
   clang libclang-rt-14-dev   # libFuzzer targets (tests/fuzz)
+  cyclonedds-dev cyclonedds-tools   # another DDS vendor's participant against dh3-service (tests/integration/vendor)
   iproute2 iputils-ping procps python3 python3-yaml openssl systemd
   # tests/kernel: a real Linux kernel with CAN, vcan and vxcan as a process
   # (the build machines' kernel has no CAN), insmod, and candump/cangen.

@@ -17,12 +17,9 @@
 #include <fastdds/dds/topic/TypeSupport.hpp>
 
 #include "conversions.hpp"
-#include "dh3_discovery.hpp"
 #include "dh3_idl/dh3PubSubTypes.h"
-#include "dh3_participant.hpp"
+#include "dh3_participant_setup.hpp"
 #include "dh3_qos.hpp"
-#include "dh3_security.hpp"
-#include "dh3_type_support.hpp"
 
 namespace dh3::detail {
 
@@ -199,18 +196,14 @@ struct ClientCore::Dds {
   explicit Dds(ClientCore& core)
       : participant_listener(core), request_listener(core), reader_listener(core) {}
 
-  ~Dds() {
-    if (participant == nullptr) return;
-    participant->delete_contained_entities();
-    fdds::DomainParticipantFactory::get_instance()->delete_participant(participant);
-  }
   Dds(const Dds&) = delete;
   Dds& operator=(const Dds&) = delete;
 
   ParticipantListener participant_listener;
   RequestWriterListener request_listener;
   ReaderListener reader_listener;
-  fdds::DomainParticipant* participant = nullptr;
+  /// After the listeners: deleted (with every reader and writer) before them.
+  std::unique_ptr<contract::Participant> participant;
   fdds::DataWriter* request_writer = nullptr;
   fdds::DataReader* reply_reader = nullptr;
   fdds::DataReader* status_reader = nullptr;
@@ -218,111 +211,33 @@ struct ClientCore::Dds {
   fdds::DataReader* info_reader = nullptr;
 };
 
-namespace {
-bool has_property(const fdds::DomainParticipantQos& qos, const std::string& name) {
-  const auto& properties = qos.properties().properties();
-  return std::any_of(properties.begin(), properties.end(),
-                     [&](const auto& property) { return property.name() == name; });
-}
-}  // namespace
-
 bool ClientCore::set_up_dds(std::string& error, const Refusals& simulated) {
-  if (options_.domain < 0 || options_.domain > 232) {
-    error = "DDS domain id " + std::to_string(options_.domain) + " is out of range (0-232)";
+  contract::ParticipantOptions participant_options;
+  participant_options.name = options_.participant_name;
+  participant_options.domain = options_.domain;
+  participant_options.interfaces = options_.interfaces;
+  participant_options.udp_only = options_.udp_only;
+  participant_options.discovery_servers = options_.discovery_servers;
+  participant_options.xml_profile_file = options_.xml_profile_file;
+  participant_options.xml_profile = options_.xml_profile;
+  participant_options.security_dir = options_.security_dir;
+  participant_options.security_identity = options_.security_identity;
+  dds_->participant =
+      std::make_unique<contract::Participant>(participant_options, &dds_->participant_listener);
+  if (!dds_->participant->ok()) {
+    error = dds_->participant->error();
     return false;
-  }
-  auto* factory = fdds::DomainParticipantFactory::get_instance();
-  fdds::DomainParticipantQos qos;
-  if (!options_.xml_profile_file.empty()) {
-    if (factory->load_XML_profiles_file(options_.xml_profile_file) != ReturnCode_t::RETCODE_OK) {
-      error = "cannot load the Fast DDS XML profiles file '" + options_.xml_profile_file + "'";
-      return false;
-    }
-    if (options_.xml_profile.empty()) {
-      qos = factory->get_default_participant_qos();
-    } else if (factory->get_participant_qos_from_profile(options_.xml_profile, qos) !=
-               ReturnCode_t::RETCODE_OK) {
-      error = "no participant profile '" + options_.xml_profile + "' in '" +
-              options_.xml_profile_file + "'";
-      return false;
-    }
-    if (qos.name().to_string().empty()) qos.name(options_.participant_name);
-  } else if (!options_.xml_profile.empty()) {
-    error = "an XML profile name needs the XML profiles file that defines it";
-    return false;
-  } else {
-    contract::TransportOptions transport;
-    transport.interfaces = options_.interfaces;
-    transport.udp_only = options_.udp_only;
-    qos = contract::participant_qos(options_.participant_name, transport);
-  }
-  // Discovery servers: the configured ones; without, ROS_DISCOVERY_SERVER's
-  // (as dh3-service does), unless an XML profile decides the participant.
-  const auto servers = options_.xml_profile_file.empty()
-                           ? contract::choose_discovery_servers(options_.discovery_servers)
-                           : contract::discovery_servers_from_entries(options_.discovery_servers);
-  if (!servers.ok()) {
-    error = servers.error;
-    return false;
-  }
-  if (!contract::use_discovery_servers(qos, servers.servers)) {
-    error = "cannot use the discovery servers given";
-    return false;
-  }
-  if (!options_.security_dir.empty()) {
-    if (has_property(qos, "dds.sec.auth.plugin")) {
-      error =
-          "the XML profile already enables DDS Security; give either it or a security "
-          "directory, not both";
-      return false;
-    }
-    if (options_.security_identity.empty()) {
-      error = "DDS Security: no identity given for the security directory";
-      return false;
-    }
-    const auto files =
-        contract::security_files_in(options_.security_dir, options_.security_identity);
-    if (auto bad = contract::check_security_files(files); !bad.empty()) {
-      error = bad + " (identity '" + options_.security_identity + "' in '" + options_.security_dir +
-              "')";
-      return false;
-    }
-    contract::enable_security(qos, files);
   }
   // With access control, a writer or reader the permissions do not grant
   // fails to be created: for the command endpoints that makes a read-only
   // client, not a failure.
-  const bool access_control = has_property(qos, "dds.sec.access.plugin") ||
-                              simulated.request_writer || simulated.reply_reader ||
-                              simulated.info_reader;
+  const bool access_control = dds_->participant->access_control() || simulated.request_writer ||
+                              simulated.reply_reader || simulated.info_reader;
+  client_id_ = dds_->participant->client_id();
 
-  dds_->participant =
-      factory->create_participant(static_cast<fdds::DomainId_t>(options_.domain), qos,
-                                  &dds_->participant_listener, fdds::StatusMask::none());
-  if (dds_->participant == nullptr) {
-    error = "cannot create a DDS participant on domain " + std::to_string(options_.domain);
-    if (!options_.security_dir.empty()) {
-      error += ": DDS Security did not accept the credentials of identity '" +
-               options_.security_identity + "' in '" + options_.security_dir +
-               "' (certificate, key and permissions must belong together, be signed by its "
-               "CAs and be valid now)";
-    } else if (has_property(qos, "dds.sec.auth.plugin")) {
-      error += " (check the DDS Security credentials the XML profile names)";
-    } else {
-      error += " (check the interface addresses and the XML profile)";
-    }
-    return false;
-  }
-  client_id_ = contract::client_id_for(dds_->participant->guid().guidPrefix);
-
-  auto* participant = dds_->participant;
-  const contract::Topics contract_topics = contract::create_topics(*participant);
-  auto* publisher = participant->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
-  auto* subscriber = participant->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
-  if (!contract_topics.complete() || publisher == nullptr || subscriber == nullptr) {
-    error = "cannot create the dh3 topics";
-    return false;
-  }
+  const contract::Topics& contract_topics = dds_->participant->topics();
+  auto* publisher = &dds_->participant->publisher();
+  auto* subscriber = &dds_->participant->subscriber();
   using contract::TopicRole;
   const auto data = fdds::StatusMask::data_available();
   auto data_and_matches = fdds::StatusMask::data_available();

@@ -121,7 +121,7 @@ class FileParser {
     if (auto n = root["name"]) config.name = name(n, "name", "service name");
     if (auto n = root["domain"]) {
       const auto domain = integer(n, "domain", 0, kMaxDomain);
-      config.domain = static_cast<int>(domain);
+      config.participant.domain = static_cast<int>(domain);
     }
     if (auto n = root["log_level"]) {
       config.log_level = scalar(n, "log_level");
@@ -235,15 +235,15 @@ class FileParser {
         const std::string key = "dds.interfaces[" + std::to_string(i) + "]";
         auto address = scalar(list[i], key);
         if (auto bad = check_interface(address)) fail_at(list[i], key, *bad);
-        config.interfaces.push_back(std::move(address));
+        config.participant.interfaces.push_back(std::move(address));
       }
-      if (config.interfaces.size() > 1 &&
-          std::find(config.interfaces.begin(), config.interfaces.end(), "*") !=
-              config.interfaces.end()) {
+      if (config.participant.interfaces.size() > 1 &&
+          std::find(config.participant.interfaces.begin(), config.participant.interfaces.end(), "*") !=
+              config.participant.interfaces.end()) {
         fail_at(list, "dds.interfaces", "\"*\" (all interfaces) cannot be combined with addresses");
       }
     }
-    if (auto n = dds["udp_only"]) config.udp_only = boolean(n, "dds.udp_only");
+    if (auto n = dds["udp_only"]) config.participant.udp_only = boolean(n, "dds.udp_only");
     if (auto list = dds["discovery_servers"]) {
       if (!list.IsSequence()) {
         fail_at(list, "dds.discovery_servers", "expected a list of HOST[:PORT] entries");
@@ -253,19 +253,19 @@ class FileParser {
         // A null entry ("- ~" or "- ''") skips a server id, as in ROS_DISCOVERY_SERVER.
         auto entry = list[i].IsNull() ? std::string() : scalar(list[i], key);
         if (auto bad = check_discovery_server(entry)) fail_at(list[i], key, *bad);
-        config.discovery_servers.push_back(std::move(entry));
+        config.participant.discovery_servers.push_back(std::move(entry));
       }
     }
     if (auto n = dds["xml_profile_file"]) {
-      config.xml_profile_file = scalar(n, "dds.xml_profile_file");
-      if (auto bad = check_readable_file("XML profiles file", config.xml_profile_file)) {
+      config.participant.xml_profile_file = scalar(n, "dds.xml_profile_file");
+      if (auto bad = check_readable_file("XML profiles file", config.participant.xml_profile_file)) {
         fail_at(n, "dds.xml_profile_file", *bad);
       }
     }
     if (auto n = dds["xml_profile"]) {
-      config.xml_profile = scalar(n, "dds.xml_profile");
-      if (config.xml_profile.empty()) fail_at(n, "dds.xml_profile", "the profile name is empty");
-      if (config.xml_profile_file.empty()) {
+      config.participant.xml_profile = scalar(n, "dds.xml_profile");
+      if (config.participant.xml_profile.empty()) fail_at(n, "dds.xml_profile", "the profile name is empty");
+      if (config.participant.xml_profile_file.empty()) {
         fail_at(n, "dds.xml_profile", "a profile needs dds.xml_profile_file, the file defining it");
       }
     }
@@ -277,14 +277,14 @@ class FileParser {
     check_keys(security, "dds.security.", {"dir", "identity"});
     const auto dir = security["dir"];
     if (!dir) fail_at(security, "dds.security.dir", "missing (the directory with the credentials)");
-    config.security_dir = scalar(dir, "dds.security.dir");
+    config.participant.security_dir = scalar(dir, "dds.security.dir");
     if (auto n = security["identity"]) {
-      config.security_identity = scalar(n, "dds.security.identity");
-      if (auto bad = check_identity(config.security_identity)) {
+      config.participant.security_identity = scalar(n, "dds.security.identity");
+      if (auto bad = check_identity(config.participant.security_identity)) {
         fail_at(n, "dds.security.identity", *bad);
       }
     }
-    if (auto bad = check_security(config.security_dir, config.security_identity)) {
+    if (auto bad = check_security(config.participant.security_dir, config.participant.security_identity)) {
       fail_at(dir, "dds.security.dir", *bad);
     }
   }
@@ -469,14 +469,14 @@ Result<ServiceConfig, ConfigError> apply_command_line(ServiceConfig config,
   }
   if (line.domain) {
     if (auto bad = check_domain(*line.domain)) return error("--domain", *bad);
-    config.domain = *line.domain;
+    config.participant.domain = *line.domain;
   }
   if (line.log_level) {
     if (auto bad = check_log_level(*line.log_level)) return error("--log-level", *bad);
     config.log_level = *line.log_level;
   }
   if (line.allow_admin) config.allow_admin = true;
-  if (line.udp_only) config.udp_only = true;
+  if (line.udp_only) config.participant.udp_only = true;
   if (!line.interfaces.empty()) {
     for (const auto& address : line.interfaces) {
       if (auto bad = check_interface(address)) return error("--interface", *bad);
@@ -485,25 +485,25 @@ Result<ServiceConfig, ConfigError> apply_command_line(ServiceConfig config,
         std::find(line.interfaces.begin(), line.interfaces.end(), "*") != line.interfaces.end()) {
       return error("--interface", "\"*\" (all interfaces) cannot be combined with addresses");
     }
-    config.interfaces = line.interfaces;
+    config.participant.interfaces = line.interfaces;
   }
   if (!line.discovery_servers.empty()) {
     for (const auto& entry : line.discovery_servers) {
       if (auto bad = check_discovery_server(entry)) return error("--discovery-server", *bad);
     }
-    config.discovery_servers = line.discovery_servers;
+    config.participant.discovery_servers = line.discovery_servers;
   }
   if (line.xml_profile_file) {
     if (auto bad = check_readable_file("XML profiles file", *line.xml_profile_file)) {
       return error("--xml", *bad);
     }
-    config.xml_profile_file = *line.xml_profile_file;
+    config.participant.xml_profile_file = *line.xml_profile_file;
   }
   if (line.xml_profile) {
     if (line.xml_profile->empty()) return error("--profile", "the profile name is empty");
-    config.xml_profile = *line.xml_profile;
+    config.participant.xml_profile = *line.xml_profile;
   }
-  if (!config.xml_profile.empty() && config.xml_profile_file.empty()) {
+  if (!config.participant.xml_profile.empty() && config.participant.xml_profile_file.empty()) {
     return error("--profile",
                  "a profile needs --xml FILE (or dds.xml_profile_file), the file "
                  "defining it");
@@ -512,7 +512,7 @@ Result<ServiceConfig, ConfigError> apply_command_line(ServiceConfig config,
     if (auto bad = check_identity(*line.security_identity)) {
       return error("--security-identity", *bad);
     }
-    config.security_identity = *line.security_identity;
+    config.participant.security_identity = *line.security_identity;
   }
   if (line.metrics_address) {
     if (!line.metrics_address->empty()) {
@@ -522,9 +522,9 @@ Result<ServiceConfig, ConfigError> apply_command_line(ServiceConfig config,
     }
     config.metrics_address = *line.metrics_address;
   }
-  if (line.security_dir) config.security_dir = *line.security_dir;
-  if (line.security_dir || (line.security_identity && !config.security_dir.empty())) {
-    if (auto bad = check_security(config.security_dir, config.security_identity)) {
+  if (line.security_dir) config.participant.security_dir = *line.security_dir;
+  if (line.security_dir || (line.security_identity && !config.participant.security_dir.empty())) {
+    if (auto bad = check_security(config.participant.security_dir, config.participant.security_identity)) {
       return error(line.security_dir ? "--security-dir" : "--security-identity", *bad);
     }
   }

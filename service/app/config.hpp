@@ -46,6 +46,7 @@
 
 #include "common/clock.hpp"
 #include "common/result.hpp"
+#include "dh3_participant_options.hpp"
 #include "hand/bus_scheduler.hpp"
 
 namespace dh3::app {
@@ -81,20 +82,23 @@ struct BusSettings {
   SimSettings sim;
 };
 
+/// The service's participant before configuration: the test PKI's "service"
+/// identity once a security directory is given.
+inline contract::ParticipantOptions service_participant() {
+  contract::ParticipantOptions participant;
+  participant.security_identity = "service";
+  return participant;
+}
+
 struct ServiceConfig {
   std::string name = "dh3";
-  int domain = 0;
+  /// `domain` and the `dds` keys: domain, interfaces (empty: loopback only),
+  /// udp_only, discovery servers (empty: ROS_DISCOVERY_SERVER if set, else
+  /// multicast discovery), XML profile (empty: the project's participant
+  /// QoS), DDS Security (empty directory: none; identity "service").
+  contract::ParticipantOptions participant = service_participant();
   std::string log_level = "info";
   bool allow_admin = false;
-  std::vector<std::string> interfaces;  ///< empty: loopback only
-  bool udp_only = false;
-  /// "HOST[:PORT]" entries (dh3_discovery_servers.hpp); empty: ROS_DISCOVERY_SERVER
-  /// if set, else multicast discovery.
-  std::vector<std::string> discovery_servers;
-  std::string xml_profile_file;  ///< empty: the project's participant QoS
-  std::string xml_profile;       ///< empty: the file's default participant profile
-  std::string security_dir;      ///< empty: no DDS Security
-  std::string security_identity = "service";
   /// Where /metrics is served ("IPv4:PORT" or "[IPv6]:PORT"); empty: not served.
   std::string metrics_address;
   std::vector<BusSettings> buses;

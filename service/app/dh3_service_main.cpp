@@ -145,14 +145,7 @@ int main(int argc, char** argv) {
 
   dh3::dds::ServiceOptions options;
   options.name = config->name;
-  options.domain = config->domain;
-  options.transport.interfaces = config->interfaces;
-  options.transport.udp_only = config->udp_only;
-  options.discovery_servers = config->discovery_servers;
-  options.xml_profile_file = config->xml_profile_file;
-  options.xml_profile = config->xml_profile;
-  options.security_dir = config->security_dir;
-  options.security_identity = config->security_identity;
+  options.participant = config->participant;
   options.allow_admin = config->allow_admin;
   options.version = DH3_VERSION;
   options.host = host_name();

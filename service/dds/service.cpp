@@ -24,12 +24,9 @@
 #include "dds/hand_directory.hpp"
 #include "dds/lease_table.hpp"
 #include "dds/request_validation.hpp"
-#include "dh3_discovery.hpp"
 #include "dh3_idl/dh3PubSubTypes.h"
-#include "dh3_participant.hpp"
+#include "dh3_participant_setup.hpp"
 #include "dh3_qos.hpp"
-#include "dh3_security.hpp"
-#include "dh3_type_support.hpp"
 
 namespace dh3::dds {
 namespace fdds = eprosima::fastdds::dds;
@@ -60,73 +57,6 @@ msg::CommandReply make_reply(const ReplyHeader& header, msg::ResultCode code,
 
 std::string hand_text(std::string_view bus, std::uint8_t can_id) {
   return "hand " + std::to_string(can_id) + " on bus '" + std::string(bus) + "'";
-}
-
-bool has_property(const fdds::DomainParticipantQos& qos, const std::string& name) {
-  const auto& properties = qos.properties().properties();
-  return std::any_of(properties.begin(), properties.end(),
-                     [&](const auto& property) { return property.name() == name; });
-}
-
-/// The participant's QoS from the options: the XML profile or the project's
-/// transport default, then discovery servers, then DDS Security.
-Result<fdds::DomainParticipantQos, std::string> participant_qos_for(const ServiceOptions& options) {
-  const std::string participant_name = "dh3-service " + options.name;
-  auto* factory = fdds::DomainParticipantFactory::get_instance();
-  fdds::DomainParticipantQos qos;
-  if (!options.xml_profile_file.empty()) {
-    if (factory->load_XML_profiles_file(options.xml_profile_file) != ReturnCode_t::RETCODE_OK) {
-      return fail("cannot load the Fast DDS XML profiles file '" + options.xml_profile_file + "'");
-    }
-    if (options.xml_profile.empty()) {
-      qos = factory->get_default_participant_qos();
-    } else if (factory->get_participant_qos_from_profile(options.xml_profile, qos) !=
-               ReturnCode_t::RETCODE_OK) {
-      return fail("no participant profile '" + options.xml_profile + "' in '" +
-                  options.xml_profile_file + "'");
-    }
-    if (qos.name().to_string().empty()) qos.name(participant_name);
-    // The profile decides the transports; say so rather than ignore silently.
-    if (!options.transport.interfaces.empty() || options.transport.udp_only) {
-      spdlog::warn("the XML profile decides the transports: interfaces and udp_only are ignored");
-    }
-  } else if (!options.xml_profile.empty()) {
-    return fail(std::string("an XML profile name needs the XML profiles file that defines it"));
-  } else {
-    contract::TransportOptions transport;
-    transport.interfaces = options.transport.interfaces;
-    transport.udp_only = options.transport.udp_only;
-    qos = contract::participant_qos(participant_name, transport);
-  }
-  // The configured servers; without, ROS_DISCOVERY_SERVER's (as the client
-  // library does), unless an XML profile decides how the participant discovers.
-  const auto servers = options.xml_profile_file.empty()
-                           ? contract::choose_discovery_servers(options.discovery_servers)
-                           : contract::discovery_servers_from_entries(options.discovery_servers);
-  if (!servers.ok()) return fail(servers.error);
-  if (!contract::use_discovery_servers(qos, servers.servers)) {
-    return fail(std::string("cannot use the discovery servers given"));
-  }
-  for (const auto& server : servers.servers) {
-    spdlog::info("discovery server {}", server.to_string());
-  }
-  if (!options.security_dir.empty()) {
-    if (has_property(qos, "dds.sec.auth.plugin")) {
-      return fail(
-          std::string("the XML profile already enables DDS Security; give either it or a security "
-                      "directory, not both"));
-    }
-    if (options.security_identity.empty()) {
-      return fail(std::string("DDS Security: no identity given for the security directory"));
-    }
-    const auto files = contract::security_files_in(options.security_dir, options.security_identity);
-    if (auto bad = contract::check_security_files(files); !bad.empty()) {
-      return fail(bad + " (identity '" + options.security_identity + "' in '" +
-                  options.security_dir + "')");
-    }
-    contract::enable_security(qos, files);
-  }
-  return qos;
 }
 
 }  // namespace
@@ -244,7 +174,7 @@ class Service::Impl {
   void publish_info();
 
   // Set-up: each step names the entity it could not create.
-  Result<void, std::string> create_topics_and_writers();
+  Result<void, std::string> create_writers();
   Result<void, std::string> create_request_reader();
   [[nodiscard]] std::string cannot_create(const std::string& what) const;
 
@@ -260,10 +190,9 @@ class Service::Impl {
 
   ParticipantListener participant_listener_{*this};
   RequestListener request_listener_{*this};
-  fdds::DomainParticipant* participant_ = nullptr;
-  bool security_from_profile_ = false;  ///< the XML profile enables DDS Security
-  fdds::Publisher* publisher_ = nullptr;
-  fdds::Subscriber* subscriber_ = nullptr;
+  /// The participant, its topics, publisher and subscriber; the writers and
+  /// the reader below are made on them and deleted with them.
+  std::unique_ptr<contract::Participant> participant_;
   fdds::Topic* status_topic_ = nullptr;
   fdds::Topic* event_topic_ = nullptr;
   fdds::Topic* info_topic_ = nullptr;
@@ -304,32 +233,17 @@ class Service::Impl {
 // Set-up and tear-down
 
 Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups) {
-  auto qos = participant_qos_for(options_);
-  if (!qos) return fail(qos.error());
-  auto* factory = fdds::DomainParticipantFactory::get_instance();
-  participant_ = factory->create_participant(static_cast<fdds::DomainId_t>(options_.domain), *qos,
-                                             &participant_listener_, fdds::StatusMask::none());
-  if (participant_ == nullptr) {
-    std::string error =
-        "cannot create a DDS participant on domain " + std::to_string(options_.domain);
-    if (!options_.security_dir.empty()) {
-      error += ": DDS Security did not accept the credentials of identity '" +
-               options_.security_identity + "' in '" + options_.security_dir +
-               "' (certificate, key and permissions must belong together, be signed by its "
-               "CAs and be valid now)";
-    } else if (has_property(*qos, "dds.sec.auth.plugin")) {
-      error += " (check the DDS Security credentials the XML profile names)";
-    } else {
-      error += " (check the domain id, the interface addresses and the XML profile)";
-    }
-    return fail(error);
+  contract::ParticipantOptions participant = options_.participant;
+  participant.name = "dh3-service " + options_.name;
+  participant_ = std::make_unique<contract::Participant>(participant, &participant_listener_);
+  for (const auto& warning : participant_->warnings()) spdlog::warn("{}", warning);
+  for (const auto& note : participant_->notes()) spdlog::info("{}", note);
+  if (!participant_->ok()) return fail(participant_->error());
+  if (!options_.participant.security_dir.empty()) {
+    spdlog::info("DDS Security on: identity '{}' in '{}'", options_.participant.security_identity,
+                 options_.participant.security_dir);
   }
-  security_from_profile_ = has_property(*qos, "dds.sec.auth.plugin");
-  if (!options_.security_dir.empty()) {
-    spdlog::info("DDS Security on: identity '{}' in '{}'", options_.security_identity,
-                 options_.security_dir);
-  }
-  if (auto created = create_topics_and_writers(); !created) return created;
+  if (auto created = create_writers(); !created) return created;
 
   for (auto& setup : setups) {
     std::vector<HandDirectory::Hand> hands;
@@ -355,38 +269,28 @@ Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups) {
 
 std::string Service::Impl::cannot_create(const std::string& what) const {
   std::string message = "cannot create " + what;
-  if (!options_.security_dir.empty()) {
-    return message + ": the DDS Security permissions of identity '" + options_.security_identity +
-           "' in '" + options_.security_dir + "' must allow it (Fast DDS logs what it refused)";
+  const auto& participant = options_.participant;
+  if (!participant.security_dir.empty()) {
+    return message + ": the DDS Security permissions of identity '" +
+           participant.security_identity + "' in '" + participant.security_dir +
+           "' must allow it (Fast DDS logs what it refused)";
   }
-  if (security_from_profile_) {
+  if (participant_->security_from_profile()) {
     return message + ": the DDS Security permissions the XML profile names must allow it";
   }
   return message + " (Fast DDS logs why)";
 }
 
-Result<void, std::string> Service::Impl::create_topics_and_writers() {
-  const contract::Topics contract_topics = contract::create_topics(*participant_);
-  status_topic_ = contract_topics.status;
-  event_topic_ = contract_topics.event;
-  info_topic_ = contract_topics.info;
-  request_topic_ = contract_topics.request;
-  reply_topic_ = contract_topics.reply;
-  const std::pair<fdds::Topic*, const std::string&> topics[] = {
-      {status_topic_, dh3::topics::HAND_STATUS},    {event_topic_, dh3::topics::HAND_EVENT},
-      {info_topic_, dh3::topics::SERVICE_INFO},     {request_topic_, dh3::topics::COMMAND_REQUEST},
-      {reply_topic_, dh3::topics::COMMAND_REPLY}};
-  for (const auto& [topic, name] : topics) {
-    if (topic == nullptr) return fail(cannot_create("the topic " + name));
-  }
-  publisher_ = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
-  if (publisher_ == nullptr) return fail(cannot_create(std::string("the DDS publisher")));
-  subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
-  if (subscriber_ == nullptr) return fail(cannot_create(std::string("the DDS subscriber")));
-
+Result<void, std::string> Service::Impl::create_writers() {
+  const contract::Topics& topics = participant_->topics();
+  status_topic_ = topics.status;
+  event_topic_ = topics.event;
+  info_topic_ = topics.info;
+  request_topic_ = topics.request;
+  reply_topic_ = topics.reply;
   const auto writer = [this](fdds::DataWriter*& out, fdds::Topic* topic,
                              TopicRole role) -> Result<void, std::string> {
-    out = publisher_->create_datawriter(topic, contract::writer_qos(role));
+    out = participant_->publisher().create_datawriter(topic, contract::writer_qos(role));
     if (out == nullptr) return fail(cannot_create("the writer of " + topic->get_name()));
     return {};
   };
@@ -408,8 +312,8 @@ Result<void, std::string> Service::Impl::create_request_reader() {
   // overwriting requests not yet taken, which would then never be answered.
   auto request_qos = contract::reader_qos(TopicRole::request);
   request_qos.history().kind = fdds::KEEP_ALL_HISTORY_QOS;
-  request_reader_ = subscriber_->create_datareader(request_topic_, request_qos, &request_listener_,
-                                                   fdds::StatusMask::data_available());
+  request_reader_ = participant_->subscriber().create_datareader(
+      request_topic_, request_qos, &request_listener_, fdds::StatusMask::data_available());
   if (request_reader_ == nullptr) {
     // Without it the service would run and never answer a request.
     return fail(cannot_create("the reader of " + request_topic_->get_name()));
@@ -434,7 +338,7 @@ Result<void, std::string> Service::Impl::start() {
   // Last: requests are only taken once everything they need runs.
   if (auto created = create_request_reader(); !created) return created;
   spdlog::info("service '{}' on DDS domain {}: {} bus(es), admin commands {}", options_.name,
-               options_.domain, buses_.size(), options_.allow_admin ? "allowed" : "refused");
+               options_.participant.domain, buses_.size(), options_.allow_admin ? "allowed" : "refused");
   return {};
 }
 
@@ -493,12 +397,9 @@ void Service::Impl::stop() {
 void Service::Impl::destroy_dds() {
   if (participant_ == nullptr) return;
   if (request_reader_ != nullptr) request_reader_->set_listener(nullptr);
-  participant_->set_listener(nullptr);
   status_writer_ = event_writer_ = info_writer_ = reply_writer_ = nullptr;
   request_reader_ = nullptr;
-  participant_->delete_contained_entities();
-  fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
-  participant_ = nullptr;
+  participant_.reset();  // its listener first, then everything it contains
 }
 
 // ---------------------------------------------------------------------------

@@ -19,17 +19,10 @@
 #include "bus/bus.hpp"
 #include "common/clock.hpp"
 #include "common/result.hpp"
+#include "dh3_participant_options.hpp"
 #include "hand/bus_scheduler.hpp"
 
 namespace dh3::dds {
-
-/// Where the participant talks (mirrors dh3::contract::TransportOptions).
-struct TransportSettings {
-  /// IPv4 addresses of the interfaces to use; empty = loopback only; {"*"} = all.
-  std::vector<std::string> interfaces;
-  /// No shared memory: everything over UDP (containers without a shared /dev/shm).
-  bool udp_only = false;
-};
 
 /// Points on a command request's way through the service, for the service
 /// overhead benchmark (tests/bench/bench_round_trip.cpp), which timestamps them.
@@ -42,19 +35,9 @@ using RequestTracer = std::function<void(TracePoint, std::uint64_t request_seq)>
 
 struct ServiceOptions {
   std::string name = "dh3";  ///< answers requests whose hand.service is this
-  int domain = 0;
-  TransportSettings transport;
-  /// Fast DDS discovery servers as "HOST[:PORT]" (dh3_discovery_servers.hpp);
-  /// empty: ROS_DISCOVERY_SERVER's if set (unless an XML profile decides).
-  std::vector<std::string> discovery_servers;
-  /// A Fast DDS XML profiles file: the participant QoS comes from it (its
-  /// profile `xml_profile`, or its default) instead of `transport`.
-  std::string xml_profile_file;
-  std::string xml_profile;
-  /// DDS Security with the credentials of `security_identity` in this
-  /// directory (dh3_security_files.hpp); empty: no security.
-  std::string security_dir;
-  std::string security_identity = "service";
+  /// Domain, transports, discovery servers, XML profile and DDS Security of
+  /// the service's participant (its name is "dh3-service " + name).
+  contract::ParticipantOptions participant = default_participant();
   bool allow_admin = false;  ///< SET_CAN_ID and SET_BAUD_RATE are refused unless set
   std::string version;       ///< published in the service info
   std::string host;          ///< published in the service info
@@ -63,6 +46,13 @@ struct ServiceOptions {
   /// Called at each TracePoint of every request, on the thread that is there
   /// (must be quick). Unset, the default: nothing but the emptiness test.
   RequestTracer tracer;
+
+  /// The service's identity in the test PKI unless told otherwise.
+  static contract::ParticipantOptions default_participant() {
+    contract::ParticipantOptions participant;
+    participant.security_identity = "service";
+    return participant;
+  }
 };
 
 /// One bus the service runs: the open bus, the hands expected on it (empty:

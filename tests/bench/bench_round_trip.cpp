@@ -488,7 +488,7 @@ std::optional<Overhead> service_overhead(int domain, int count, Command command)
   }
   dh3::dds::ServiceOptions options;
   options.name = "traced";
-  options.domain = domain;
+  options.participant.domain = domain;
   options.tracer = [&recorder](dh3::dds::TracePoint point, std::uint64_t seq) {
     recorder.on_point(point, seq);
   };

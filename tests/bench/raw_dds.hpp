@@ -9,11 +9,11 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
+#include <memory>
 #include <string>
 
 #include "dh3_idl/dh3PubSubTypes.h"
-#include "dh3_participant.hpp"
-#include "dh3_type_support.hpp"
+#include "dh3_participant_setup.hpp"
 
 namespace dh3::bench {
 
@@ -23,33 +23,24 @@ namespace fdds = eprosima::fastdds::dds;
 class RawParticipant {
  public:
   RawParticipant(int domain, const std::string& name, bool udp_only) {
-    contract::TransportOptions transport;
-    transport.udp_only = udp_only;
-    participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(
-        static_cast<fdds::DomainId_t>(domain), contract::participant_qos(name, transport), nullptr,
-        fdds::StatusMask::none());
-    if (participant_ == nullptr) return;
-    const contract::Topics contract_topics = contract::create_topics(*participant_);
-    request_topic = contract_topics.request;
-    reply_topic = contract_topics.reply;
-    publisher = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
-    subscriber = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+    contract::ParticipantOptions options;
+    options.name = name;
+    options.domain = domain;
+    options.udp_only = udp_only;
+    participant_ = std::make_unique<contract::Participant>(options);
+    if (!participant_->ok()) return;
+    request_topic = participant_->topics().request;
+    reply_topic = participant_->topics().reply;
+    publisher = &participant_->publisher();
+    subscriber = &participant_->subscriber();
   }
-  ~RawParticipant() {
-    if (participant_ == nullptr) return;
-    participant_->delete_contained_entities();
-    fdds::DomainParticipantFactory::get_instance()->delete_participant(participant_);
-  }
+  /// The participant goes first: its readers' listeners may be the user's members.
+  ~RawParticipant() { participant_.reset(); }
   RawParticipant(const RawParticipant&) = delete;
   RawParticipant& operator=(const RawParticipant&) = delete;
 
-  [[nodiscard]] bool ok() const {
-    return participant_ != nullptr && request_topic != nullptr && reply_topic != nullptr &&
-           publisher != nullptr && subscriber != nullptr;
-  }
-  [[nodiscard]] std::string client_id() const {
-    return contract::client_id_for(participant_->guid().guidPrefix);
-  }
+  [[nodiscard]] bool ok() const { return participant_->ok(); }
+  [[nodiscard]] std::string client_id() const { return participant_->client_id(); }
 
   fdds::Topic* request_topic = nullptr;
   fdds::Topic* reply_topic = nullptr;
@@ -57,7 +48,7 @@ class RawParticipant {
   fdds::Subscriber* subscriber = nullptr;
 
  private:
-  fdds::DomainParticipant* participant_ = nullptr;
+  std::unique_ptr<contract::Participant> participant_;
 };
 
 }  // namespace dh3::bench

@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
       continue;
     }
     std::printf("ok %s: service '%s', domain %d, %zu bus(es)\n", argv[i], config->name.c_str(),
-                config->domain, config->buses.size());
+                config->participant.domain, config->buses.size());
   }
   return status;
 }

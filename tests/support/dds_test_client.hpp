@@ -25,6 +25,7 @@
 #include <fastdds/dds/topic/TypeSupport.hpp>
 #include <functional>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -34,7 +35,7 @@
 
 #include "dh3_idl/dh3.h"
 #include "dh3_idl/dh3PubSubTypes.h"
-#include "dh3_participant.hpp"
+#include "dh3_participant_setup.hpp"
 #include "dh3_qos.hpp"
 #include "dh3_type_support.hpp"
 
@@ -50,38 +51,35 @@ class DdsTestClient {
 
   explicit DdsTestClient(int domain, const std::string& name = "dh3-test") {
     namespace fdds = eprosima::fastdds::dds;
-    participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(
-        static_cast<fdds::DomainId_t>(domain), contract::participant_qos(name, {}), nullptr,
-        fdds::StatusMask::none());
-    if (participant_ == nullptr) return;
-    client_id_ = contract::client_id_for(participant_->guid().guidPrefix);
-    const contract::Topics contract_topics = contract::create_topics(*participant_);
-    auto* publisher = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
-    auto* subscriber = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+    contract::ParticipantOptions options;
+    options.name = name;
+    options.domain = domain;
+    participant_ = std::make_unique<contract::Participant>(options);
+    if (!participant_->ok()) return;
+    client_id_ = participant_->client_id();
+    const contract::Topics& contract_topics = participant_->topics();
+    auto& publisher = participant_->publisher();
+    auto& subscriber = participant_->subscriber();
     using contract::TopicRole;
-    request_writer_ = publisher->create_datawriter(contract_topics.request,
-                                                   contract::writer_qos(TopicRole::request));
+    request_writer_ = publisher.create_datawriter(contract_topics.request,
+                                                  contract::writer_qos(TopicRole::request));
     const auto mask = fdds::StatusMask::data_available();
-    subscriber->create_datareader(contract_topics.reply, contract::reader_qos(TopicRole::reply),
-                                  &listener_, mask);
-    subscriber->create_datareader(contract_topics.status,
-                                  contract::reader_qos(TopicRole::hand_status), &listener_, mask);
-    subscriber->create_datareader(contract_topics.event,
-                                  contract::reader_qos(TopicRole::hand_event), &listener_, mask);
-    subscriber->create_datareader(contract_topics.info,
-                                  contract::reader_qos(TopicRole::service_info), &listener_, mask);
+    subscriber.create_datareader(contract_topics.reply, contract::reader_qos(TopicRole::reply),
+                                 &listener_, mask);
+    subscriber.create_datareader(contract_topics.status,
+                                 contract::reader_qos(TopicRole::hand_status), &listener_, mask);
+    subscriber.create_datareader(contract_topics.event,
+                                 contract::reader_qos(TopicRole::hand_event), &listener_, mask);
+    subscriber.create_datareader(contract_topics.info,
+                                 contract::reader_qos(TopicRole::service_info), &listener_, mask);
   }
 
-  ~DdsTestClient() {
-    if (participant_ == nullptr) return;
-    participant_->delete_contained_entities();
-    eprosima::fastdds::dds::DomainParticipantFactory::get_instance()->delete_participant(
-        participant_);
-  }
+  /// The participant goes first: its readers call into the members below.
+  ~DdsTestClient() { participant_.reset(); }
   DdsTestClient(const DdsTestClient&) = delete;
   DdsTestClient& operator=(const DdsTestClient&) = delete;
 
-  [[nodiscard]] bool ok() const { return participant_ != nullptr && request_writer_ != nullptr; }
+  [[nodiscard]] bool ok() const { return participant_->ok() && request_writer_ != nullptr; }
   /// The hex GUID prefix of this participant: its client_id in requests.
   [[nodiscard]] const std::string& client_id() const { return client_id_; }
 
@@ -331,7 +329,7 @@ class DdsTestClient {
     return changed_.wait_for(lock, timeout, pred);
   }
 
-  eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
+  std::unique_ptr<contract::Participant> participant_;
   eprosima::fastdds::dds::DataWriter* request_writer_ = nullptr;
   Listener listener_{*this};
   std::string client_id_;

@@ -31,9 +31,9 @@ std::string parse_error(const char* yaml) {
 TEST(Config, DefaultRunsThreeSimulatedHands) {
   const auto config = default_config();
   EXPECT_EQ(config.name, "dh3");
-  EXPECT_EQ(config.domain, 0);
+  EXPECT_EQ(config.participant.domain, 0);
   EXPECT_FALSE(config.allow_admin);
-  EXPECT_TRUE(config.interfaces.empty());  // loopback only
+  EXPECT_TRUE(config.participant.interfaces.empty());  // loopback only
   ASSERT_EQ(config.buses.size(), 1U);
   EXPECT_EQ(config.buses[0].spec, "sim:1,2,3");
   ASSERT_EQ(config.buses[0].hands.size(), 3U);
@@ -76,11 +76,11 @@ buses:
       - {id: 4, object: 40, rotation_obstacle: 70}
 )");
   EXPECT_EQ(config.name, "cell7");
-  EXPECT_EQ(config.domain, 42);
+  EXPECT_EQ(config.participant.domain, 42);
   EXPECT_EQ(config.log_level, "debug");
   EXPECT_TRUE(config.allow_admin);
-  EXPECT_THAT(config.interfaces, ::testing::ElementsAre("127.0.0.1", "10.0.0.5"));
-  EXPECT_TRUE(config.udp_only);
+  EXPECT_THAT(config.participant.interfaces, ::testing::ElementsAre("127.0.0.1", "10.0.0.5"));
+  EXPECT_TRUE(config.participant.udp_only);
   ASSERT_EQ(config.buses.size(), 2U);
   const auto& left = config.buses[0];
   EXPECT_EQ(left.name, "left");
@@ -176,11 +176,11 @@ TEST(Config, CommandLineOverridesTheFile) {
   auto config = apply_command_line(default_config(), line);
   ASSERT_TRUE(config.ok()) << config.error().message;
   EXPECT_EQ(config->name, "other");
-  EXPECT_EQ(config->domain, 17);
+  EXPECT_EQ(config->participant.domain, 17);
   EXPECT_EQ(config->log_level, "warn");
   EXPECT_TRUE(config->allow_admin);
-  EXPECT_TRUE(config->udp_only);
-  EXPECT_THAT(config->interfaces, ::testing::ElementsAre("*"));
+  EXPECT_TRUE(config->participant.udp_only);
+  EXPECT_THAT(config->participant.interfaces, ::testing::ElementsAre("*"));
   ASSERT_EQ(config->buses.size(), 3U);  // --bus replaces the default sim bus
   EXPECT_EQ(config->buses[0].name, "bus0");
   EXPECT_EQ(config->buses[0].spec, "sim:4,5");
@@ -256,20 +256,20 @@ TEST(Config, DiscoveryServersXmlProfileAndSecurityAreRead) {
   auto config = parse_config(yaml, "cell.yaml");
   ASSERT_TRUE(config.ok()) << config.error().message;
   // The empty entry keeps its place: the third entry is server id 2.
-  EXPECT_THAT(config->discovery_servers, ::testing::ElementsAre("127.0.0.1:11811", "", "10.0.0.2"));
-  EXPECT_EQ(config->xml_profile_file, pki.xml());
-  EXPECT_EQ(config->xml_profile, "dh3_udp");
-  EXPECT_EQ(config->security_dir, pki.path());
-  EXPECT_EQ(config->security_identity, "operator");
+  EXPECT_THAT(config->participant.discovery_servers, ::testing::ElementsAre("127.0.0.1:11811", "", "10.0.0.2"));
+  EXPECT_EQ(config->participant.xml_profile_file, pki.xml());
+  EXPECT_EQ(config->participant.xml_profile, "dh3_udp");
+  EXPECT_EQ(config->participant.security_dir, pki.path());
+  EXPECT_EQ(config->participant.security_identity, "operator");
 }
 
 TEST(Config, SecurityIdentityDefaultsToService) {
   const SecurityDir pki("service");
   auto config = parse_config("dds:\n  security:\n    dir: " + pki.path() + "\n", "cell.yaml");
   ASSERT_TRUE(config.ok()) << config.error().message;
-  EXPECT_EQ(config->security_identity, "service");
-  EXPECT_TRUE(default_config().security_dir.empty());  // no security unless asked
-  EXPECT_TRUE(default_config().discovery_servers.empty());
+  EXPECT_EQ(config->participant.security_identity, "service");
+  EXPECT_TRUE(default_config().participant.security_dir.empty());  // no security unless asked
+  EXPECT_TRUE(default_config().participant.discovery_servers.empty());
 }
 
 TEST(Config, DdsDeploymentErrorsNameTheKeyAndTheLine) {
@@ -325,12 +325,12 @@ TEST(Config, CommandLineSetsDiscoveryServersXmlAndSecurity) {
   auto config = apply_command_line(std::move(*file), line);
   ASSERT_TRUE(config.ok()) << config.error().message;
   // --discovery-server replaces the file's list.
-  EXPECT_THAT(config->discovery_servers,
+  EXPECT_THAT(config->participant.discovery_servers,
               ::testing::ElementsAre("127.0.0.1:11811", "127.0.0.1:11812"));
-  EXPECT_EQ(config->xml_profile_file, pki.xml());
-  EXPECT_EQ(config->xml_profile, "dh3_udp");
-  EXPECT_EQ(config->security_dir, pki.path());
-  EXPECT_EQ(config->security_identity, "monitor");
+  EXPECT_EQ(config->participant.xml_profile_file, pki.xml());
+  EXPECT_EQ(config->participant.xml_profile, "dh3_udp");
+  EXPECT_EQ(config->participant.security_dir, pki.path());
+  EXPECT_EQ(config->participant.security_identity, "monitor");
 }
 
 TEST(Config, BadDeploymentOptionsNameTheOption) {

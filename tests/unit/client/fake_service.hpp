@@ -21,15 +21,15 @@
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <vector>
 
 #include "dh3_idl/dh3.h"
 #include "dh3_idl/dh3PubSubTypes.h"
-#include "dh3_participant.hpp"
+#include "dh3_participant_setup.hpp"
 #include "dh3_qos.hpp"
-#include "dh3_security.hpp"
 #include "dh3_type_support.hpp"
 
 namespace dh3::test {
@@ -60,16 +60,16 @@ class FakeService {
       : name_(std::move(name)), ids_(std::move(ids)) {
     handler_ = [](const msg::CommandRequest& r) { return std::vector{reply_to(r)}; };
     namespace fdds = eprosima::fastdds::dds;
-    auto qos = contract::participant_qos("dh3-service " + name_, {});
-    if (!security_dir.empty()) {
-      contract::enable_security(qos, contract::security_files_in(security_dir, "service"));
-    }
-    participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(
-        static_cast<fdds::DomainId_t>(domain), qos, nullptr, fdds::StatusMask::none());
-    if (participant_ == nullptr) return;
-    const contract::Topics contract_topics = contract::create_topics(*participant_);
-    auto* publisher = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
-    auto* subscriber = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+    contract::ParticipantOptions options;
+    options.name = "dh3-service " + name_;
+    options.domain = domain;
+    options.security_dir = security_dir;
+    options.security_identity = "service";
+    participant_ = std::make_unique<contract::Participant>(options);
+    if (!participant_->ok()) return;
+    const contract::Topics& contract_topics = participant_->topics();
+    auto* publisher = &participant_->publisher();
+    auto* subscriber = &participant_->subscriber();
     using contract::TopicRole;
     status_writer_ = publisher->create_datawriter(contract_topics.status,
                                                   contract::writer_qos(TopicRole::hand_status));
@@ -109,16 +109,12 @@ class FakeService {
                                   &listener_, fdds::StatusMask::data_available());
   }
 
-  ~FakeService() {
-    if (participant_ == nullptr) return;
-    participant_->delete_contained_entities();
-    eprosima::fastdds::dds::DomainParticipantFactory::get_instance()->delete_participant(
-        participant_);
-  }
+  /// The participant goes first: its reader calls into the members below.
+  ~FakeService() { participant_.reset(); }
   FakeService(const FakeService&) = delete;
   FakeService& operator=(const FakeService&) = delete;
 
-  [[nodiscard]] bool ok() const { return participant_ != nullptr && reply_writer_ != nullptr; }
+  [[nodiscard]] bool ok() const { return participant_->ok() && reply_writer_ != nullptr; }
   [[nodiscard]] const std::string& name() const { return name_; }
 
   void set_handler(Handler handler) {
@@ -187,7 +183,7 @@ class FakeService {
 
   std::string name_;
   std::vector<std::uint16_t> ids_;
-  eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
+  std::unique_ptr<contract::Participant> participant_;
   eprosima::fastdds::dds::DataWriter* status_writer_ = nullptr;
   eprosima::fastdds::dds::DataWriter* event_writer_ = nullptr;
   eprosima::fastdds::dds::DataWriter* info_writer_ = nullptr;

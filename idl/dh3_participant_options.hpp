@@ -1,0 +1,36 @@
+#pragma once
+// Everything a dh3 participant (service, client library, test clients,
+// benchmarks) is told about where and how it talks, in one struct. No Fast
+// DDS here, so configuration code can fill it without the middleware;
+// dh3_participant_setup.hpp turns it into a participant.
+
+#include <string>
+#include <vector>
+
+namespace dh3::contract {
+
+struct ParticipantOptions {
+  /// The DDS participant's name (seen by tools that list participants), used
+  /// unless an XML profile names the participant.
+  std::string name = "dh3";
+  /// DDS domain id, 0-232.
+  int domain = 0;
+  /// IPv4 addresses of the interfaces to use; empty = loopback only; {"*"} = all.
+  std::vector<std::string> interfaces;
+  /// No shared-memory transport: everything over UDP (containers, namespaces).
+  bool udp_only = false;
+  /// Fast DDS discovery servers as "HOST[:PORT]" (dh3_discovery_servers.hpp);
+  /// empty: ROS_DISCOVERY_SERVER's if set, unless an XML profile decides.
+  std::vector<std::string> discovery_servers;
+  /// A Fast DDS XML profiles file: the participant QoS comes from its profile
+  /// `xml_profile` (or its default profile) instead of interfaces/udp_only.
+  std::string xml_profile_file;
+  std::string xml_profile;
+  /// DDS Security with the credentials of `security_identity` in this
+  /// directory (dh3_security_files.hpp); empty: no security (unless the XML
+  /// profile enables it).
+  std::string security_dir;
+  std::string security_identity;
+};
+
+}  // namespace dh3::contract
