@@ -48,8 +48,8 @@ if ((${#missing[@]})); then
   apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-# 2. The base images, from this machine's Debian archive. Prints the archive
-# lines for bookworm (the release, its updates and security) from the apt
+# 2. The base images, from this machine's Debian archive. bookworm_sources
+# prints the archive lines for bookworm (the release, its updates and security) from the apt
 # sources, one-line style, keeping signed-by.
 bookworm_sources() {
   local f
@@ -95,37 +95,41 @@ bookworm_sources() {
   done
 }
 
-make_base() {  # make_base TAG [mmdebstrap option...]
-  local base_tag=$1
-  shift
+# One root for both names: minbase, merged /usr, and, as Debian's official
+# slim image has it, no manual pages, documentation or translations
+# (copyrights stay). The build stage does not miss them either.
+base_tags=(debian:bookworm debian:bookworm-slim)
+missing_tags=()
+for base_tag in "${base_tags[@]}"; do
   if ((!remake_base)) && podman image exists "$base_tag"; then
     say "$base_tag: present ($(podman image inspect --format '{{.Id}}' "$base_tag" | cut -c1-12))"
-    return
+  else
+    missing_tags+=("$base_tag")
   fi
+done
+if ((${#missing_tags[@]})); then
   mapfile -t sources < <(bookworm_sources)
   ((${#sources[@]})) || {
     echo "build-image: no Debian bookworm archive in /etc/apt/sources.list{,.d}" >&2
     exit 1
   }
-  local work
   work=$(mktemp -d)
-  trap 'rm -rf "$work"' RETURN
-  say "$base_tag: mmdebstrap --variant=minbase bookworm from ${#sources[@]} archive line(s) of this machine's apt sources"
+  trap 'rm -rf "$work"' EXIT
+  say "mmdebstrap --variant=minbase bookworm from ${#sources[@]} archive line(s) of this machine's apt sources"
   # merged-usr: the /usr merge as debootstrap does it (symlinks and
   # usr-is-merged); otherwise apt satisfies init-system-helpers with the
   # usrmerge package and its 47 MB of Perl.
   mmdebstrap --quiet --variant=minbase --hook-dir=/usr/share/mmdebstrap/hooks/merged-usr \
-    "$@" bookworm "$work/rootfs.tar" "${sources[@]}"
-  podman import --quiet --change 'CMD ["/bin/bash"]' "$work/rootfs.tar" "$base_tag" >/dev/null
-  say "$base_tag: imported ($(podman image inspect --format '{{.Size}}' "$base_tag") bytes)"
-}
-make_base debian:bookworm
-# As Debian's official slim image does: no manual pages, documentation or
-# translations (copyrights stay).
-make_base debian:bookworm-slim \
-  --dpkgopt='path-exclude=/usr/share/man/*' --dpkgopt='path-exclude=/usr/share/info/*' \
-  --dpkgopt='path-exclude=/usr/share/doc/*' --dpkgopt='path-include=/usr/share/doc/*/copyright' \
-  --dpkgopt='path-exclude=/usr/share/locale/*' --dpkgopt='path-exclude=/usr/share/lintian/*'
+    --dpkgopt='path-exclude=/usr/share/man/*' --dpkgopt='path-exclude=/usr/share/info/*' \
+    --dpkgopt='path-exclude=/usr/share/doc/*' --dpkgopt='path-include=/usr/share/doc/*/copyright' \
+    --dpkgopt='path-exclude=/usr/share/locale/*' --dpkgopt='path-exclude=/usr/share/lintian/*' \
+    bookworm "$work/rootfs.tar" "${sources[@]}"
+  for base_tag in "${missing_tags[@]}"; do
+    podman import --quiet --change 'CMD ["/bin/bash"]' "$work/rootfs.tar" "$base_tag" >/dev/null
+    say "$base_tag: imported ($(podman image inspect --format '{{.Size}}' "$base_tag") bytes)"
+  done
+  rm -rf "$work"
+fi
 
 # 3. The image. --network=host: the build's apt reaches the archive as this
 # machine does.

@@ -32,12 +32,14 @@ cleanup_hooks=()
 cleanup() {
   local hook pid
   for hook in "${cleanup_hooks[@]}"; do eval "$hook" >/dev/null 2>&1; done
+  # --ignore: some are gone already (a test removed them); remove the rest.
   if ((${#cleanup_containers[@]})); then
-    podman rm -f -t 0 "${cleanup_containers[@]}" >/dev/null 2>&1
+    podman rm --ignore -f -t 0 "${cleanup_containers[@]}" >/dev/null 2>&1
   fi
-  if ((${#cleanup_networks[@]})); then
-    podman network rm -f "${cleanup_networks[@]}" >/dev/null 2>&1
-  fi
+  local network
+  for network in "${cleanup_networks[@]}"; do
+    podman network exists "$network" && podman network rm -f "$network" >/dev/null 2>&1
+  done
   for pid in "${cleanup_pids[@]}"; do
     kill "$pid" 2>/dev/null && wait "$pid" 2>/dev/null
   done
