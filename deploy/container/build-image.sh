@@ -97,7 +97,9 @@ bookworm_sources() {
 
 # One root for both names: minbase, merged /usr, and, as Debian's official
 # slim image has it, no manual pages, documentation or translations
-# (copyrights stay). The build stage does not miss them either.
+# (copyrights stay). The build stage does not miss them either, but Java's
+# postinst (fastddsgen needs a JRE) links its manual page into
+# /usr/share/man/man1 and fails if the folder is not there: keep it.
 base_tags=(debian:bookworm debian:bookworm-slim)
 missing_tags=()
 for base_tag in "${base_tags[@]}"; do
@@ -123,6 +125,7 @@ if ((${#missing_tags[@]})); then
     --dpkgopt='path-exclude=/usr/share/man/*' --dpkgopt='path-exclude=/usr/share/info/*' \
     --dpkgopt='path-exclude=/usr/share/doc/*' --dpkgopt='path-include=/usr/share/doc/*/copyright' \
     --dpkgopt='path-exclude=/usr/share/locale/*' --dpkgopt='path-exclude=/usr/share/lintian/*' \
+    --customize-hook='mkdir -p "$1/usr/share/man/man1"' \
     bookworm "$work/rootfs.tar" "${sources[@]}"
   for base_tag in "${missing_tags[@]}"; do
     podman import --quiet --change 'CMD ["/bin/bash"]' "$work/rootfs.tar" "$base_tag" >/dev/null

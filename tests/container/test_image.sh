@@ -29,10 +29,10 @@ if ((status != 0)); then
 fi
 ok "build-image.sh built $image in $((SECONDS - start)) s (base images and build)"
 
-config=$(podman image inspect --format '{{json .Config}}' "$image")
-[[ $config == *'"Healthcheck":{"Test":["CMD","dh3-healthcheck"]'* ]] &&
-  ok "the HEALTHCHECK survived the build (Docker image format)" ||
-  fail "no HEALTHCHECK dh3-healthcheck in the image: $config"
+healthcheck=$(podman image inspect --format '{{json .Config.Healthcheck}}' "$image")
+[[ $healthcheck == '{"Test":["CMD","dh3-healthcheck"]'* ]] &&
+  ok "the HEALTHCHECK survived the build (Docker image format): $healthcheck" ||
+  fail "no HEALTHCHECK dh3-healthcheck in the image: $healthcheck"
 user=$(podman image inspect --format '{{.Config.User}}' "$image")
 [[ $user == 10001:10001 ]] && ok "image user $user" || fail "image user is '$user', not 10001:10001"
 for base in debian:bookworm debian:bookworm-slim; do

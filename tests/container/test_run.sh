@@ -9,6 +9,9 @@
 #   bridge        the image's default configuration (every interface, UDP
 #                 only) on podman's default bridge network, its metrics port
 #                 published on the host's loopback.
+# Then the image's configuration in a shared network namespace with a NIC (as
+# on a host's network): a client reaches it with --interface '*', not with
+# dh3ctl's loopback-only default.
 # Each time: the health check turns healthy (`podman healthcheck run`: no
 # systemd schedules it here), the service runs as user 10001, the metrics
 # port answers from outside the container, the clients list, initialize,
@@ -54,11 +57,13 @@ check_service() {
   else
     fail "dh3ctl list:"; sed 's/^/  /' "$work/list"
   fi
+  # move replies once the motion started: the hand arrives a moment later.
+  at_30() { ctl --json --timeout 30 status cell/bus0/1 >"$work/status" 2>&1 && grep -q '"position":30,' "$work/status"; }
   if ctl --timeout 30 init cell/bus0/1 >"$work/out" 2>&1 && ctl --timeout 30 move cell/bus0/1 30 >>"$work/out" 2>&1 &&
-    ctl --json --timeout 30 status cell/bus0/1 >>"$work/out" 2>&1 && grep -q '"position":30' "$work/out"; then
-    ok "dh3ctl init, move to 30: the hand is at 30"
+    wait_for 30 at_30; then
+    ok "dh3ctl init, move to 30: the hand arrives at 30"
   else
-    fail "dh3ctl init/move/status:"; sed 's/^/  /' "$work/out"
+    fail "dh3ctl init/move/status:"; sed 's/^/  /' "$work/out" "$work/status"
   fi
   if client "${podman_args[@]}" --entrypoint pick_loop "$image" "${dds_args[@]}" \
     --hand cell/bus0/2 --cycles 3 >"$work/pick" 2>&1 && grep -q '^done: 3 cycles, 3 grasped' "$work/pick"; then
@@ -101,5 +106,35 @@ metrics_port=$(free_port)
 container bridge -p "127.0.0.1:$metrics_port:9464" -e DH3_DOMAIN="$domain" "$image" \
   --config /etc/dh3/dh3.yaml --domain "$domain" &&
   check_service bridge 127.0.0.1 "$metrics_port" -- --udp-only --interface '*'
+
+echo "== the image's configuration on a host's network: clients need --interface '*'"
+# A network namespace of this test with a NIC (a veth pair, 169.254.x)
+# stands in for the host's network, so the image's "every interface" stays
+# off the real NICs; containers join it as they would the host's.
+ns=$run_id
+if ip netns add "$ns" 2>"$work/err"; then
+  cleanup_hooks+=("ip netns del $ns")
+  ip -n "$ns" link set lo up
+  ip -n "$ns" link add nic0 type veth peer name nic1 && ip -n "$ns" addr add 169.254.77.1/24 dev nic0 &&
+    ip -n "$ns" link set nic0 up && ip -n "$ns" link set nic1 up || fail "no veth pair in $ns"
+  net=(--network "ns:/run/netns/$ns")
+  if container ns "${net[@]}" -e DH3_DOMAIN="$domain" "$image" --config /etc/dh3/dh3.yaml --domain "$domain"; then
+    wait_for 90 health "$run_id-ns" || fail "the service in $ns never turned healthy"
+    if client "${net[@]}" --entrypoint dh3ctl "$image" --udp-only --domain "$domain" --timeout 8 list \
+      >"$work/list" 2>&1; then
+      fail "a loopback-only client found the service on every interface (the README says it does not)"
+    else
+      ok "dh3ctl's loopback default does not reach it: $(tail -n 1 "$work/list")"
+    fi
+    if client "${net[@]}" --entrypoint dh3ctl "$image" --udp-only --interface '*' --domain "$domain" \
+      --timeout 30 list >"$work/list" 2>&1 && [[ $(grep -c '^cell/bus0/[123] .* yes ' "$work/list") == 3 ]]; then
+      ok "dh3ctl --interface '*' lists its 3 hands"
+    else
+      fail "dh3ctl --interface '*':"; sed 's/^/  /' "$work/list"
+    fi
+  fi
+else
+  fail "ip netns add: $(cat "$work/err")"
+fi
 
 finish "container run"
