@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# The container image's build stage, as one script: the Dockerfile runs it, and
-# so does the test suite (tests/deploy), on this same Debian base, so the
-# image's build steps are tested even where no container engine runs.
+# The container image's build stage, as one script the Dockerfile runs (the
+# test container.image builds the image with it). It also runs outside a
+# container, on a Debian 12 machine, to see what the runtime stage gets.
 #
 #   deploy/container/build-in-image.sh BUILD_DIR STAGE_DIR
 #
