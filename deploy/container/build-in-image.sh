@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# The container image's build stage, as one script: the Dockerfile runs it, and
-# so does the test suite (tests/deploy), on this same Debian base, so the
-# image's build steps are tested even where no container engine runs.
+# The container image's build stage, as one script the Dockerfile runs (the
+# test container.image builds the image with it). It also runs outside a
+# container, on a Debian 12 machine, to see what the runtime stage gets.
 #
 #   deploy/container/build-in-image.sh BUILD_DIR STAGE_DIR
 #
@@ -10,7 +10,7 @@
 # into STAGE_DIR what the runtime image gets, laid out as in the image's root:
 #
 #   usr/local/bin/      dh3-service, dh3ctl, dh3-sim, pick_loop, event_watcher,
-#                       dh3-healthcheck
+#                       dh3-healthcheck, dh3-discovery-server
 #   usr/local/lib/      libdh3client.so*
 #   usr/local/share/dh3/dds/   the Fast DDS XML profiles (udp_only, discovery_client, secure)
 #   etc/dh3/dh3.yaml    the default configuration: the simulator (deploy/config/dh3-sim.yaml)
@@ -45,6 +45,7 @@ done
 rm -rf "$stage$prefix/include" "$stage$prefix/lib/cmake" "$stage$prefix/share/doc"
 
 install -D -m 0755 "$src/deploy/container/healthcheck.sh" "$stage$prefix/bin/dh3-healthcheck"
+install -D -m 0755 "$src/deploy/container/discovery-server.sh" "$stage$prefix/bin/dh3-discovery-server"
 install -d -m 0755 "$stage$prefix/share/dh3/dds"
 install -m 0644 "$src"/deploy/dds/*.xml "$stage$prefix/share/dh3/dds/"
 install -D -m 0644 "$src/deploy/config/dh3-sim.yaml" "$stage/etc/dh3/dh3.yaml"

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Checks deploy/'s container, Compose and Kubernetes files without running them.
 
-    check_manifests.py SOURCE_DIR CHECK_CONFIG [--stage STAGE_DIR]
+    check_manifests.py SOURCE_DIR CHECK_CONFIG [--print-programs]
 
 - every YAML file under deploy/ parses;
 - every file they (and the Dockerfile) name exists;
@@ -10,8 +10,9 @@
 - what they say about each other agrees: the health check's service name and
   domain are the config's, the discovery server's address is where the server
   listens, the image's user is the manifests' user, containers are UDP only;
-- with --stage (build-in-image.sh's output), every program the manifests run
-  is in the image: installed by the build stage, or by a runtime package.
+- with --print-programs, prints "program NAME" for every program the
+  Dockerfile, the Compose file and the manifests run (the container tests
+  check that the image has each).
 
 Prints one line per problem and exits 1 if there is any.
 """
@@ -40,11 +41,9 @@ def load_all(path):
 
 def main():
     args = sys.argv[1:]
-    stage = None
-    if "--stage" in args:
-        i = args.index("--stage")
-        stage = args[i + 1]
-        del args[i : i + 2]
+    print_programs = "--print-programs" in args
+    if print_programs:
+        args.remove("--print-programs")
     if len(args) != 2:
         print(__doc__)
         return 2
@@ -79,8 +78,9 @@ def main():
     check_kubernetes(src, docs, configs, programs, dockerfile_uid)
     check_readme(src)
     check_configs(check_config, configs)
-    if stage:
-        check_stage(src, stage, programs)
+    if print_programs:
+        for program in sorted(programs):
+            print(f"program {program}")
 
     if problems:
         print(f"{len(problems)} problem(s)")
@@ -337,35 +337,6 @@ def check_configs(check_config, configs):
             print(f"config {line}")
             if result.returncode != 0:
                 problem(f"config {label}: dh3-service would not start: {line}")
-
-
-def runtime_packages(src):
-    with open(os.path.join(src, "deploy/install-deps.sh"), encoding="utf-8") as f:
-        text = f.read()
-    block = re.search(r"runtime_pkgs=\((.*?)\)", text, re.S)
-    return block.group(1).split() if block else []
-
-
-def check_stage(src, stage, programs):
-    runtime = runtime_packages(src)
-    for program in sorted(programs):
-        staged = os.path.join(stage, "usr/local/bin", program)
-        if os.access(staged, os.X_OK):
-            print(f"program {program}: built into the image")
-            continue
-        found = None
-        for d in ("/usr/bin", "/usr/sbin", "/bin"):
-            if os.access(os.path.join(d, program), os.X_OK):
-                found = os.path.join(d, program)
-                break
-        owner = None
-        if found:
-            result = subprocess.run(["dpkg", "-S", found], capture_output=True, text=True)
-            owner = result.stdout.split(":")[0] if result.returncode == 0 else None
-        if owner in runtime:
-            print(f"program {program}: from runtime package {owner}")
-        else:
-            problem(f"program {program}: neither built into the image nor in a runtime package")
 
 
 if __name__ == "__main__":
