@@ -31,14 +31,13 @@ case $mode in
     sanitize=address,undefined
     targets=(all)
     # fuzz.*: the fuzz targets are built by clang with ASan+UBSan already.
-    # deploy.image_build: a second, plain Release build of the image's steps.
     # install.client_consumer: builds and links an out-of-tree program against
     #   the installed package; a packaging check, not code that runs.
-    # Labels kernel and container: they run the plain build's programs inside
-    #   user-mode Linux and in container images; the sanitized programs are
-    #   tested on the host.
-    selection=(-E '^(fuzz\.|deploy\.image_build$|install\.client_consumer$)'
-               -LE '^(kernel|container)$')
+    # Labels kernel, container and python: they run the plain build's programs
+    #   inside user-mode Linux and in container images, or load the client into
+    #   an uninstrumented python3; the sanitized programs are tested on the host.
+    selection=(-E '^(fuzz\.|install\.client_consumer$)'
+               -LE '^(kernel|container|python)$')
     # new_delete_type_mismatch=0: Debian's libfastrtps 2.9 frees objects of its
     # own with a smaller size than it allocated them with (~RTPSReader and
     # ~RTPSWriter, seen on every reader and writer deleted). Allocation and
