@@ -5,6 +5,8 @@
 # image's build stage.
 #
 #   deploy/install-deps.sh            build + test dependencies (default)
+#   deploy/install-deps.sh --build    only what building the programs needs (the
+#                                     demo, the container image's build stage)
 #   deploy/install-deps.sh --runtime  only what the service and dh3ctl need to run
 set -euo pipefail
 
@@ -18,6 +20,8 @@ build_pkgs=(
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
   libspdlog-dev libfmt-dev libcli11-dev libyaml-cpp-dev
   prometheus-cpp-dev
+)
+test_pkgs=(
   libgtest-dev libgmock-dev
   clang libclang-rt-14-dev   # libFuzzer targets (tests/fuzz)
   cyclonedds-dev cyclonedds-tools   # another DDS vendor's participant against dh3-service (tests/integration/vendor)
@@ -27,8 +31,12 @@ build_pkgs=(
   user-mode-linux kmod can-utils
 )
 
-want=("${build_pkgs[@]}")
-[[ ${1:-} == --runtime ]] && want=("${runtime_pkgs[@]}")
+case ${1:-} in
+  --runtime) want=("${runtime_pkgs[@]}") ;;
+  --build) want=("${build_pkgs[@]}") ;;
+  "") want=("${build_pkgs[@]}" "${test_pkgs[@]}") ;;
+  *) echo "usage: $0 [--build|--runtime]" >&2; exit 2 ;;
+esac
 
 missing=()
 for p in "${want[@]}"; do

@@ -5,7 +5,7 @@
 #
 #   deploy/container/build-in-image.sh BUILD_DIR STAGE_DIR
 #
-# Installs the build dependencies (deploy/install-deps.sh), configures and
+# Installs the build dependencies (deploy/install-deps.sh --build), configures and
 # builds the source tree this script is in (Release, no tests), and installs
 # into STAGE_DIR what the runtime image gets, laid out as in the image's root:
 #
@@ -24,7 +24,7 @@ stage=$2
 jobs=${JOBS:-$(nproc)}
 prefix=/usr/local
 
-"$src/deploy/install-deps.sh"
+"$src/deploy/install-deps.sh" --build
 
 # Warnings are errors in the development build (tests/run-all.sh); a release
 # image must not fail to build over a new compiler's false positive at -O3.
