@@ -116,10 +116,17 @@ TEST_F(LinkAndHandFaults, ACutLinkEndsPendingRequestsWithBusDownAndTheHandsRetur
 
   ASSERT_THAT(sim_->control("unmute 2"), StartsWith("ok"));
   proxy_->restore();
+  // While cut, the proxy accepts and drops every connection, so the link may
+  // have flapped up for a moment just before restore(): wait for a connection
+  // the restored proxy kept, then for the link to be reported up.
+  const auto deadline = std::chrono::steady_clock::now() + kDdsDeadline;
+  while (proxy_->connections() <= connections && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));  // polling, not a wait for time
+  }
+  EXPECT_GT(proxy_->connections(), connections) << "the service never reconnected";
   EXPECT_TRUE(client_->wait_info(service_->name(), [](const msg::ServiceInfo& info) {
     return !info.buses().empty() && info.buses()[0].link_up();
   }));
-  EXPECT_GT(proxy_->connections(), connections) << "the service never reconnected";
   for (std::uint16_t id = 1; id <= 3; ++id) {
     EXPECT_TRUE(client_->wait_status(hand(id), [](const auto& s) { return s.online(); }))
         << "hand " << id << " not back online";

@@ -9,8 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <fastrtps/types/TypeObjectFactory.h>
+#include <cctype>
 #include <fstream>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -22,35 +22,65 @@ namespace {
 using eprosima::fastrtps::types::TypeObject;
 using eprosima::fastrtps::types::TypeObjectFactory;
 
+// Plain string scanning, not <regex>: GCC 12's regex headers trip
+// -Wmaybe-uninitialized (an error here) in the sanitizer builds.
 std::string without_comments(const std::string& text) {
-  static const std::regex kComment(R"(//[^\n]*|/\*[\s\S]*?\*/)");
-  return std::regex_replace(text, kComment, " ");
+  std::string out;
+  for (std::size_t i = 0; i < text.size();) {
+    if (text.compare(i, 2, "//") == 0) {
+      i = text.find('\n', i);
+      if (i == std::string::npos) break;
+    } else if (text.compare(i, 2, "/*") == 0) {
+      const std::size_t end = text.find("*/", i + 2);
+      i = end == std::string::npos ? text.size() : end + 2;
+      out += ' ';
+    } else {
+      out += text[i++];
+    }
+  }
+  return out;
 }
+
+bool is_word_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_'; }
 
 /// Fully qualified names ("dh3::msg::HandStatus") of the structs the IDL declares.
 std::vector<std::string> structs_declared_in(const std::string& idl) {
-  static const std::regex kToken(R"(\b(module|struct)\s+(\w+)\s*\{|\{|\})");
+  const std::string text = without_comments(idl);
   std::vector<std::string> scope;  // "" for braces that name no module or struct
   std::vector<std::string> found;
-  const std::string text = without_comments(idl);
-  for (auto it = std::sregex_iterator(text.begin(), text.end(), kToken);
-       it != std::sregex_iterator(); ++it) {
-    const std::smatch& token = *it;
-    if (token.str(0) == "}") {
-      if (!scope.empty()) scope.pop_back();
-      continue;
-    }
-    if (token.str(1).empty()) {
+  auto skip_space = [&text](std::size_t i) {
+    while (i < text.size() && std::isspace(static_cast<unsigned char>(text[i])) != 0) ++i;
+    return i;
+  };
+  for (std::size_t i = 0; i < text.size();) {
+    if (text[i] == '{') {
       scope.emplace_back();
-      continue;
+      ++i;
+    } else if (text[i] == '}') {
+      if (!scope.empty()) scope.pop_back();
+      ++i;
+    } else if (is_word_char(text[i])) {
+      std::size_t end = i;
+      while (end < text.size() && is_word_char(text[end])) ++end;
+      const std::string word = text.substr(i, end - i);
+      i = end;
+      if (word != "module" && word != "struct") continue;
+      const std::size_t name_at = skip_space(i);
+      std::size_t name_end = name_at;
+      while (name_end < text.size() && is_word_char(text[name_end])) ++name_end;
+      const std::size_t brace = skip_space(name_end);
+      if (name_end == name_at || brace >= text.size() || text[brace] != '{') continue;
+      const std::string name = text.substr(name_at, name_end - name_at);
+      std::string qualified;
+      for (const auto& part : scope) {
+        if (!part.empty()) qualified += part + "::";
+      }
+      if (word == "struct") found.push_back(qualified + name);
+      scope.push_back(name);
+      i = brace + 1;
+    } else {
+      ++i;
     }
-    std::string name;
-    for (const auto& part : scope) {
-      if (!part.empty()) name += part + "::";
-    }
-    name += token.str(2);
-    if (token.str(1) == "struct") found.push_back(name);
-    scope.push_back(token.str(2));
   }
   return found;
 }
