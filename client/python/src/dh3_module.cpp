@@ -22,11 +22,11 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cstdio>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
 #include <cstdint>
+#include <cstdio>
 #include <functional>
 #include <future>
 #include <memory>
@@ -66,25 +66,25 @@ py::object python_enum_class(const char* name) {
 
 }  // namespace
 
-#define DH3_PYTHON_ENUM_CASTER(CppType, PyName)                                                  \
-  namespace pybind11::detail {                                                                   \
-  template <>                                                                                    \
-  struct type_caster<CppType> {                                                                  \
-    PYBIND11_TYPE_CASTER(CppType, const_name(PyName));                                           \
-    bool load(handle source, bool /*convert*/) {                                                 \
-      if (!source || !PyLong_Check(source.ptr())) return false;                                  \
-      const long number = PyLong_AsLong(source.ptr());                                           \
-      if (number == -1 && PyErr_Occurred()) {                                                    \
-        PyErr_Clear();                                                                           \
-        return false;                                                                            \
-      }                                                                                          \
-      value = static_cast<CppType>(number);                                                      \
-      return true;                                                                               \
-    }                                                                                            \
-    static handle cast(CppType source, return_value_policy /*policy*/, handle /*parent*/) {     \
-      return python_enum_class(PyName)(static_cast<int>(source)).release();                      \
-    }                                                                                            \
-  };                                                                                             \
+#define DH3_PYTHON_ENUM_CASTER(CppType, PyName)                                             \
+  namespace pybind11::detail {                                                              \
+  template <>                                                                               \
+  struct type_caster<CppType> {                                                             \
+    PYBIND11_TYPE_CASTER(CppType, const_name(PyName));                                      \
+    bool load(handle source, bool /*convert*/) {                                            \
+      if (!source || !PyLong_Check(source.ptr())) return false;                             \
+      const long number = PyLong_AsLong(source.ptr());                                      \
+      if (number == -1 && PyErr_Occurred()) {                                               \
+        PyErr_Clear();                                                                      \
+        return false;                                                                       \
+      }                                                                                     \
+      value = static_cast<CppType>(number);                                                 \
+      return true;                                                                          \
+    }                                                                                       \
+    static handle cast(CppType source, return_value_policy /*policy*/, handle /*parent*/) { \
+      return python_enum_class(PyName)(static_cast<int>(source)).release();                 \
+    }                                                                                       \
+  };                                                                                        \
   }
 
 DH3_PYTHON_ENUM_CASTER(dh3::Code, "Code")
@@ -313,12 +313,25 @@ class PyClient;
 std::mutex g_clients_mutex;
 std::set<PyClient*> g_clients;
 
+/// The C++ client, shared by the calls in progress; destroyed without the GIL
+/// (~Client waits for the callback thread, which may be waiting for the GIL).
+using ClientPtr = std::shared_ptr<dh3::Client>;
+
+void destroy_client(dh3::Client* client) {
+  if (Py_IsInitialized() && PyGILState_Check()) {
+    py::gil_scoped_release released;
+    delete client;
+  } else {
+    delete client;
+  }
+}
+
 class PyClient {
  public:
   explicit PyClient(dh3::ClientOptions options) {
     {
       py::gil_scoped_release released;
-      client_ = std::make_unique<dh3::Client>(std::move(options));
+      client_ = ClientPtr(new dh3::Client(std::move(options)), &destroy_client);
     }
     std::lock_guard lock(g_clients_mutex);
     g_clients.insert(this);
@@ -334,42 +347,42 @@ class PyClient {
   PyClient& operator=(const PyClient&) = delete;
 
   /// Leaves the domain: pending calls end NOT_CONNECTED, callbacks stop, and
-  /// Hands of this client answer NOT_CONNECTED from now on.
+  /// Hands of this client answer NOT_CONNECTED from now on. (A call another
+  /// thread is starting at this moment finishes first.)
   void close() {
-    std::unique_ptr<dh3::Client> closing;
+    ClientPtr closing;
     {
       std::lock_guard lock(mutex_);
       closing = std::move(client_);
     }
-    if (!closing) return;
-    // ~Client waits for the callback thread, which may wait for the GIL.
-    if (Py_IsInitialized() && PyGILState_Check()) {
-      py::gil_scoped_release released;
-      closing.reset();
-    } else {
-      closing.reset();
-    }
+    closing.reset();
   }
 
-  /// The client, or dh3.Error(NOT_CONNECTED) once closed.
-  dh3::Client& client() {
-    std::lock_guard lock(mutex_);
-    if (!client_) raise_error(dh3::Code::not_connected, "the client is closed");
-    return *client_;
+  /// The client, or dh3.Error(NOT_CONNECTED) once closed. The GIL must be held.
+  ClientPtr client() {
+    ClientPtr current;
+    {
+      std::lock_guard lock(mutex_);
+      current = client_;
+    }
+    if (!current) raise_error(dh3::Code::not_connected, "the client is closed");
+    return current;
   }
-  [[nodiscard]] bool closed() {
+  /// The client, or null once closed.
+  ClientPtr current() {
     std::lock_guard lock(mutex_);
-    return !client_;
+    return client_;
   }
 
   [[nodiscard]] Milliseconds effective(const OptionalSeconds& timeout) {
-    return timeout ? to_milliseconds(*timeout, "timeout") : client().default_timeout();
+    return timeout ? to_milliseconds(*timeout, "timeout") : client()->default_timeout();
   }
 
-  PyHand wrap(dh3::Hand hand) { return PyHand(std::move(hand), client().default_timeout()); }
+  PyHand wrap(dh3::Hand hand) { return PyHand(std::move(hand), client()->default_timeout()); }
 
   /// Repeats a waiting lookup in slices until it succeeds, fails for good
-  /// (INVALID_ARGUMENT) or the deadline passes; the last answer.
+  /// (INVALID_ARGUMENT) or the deadline passes; the last answer. The client is
+  /// taken anew for each slice, so close() ends the wait (NOT_CONNECTED).
   template <typename T, typename Lookup>
   dh3::Found<T> wait_in_slices(const OptionalSeconds& timeout, Lookup&& lookup) {
     const auto whole = effective(timeout);
@@ -377,10 +390,12 @@ class PyClient {
     for (;;) {
       const auto left = std::chrono::duration_cast<Milliseconds>(deadline - Clock::now());
       const auto slice = std::clamp(left, Milliseconds(1), kSlice);
+      auto current = client();
       std::optional<dh3::Found<T>> found;
       {
         py::gil_scoped_release released;
-        found.emplace(lookup(slice));
+        found.emplace(lookup(*current, slice));
+        current.reset();
       }
       if (*found || found->code() == dh3::Code::invalid_argument) return std::move(*found);
       if (left <= kSlice) {
@@ -406,11 +421,9 @@ class PyClient {
     return message;
   }
 
- public:
-
  private:
   std::mutex mutex_;
-  std::unique_ptr<dh3::Client> client_;
+  ClientPtr client_;
 };
 
 /// Closes every client (interpreter exit) and waits for the threads that
@@ -442,10 +455,10 @@ std::string hand_address_repr(const dh3::HandAddress& a) {
 }  // namespace
 
 PYBIND11_MODULE(_dh3, m) {
-  m.doc() =
-      "The compiled part of dh3 (libdh3client); import dh3 instead, which re-exports these.";
+  m.doc() = "The compiled part of dh3 (libdh3client); import dh3 instead, which re-exports these.";
 
-  m.def("to_string", [](dh3::Code c) { return std::string(dh3::to_string(c)); }, "code"_a);
+  m.def(
+      "to_string", [](dh3::Code c) { return std::string(dh3::to_string(c)); }, "code"_a);
   m.def(
       "_to_string",
       [](const std::string& kind, int number) -> std::string {
@@ -518,12 +531,13 @@ PYBIND11_MODULE(_dh3, m) {
       .def_readonly("lease_holder", &dh3::Reply::lease_holder,
                     "Lease commands, and commands refused because of a lease: who holds it.")
       .def("__repr__", [](const dh3::Reply& r) {
-        return "Reply(code=" + std::string(dh3::to_string(r.code)) + ", value=" +
-               std::to_string(r.value) + ", grasp=" + std::string(dh3::to_string(r.grasp)) +
-               ", message='" + r.message + "')";
+        return "Reply(code=" + std::string(dh3::to_string(r.code)) +
+               ", value=" + std::to_string(r.value) +
+               ", grasp=" + std::string(dh3::to_string(r.grasp)) + ", message='" + r.message + "')";
       });
 
-  py::class_<dh3::HandStatus>(m, "HandStatus", "The latest status the service published for a hand.")
+  py::class_<dh3::HandStatus>(m, "HandStatus",
+                              "The latest status the service published for a hand.")
       .def_readonly("address", &dh3::HandStatus::address)
       .def_readonly("name", &dh3::HandStatus::name, "From the service's config, may be empty.")
       .def_readonly("online", &dh3::HandStatus::online)
@@ -623,172 +637,200 @@ PYBIND11_MODULE(_dh3, m) {
       .def("wait_until", &PyHand::wait_until, "predicate"_a, timeout_arg,
            "Waits until predicate(status) is true (checked at once, then on every new status); "
            "returns that status, None on timeout.")
-      .def("initialize",
-           [](PyHand& h, Seconds t) {
-             return blocking_call([&] { return h.hand().initialize_async(to_timeout(t)); });
-           },
-           timeout_arg, "Initializes the hand; the reply comes once initialization finished.")
-      .def("initialize_async",
-           [](PyHand& h, Seconds t) {
-             return async_call([&] { return h.hand().initialize_async(to_timeout(t)); });
-           },
-           timeout_arg)
-      .def("move_to",
-           [](PyHand& h, std::int32_t position, Seconds t) {
-             return blocking_call([&] { return h.hand().move_to_async(position, to_timeout(t)); });
-           },
-           "position"_a, timeout_arg, "Moves the fingers to position percent (0 closed - 100 open).")
-      .def("move_to_async",
-           [](PyHand& h, std::int32_t position, Seconds t) {
-             return async_call([&] { return h.hand().move_to_async(position, to_timeout(t)); });
-           },
-           "position"_a, timeout_arg)
-      .def("rotate_to",
-           [](PyHand& h, std::int32_t percent, Seconds t) {
-             return blocking_call([&] { return h.hand().rotate_to_async(percent, to_timeout(t)); });
-           },
-           "percent"_a, timeout_arg, "Rotates to percent of 90 degrees.")
-      .def("rotate_to_async",
-           [](PyHand& h, std::int32_t percent, Seconds t) {
-             return async_call([&] { return h.hand().rotate_to_async(percent, to_timeout(t)); });
-           },
-           "percent"_a, timeout_arg)
-      .def("set_force",
-           [](PyHand& h, std::int32_t closing, std::optional<std::int32_t> opening, Seconds t) {
-             return blocking_call(
-                 [&] { return h.hand().set_force_async(closing, opening, to_timeout(t)); });
-           },
-           "closing"_a, "opening"_a = py::none(), timeout_arg,
-           "Sets the closing (gripping) force and, when given, the opening force, in percent "
-           "(20-100). With both, the first failure is the reply.")
-      .def("set_force_async",
-           [](PyHand& h, std::int32_t closing, std::optional<std::int32_t> opening, Seconds t) {
-             return async_call(
-                 [&] { return h.hand().set_force_async(closing, opening, to_timeout(t)); });
-           },
-           "closing"_a, "opening"_a = py::none(), timeout_arg)
-      .def("grasp",
-           [](PyHand& h, std::int32_t force, Seconds t) {
-             return blocking_call([&] { return h.hand().grasp_async(force, to_timeout(t)); });
-           },
-           "force"_a, timeout_arg,
-           "Closes with force percent: reply.grasp is GRASPED (stopped on an object) or MISSED "
-           "(closed on nothing); reply.value the final position.")
-      .def("grasp_async",
-           [](PyHand& h, std::int32_t force, Seconds t) {
-             return async_call([&] { return h.hand().grasp_async(force, to_timeout(t)); });
-           },
-           "force"_a, timeout_arg)
-      .def("release",
-           [](PyHand& h, std::int32_t position, Seconds t) {
-             return blocking_call([&] { return h.hand().release_async(position, to_timeout(t)); });
-           },
-           "position"_a, timeout_arg, "Opens to position; the reply comes once arrived.")
-      .def("release_async",
-           [](PyHand& h, std::int32_t position, Seconds t) {
-             return async_call([&] { return h.hand().release_async(position, to_timeout(t)); });
-           },
-           "position"_a, timeout_arg)
-      .def("stop",
-           [](PyHand& h, Seconds t) {
-             return blocking_call([&] { return h.hand().stop_async(to_timeout(t)); });
-           },
-           timeout_arg, "Holds the current position; pending motion ends CANCELLED.")
-      .def("stop_async",
-           [](PyHand& h, Seconds t) {
-             return async_call([&] { return h.hand().stop_async(to_timeout(t)); });
-           },
-           timeout_arg)
-      .def("read",
-           [](PyHand& h, std::uint16_t code, Seconds t) {
-             return blocking_call([&] { return h.hand().read_async(code, to_timeout(t)); });
-           },
-           "register_code"_a, timeout_arg,
-           "Reads a register (dh3.reg.position, ...); reply.value is what was read.")
-      .def("read_async",
-           [](PyHand& h, std::uint16_t code, Seconds t) {
-             return async_call([&] { return h.hand().read_async(code, to_timeout(t)); });
-           },
-           "register_code"_a, timeout_arg)
-      .def("set_can_id",
-           [](PyHand& h, std::int32_t id, Seconds t) {
-             return blocking_call([&] { return h.hand().set_can_id_async(id, to_timeout(t)); });
-           },
-           "can_id"_a, timeout_arg,
-           "Administrative (the service must allow it; the hand needs a reboot after).")
-      .def("set_can_id_async",
-           [](PyHand& h, std::int32_t id, Seconds t) {
-             return async_call([&] { return h.hand().set_can_id_async(id, to_timeout(t)); });
-           },
-           "can_id"_a, timeout_arg)
-      .def("set_baud_rate",
-           [](PyHand& h, std::int32_t index, Seconds t) {
-             return blocking_call(
-                 [&] { return h.hand().set_baud_rate_async(index, to_timeout(t)); });
-           },
-           "index"_a, timeout_arg,
-           "Administrative: baud rate index 0 (500 kbps) - 5 (100 kbps).")
-      .def("set_baud_rate_async",
-           [](PyHand& h, std::int32_t index, Seconds t) {
-             return async_call([&] { return h.hand().set_baud_rate_async(index, to_timeout(t)); });
-           },
-           "index"_a, timeout_arg)
-      .def("scan_bus",
-           [](PyHand& h, Seconds t) {
-             return blocking_call([&] { return h.hand().scan_bus_async(to_timeout(t)); });
-           },
-           timeout_arg, "Probes this hand's whole bus for hands now; reply.found_ids lists them.")
-      .def("scan_bus_async",
-           [](PyHand& h, Seconds t) {
-             return async_call([&] { return h.hand().scan_bus_async(to_timeout(t)); });
-           },
-           timeout_arg)
-      .def("acquire_lease",
-           [](PyHand& h, double ttl, Seconds t) {
-             const auto ms = to_milliseconds(ttl, "ttl");
-             return blocking_call([&] { return h.hand().acquire_lease_async(ms, to_timeout(t)); });
-           },
-           "ttl"_a, timeout_arg,
-           "Leases: while this client holds one (ttl seconds), other clients' motion and write "
-           "commands to the hand are DENIED. A lease ends on release, on expiry, or when this "
-           "client leaves the domain.")
-      .def("acquire_lease_async",
-           [](PyHand& h, double ttl, Seconds t) {
-             const auto ms = to_milliseconds(ttl, "ttl");
-             return async_call([&] { return h.hand().acquire_lease_async(ms, to_timeout(t)); });
-           },
-           "ttl"_a, timeout_arg)
-      .def("renew_lease",
-           [](PyHand& h, double ttl, Seconds t) {
-             const auto ms = to_milliseconds(ttl, "ttl");
-             return blocking_call([&] { return h.hand().renew_lease_async(ms, to_timeout(t)); });
-           },
-           "ttl"_a, timeout_arg)
-      .def("renew_lease_async",
-           [](PyHand& h, double ttl, Seconds t) {
-             const auto ms = to_milliseconds(ttl, "ttl");
-             return async_call([&] { return h.hand().renew_lease_async(ms, to_timeout(t)); });
-           },
-           "ttl"_a, timeout_arg)
-      .def("release_lease",
-           [](PyHand& h, Seconds t) {
-             return blocking_call([&] { return h.hand().release_lease_async(to_timeout(t)); });
-           },
-           timeout_arg)
-      .def("release_lease_async",
-           [](PyHand& h, Seconds t) {
-             return async_call([&] { return h.hand().release_lease_async(to_timeout(t)); });
-           },
-           timeout_arg)
-      .def("subscribe",
-           [](PyHand& h, py::function callback) {
-             auto cb = python_callback<dh3::HandEvent>(std::move(callback), "dh3: event callback");
-             py::gil_scoped_release released;
-             return std::make_unique<PySubscription>(h.hand().subscribe(std::move(cb)));
-           },
-           "callback"_a,
-           "Calls callback(event) for each event of this hand from now on, on the client's "
-           "thread (with the GIL). Keep the returned Subscription: the callback ends with it.")
+      .def(
+          "initialize",
+          [](PyHand& h, Seconds t) {
+            return blocking_call([&] { return h.hand().initialize_async(to_timeout(t)); });
+          },
+          timeout_arg, "Initializes the hand; the reply comes once initialization finished.")
+      .def(
+          "initialize_async",
+          [](PyHand& h, Seconds t) {
+            return async_call([&] { return h.hand().initialize_async(to_timeout(t)); });
+          },
+          timeout_arg)
+      .def(
+          "move_to",
+          [](PyHand& h, std::int32_t position, Seconds t) {
+            return blocking_call([&] { return h.hand().move_to_async(position, to_timeout(t)); });
+          },
+          "position"_a, timeout_arg, "Moves the fingers to position percent (0 closed - 100 open).")
+      .def(
+          "move_to_async",
+          [](PyHand& h, std::int32_t position, Seconds t) {
+            return async_call([&] { return h.hand().move_to_async(position, to_timeout(t)); });
+          },
+          "position"_a, timeout_arg)
+      .def(
+          "rotate_to",
+          [](PyHand& h, std::int32_t percent, Seconds t) {
+            return blocking_call([&] { return h.hand().rotate_to_async(percent, to_timeout(t)); });
+          },
+          "percent"_a, timeout_arg, "Rotates to percent of 90 degrees.")
+      .def(
+          "rotate_to_async",
+          [](PyHand& h, std::int32_t percent, Seconds t) {
+            return async_call([&] { return h.hand().rotate_to_async(percent, to_timeout(t)); });
+          },
+          "percent"_a, timeout_arg)
+      .def(
+          "set_force",
+          [](PyHand& h, std::int32_t closing, std::optional<std::int32_t> opening, Seconds t) {
+            return blocking_call(
+                [&] { return h.hand().set_force_async(closing, opening, to_timeout(t)); });
+          },
+          "closing"_a, "opening"_a = py::none(), timeout_arg,
+          "Sets the closing (gripping) force and, when given, the opening force, in percent "
+          "(20-100). With both, the first failure is the reply.")
+      .def(
+          "set_force_async",
+          [](PyHand& h, std::int32_t closing, std::optional<std::int32_t> opening, Seconds t) {
+            return async_call(
+                [&] { return h.hand().set_force_async(closing, opening, to_timeout(t)); });
+          },
+          "closing"_a, "opening"_a = py::none(), timeout_arg)
+      .def(
+          "grasp",
+          [](PyHand& h, std::int32_t force, Seconds t) {
+            return blocking_call([&] { return h.hand().grasp_async(force, to_timeout(t)); });
+          },
+          "force"_a, timeout_arg,
+          "Closes with force percent: reply.grasp is GRASPED (stopped on an object) or MISSED "
+          "(closed on nothing); reply.value the final position.")
+      .def(
+          "grasp_async",
+          [](PyHand& h, std::int32_t force, Seconds t) {
+            return async_call([&] { return h.hand().grasp_async(force, to_timeout(t)); });
+          },
+          "force"_a, timeout_arg)
+      .def(
+          "release",
+          [](PyHand& h, std::int32_t position, Seconds t) {
+            return blocking_call([&] { return h.hand().release_async(position, to_timeout(t)); });
+          },
+          "position"_a, timeout_arg, "Opens to position; the reply comes once arrived.")
+      .def(
+          "release_async",
+          [](PyHand& h, std::int32_t position, Seconds t) {
+            return async_call([&] { return h.hand().release_async(position, to_timeout(t)); });
+          },
+          "position"_a, timeout_arg)
+      .def(
+          "stop",
+          [](PyHand& h, Seconds t) {
+            return blocking_call([&] { return h.hand().stop_async(to_timeout(t)); });
+          },
+          timeout_arg, "Holds the current position; pending motion ends CANCELLED.")
+      .def(
+          "stop_async",
+          [](PyHand& h, Seconds t) {
+            return async_call([&] { return h.hand().stop_async(to_timeout(t)); });
+          },
+          timeout_arg)
+      .def(
+          "read",
+          [](PyHand& h, std::uint16_t code, Seconds t) {
+            return blocking_call([&] { return h.hand().read_async(code, to_timeout(t)); });
+          },
+          "register_code"_a, timeout_arg,
+          "Reads a register (dh3.reg.position, ...); reply.value is what was read.")
+      .def(
+          "read_async",
+          [](PyHand& h, std::uint16_t code, Seconds t) {
+            return async_call([&] { return h.hand().read_async(code, to_timeout(t)); });
+          },
+          "register_code"_a, timeout_arg)
+      .def(
+          "set_can_id",
+          [](PyHand& h, std::int32_t id, Seconds t) {
+            return blocking_call([&] { return h.hand().set_can_id_async(id, to_timeout(t)); });
+          },
+          "can_id"_a, timeout_arg,
+          "Administrative (the service must allow it; the hand needs a reboot after).")
+      .def(
+          "set_can_id_async",
+          [](PyHand& h, std::int32_t id, Seconds t) {
+            return async_call([&] { return h.hand().set_can_id_async(id, to_timeout(t)); });
+          },
+          "can_id"_a, timeout_arg)
+      .def(
+          "set_baud_rate",
+          [](PyHand& h, std::int32_t index, Seconds t) {
+            return blocking_call(
+                [&] { return h.hand().set_baud_rate_async(index, to_timeout(t)); });
+          },
+          "index"_a, timeout_arg, "Administrative: baud rate index 0 (500 kbps) - 5 (100 kbps).")
+      .def(
+          "set_baud_rate_async",
+          [](PyHand& h, std::int32_t index, Seconds t) {
+            return async_call([&] { return h.hand().set_baud_rate_async(index, to_timeout(t)); });
+          },
+          "index"_a, timeout_arg)
+      .def(
+          "scan_bus",
+          [](PyHand& h, Seconds t) {
+            return blocking_call([&] { return h.hand().scan_bus_async(to_timeout(t)); });
+          },
+          timeout_arg, "Probes this hand's whole bus for hands now; reply.found_ids lists them.")
+      .def(
+          "scan_bus_async",
+          [](PyHand& h, Seconds t) {
+            return async_call([&] { return h.hand().scan_bus_async(to_timeout(t)); });
+          },
+          timeout_arg)
+      .def(
+          "acquire_lease",
+          [](PyHand& h, double ttl, Seconds t) {
+            const auto ms = to_milliseconds(ttl, "ttl");
+            return blocking_call([&] { return h.hand().acquire_lease_async(ms, to_timeout(t)); });
+          },
+          "ttl"_a, timeout_arg,
+          "Leases: while this client holds one (ttl seconds), other clients' motion and write "
+          "commands to the hand are DENIED. A lease ends on release, on expiry, or when this "
+          "client leaves the domain.")
+      .def(
+          "acquire_lease_async",
+          [](PyHand& h, double ttl, Seconds t) {
+            const auto ms = to_milliseconds(ttl, "ttl");
+            return async_call([&] { return h.hand().acquire_lease_async(ms, to_timeout(t)); });
+          },
+          "ttl"_a, timeout_arg)
+      .def(
+          "renew_lease",
+          [](PyHand& h, double ttl, Seconds t) {
+            const auto ms = to_milliseconds(ttl, "ttl");
+            return blocking_call([&] { return h.hand().renew_lease_async(ms, to_timeout(t)); });
+          },
+          "ttl"_a, timeout_arg)
+      .def(
+          "renew_lease_async",
+          [](PyHand& h, double ttl, Seconds t) {
+            const auto ms = to_milliseconds(ttl, "ttl");
+            return async_call([&] { return h.hand().renew_lease_async(ms, to_timeout(t)); });
+          },
+          "ttl"_a, timeout_arg)
+      .def(
+          "release_lease",
+          [](PyHand& h, Seconds t) {
+            return blocking_call([&] { return h.hand().release_lease_async(to_timeout(t)); });
+          },
+          timeout_arg)
+      .def(
+          "release_lease_async",
+          [](PyHand& h, Seconds t) {
+            return async_call([&] { return h.hand().release_lease_async(to_timeout(t)); });
+          },
+          timeout_arg)
+      .def(
+          "subscribe",
+          [](PyHand& h, py::function callback) {
+            auto cb = python_callback<dh3::HandEvent>(std::move(callback), "dh3: event callback");
+            py::gil_scoped_release released;
+            return std::make_unique<PySubscription>(h.hand().subscribe(std::move(cb)));
+          },
+          "callback"_a,
+          "Calls callback(event) for each event of this hand from now on, on the client's "
+          "thread (with the GIL). Keep the returned Subscription: the callback ends with it.")
       .def("__repr__", [](PyHand& h) { return "Hand(" + h.hand().address().to_string() + ")"; });
 
   py::class_<PyClient>(m, "Client",
@@ -796,10 +838,9 @@ PYBIND11_MODULE(_dh3, m) {
                        "creation: check connected() and error(). A Client and its Hands may be "
                        "used from any number of threads at once.")
       .def(py::init([](int domain, std::string participant_name, std::string xml_profile_file,
-                       std::string xml_profile, std::vector<std::string> interfaces,
-                       bool udp_only, std::vector<std::string> discovery_servers,
-                       std::string security_dir, std::string security_identity,
-                       double default_timeout) {
+                       std::string xml_profile, std::vector<std::string> interfaces, bool udp_only,
+                       std::vector<std::string> discovery_servers, std::string security_dir,
+                       std::string security_identity, double default_timeout) {
              dh3::ClientOptions options;
              options.domain = domain;
              options.participant_name = std::move(participant_name);
@@ -829,153 +870,175 @@ PYBIND11_MODULE(_dh3, m) {
            "Hands answer NOT_CONNECTED from now on.")
       .def("__enter__", [](py::object self) { return self; })
       .def("__exit__", [](PyClient& c, const py::args&) { c.close(); })
-      .def("connected",
-           [](PyClient& c) {
-             if (c.closed()) return false;
-             py::gil_scoped_release released;
-             return c.client().connected();
-           },
-           "False if the DDS participant could not be created (error() says why) or the client "
-           "is closed.")
+      .def(
+          "connected",
+          [](PyClient& c) {
+            auto client = c.current();
+            if (!client) return false;
+            py::gil_scoped_release released;
+            return client->connected();
+          },
+          "False if the DDS participant could not be created (error() says why) or the client "
+          "is closed.")
       .def("error",
            [](PyClient& c) {
-             if (c.closed()) return std::string("the client is closed");
+             auto client = c.current();
+             if (!client) return std::string("the client is closed");
              py::gil_scoped_release released;
-             return c.client().error();
+             return client->error();
            })
-      .def("read_only",
-           [](PyClient& c) {
-             auto& client = c.client();
-             py::gil_scoped_release released;
-             return client.read_only();
-           },
-           "True when DDS Security refused this client commands: every command ends DENIED.")
+      .def(
+          "read_only",
+          [](PyClient& c) {
+            auto client = c.client();
+            py::gil_scoped_release released;
+            return client->read_only();
+          },
+          "True when DDS Security refused this client commands: every command ends DENIED.")
       .def("client_id",
            [](PyClient& c) {
-             auto& client = c.client();
+             auto client = c.client();
              py::gil_scoped_release released;
-             return client.client_id();
+             return client->client_id();
            })
-      .def("domain", [](PyClient& c) { return c.client().domain(); })
-      .def("default_timeout",
-           [](PyClient& c) {
-             return std::chrono::duration<double>(c.client().default_timeout()).count();
-           },
-           "Seconds.")
-      .def("services",
-           [](PyClient& c) {
-             auto& client = c.client();
-             py::gil_scoped_release released;
-             return client.services();
-           },
-           "Every service seen on the domain (ready says which are here now).")
-      .def("service",
-           [](PyClient& c, const std::string& name) {
-             auto& client = c.client();
-             py::gil_scoped_release released;
-             return client.service(name);
-           },
-           "name"_a)
-      .def("hands",
-           [](PyClient& c) {
-             auto& client = c.client();
-             py::gil_scoped_release released;
-             return client.hands();
-           },
-           "The latest status of every hand seen.")
-      .def("status",
-           [](PyClient& c, const dh3::HandAddress& address) {
-             auto& client = c.client();
-             py::gil_scoped_release released;
-             return client.status(address);
-           },
-           "address"_a)
-      .def("wait_for_service",
-           [](PyClient& c, const std::string& name, Seconds t) {
-             auto& client = c.client();
-             return value_or_raise(c.wait_in_slices<dh3::ServiceInfo>(
-                 t, [&](Milliseconds slice) { return client.wait_for_service(name, slice); }));
-           },
-           "name"_a = "", timeout_arg,
-           "Waits until the named service (empty: any) is ready; raises dh3.Error(NO_SERVICE) "
-           "on timeout.")
-      .def("wait_for_statuses",
-           [](PyClient& c, Seconds t) {
-             auto& client = c.client();
-             const auto deadline = Clock::now() + c.effective(t);
-             for (;;) {
-               const auto left = std::chrono::duration_cast<Milliseconds>(deadline - Clock::now());
-               bool done = false;
-               {
-                 py::gil_scoped_release released;
-                 done = client.wait_for_statuses(std::clamp(left, Milliseconds(1), kSlice));
-               }
-               if (done || left <= kSlice) return done;
-               check_signals();
-             }
-           },
-           timeout_arg,
-           "Waits until every ready service's hands have a status here; True if so in time.")
-      .def("hand",
-           [](PyClient& c, const dh3::HandAddress& address) {
-             return c.wrap(c.client().hand(address));
-           },
-           "address"_a, "A hand by address; no lookup, no waiting.")
-      .def("find_hand",
-           [](PyClient& c, const std::string& spec) {
-             auto& client = c.client();
-             std::optional<dh3::Found<dh3::Hand>> found;
-             {
-               py::gil_scoped_release released;
-               found.emplace(client.find_hand(spec));
-             }
-             return c.wrap(value_or_raise(std::move(*found)));
-           },
-           "spec"_a,
-           "A hand by \"SERVICE/BUS/ID\", \"BUS/ID\", \"ID\" or name among the hands known now; "
-           "raises dh3.Error otherwise.")
-      .def("wait_for_hand",
-           [](PyClient& c, const std::string& spec, Seconds t) {
-             auto& client = c.client();
-             return c.wrap(value_or_raise(c.wait_in_slices<dh3::Hand>(
-                 t, [&](Milliseconds slice) { return client.wait_for_hand(spec, slice); })));
-           },
-           "spec"_a, timeout_arg,
-           "Waits until spec names exactly one hand whose status this client has. Raises "
-           "dh3.Error: NO_SERVICE if its service never appeared, UNKNOWN_HAND if the service is "
-           "here but has no such hand, INVALID_ARGUMENT for bad or ambiguous specs.")
-      .def("scan",
-           [](PyClient& c, const std::string& service, const std::string& bus, Seconds t) {
-             auto& client = c.client();
-             return blocking_call([&] { return client.scan_async(service, bus, to_timeout(t)); });
-           },
-           "service"_a, "bus"_a, timeout_arg,
-           "Probes a bus for hands now; reply.found_ids lists those that answered.")
-      .def("scan_async",
-           [](PyClient& c, const std::string& service, const std::string& bus, Seconds t) {
-             auto& client = c.client();
-             return async_call([&] { return client.scan_async(service, bus, to_timeout(t)); });
-           },
-           "service"_a, "bus"_a, timeout_arg)
-      .def("subscribe",
-           [](PyClient& c, py::function callback, std::optional<dh3::HandAddress> only) {
-             auto& client = c.client();
-             auto cb = python_callback<dh3::HandEvent>(std::move(callback), "dh3: event callback");
-             py::gil_scoped_release released;
-             return std::make_unique<PySubscription>(client.subscribe(std::move(cb), only));
-           },
-           "callback"_a, "only"_a = py::none(),
-           "Calls callback(event) for every event of every hand (or of only) from now on, on the "
-           "client's thread. Keep the returned Subscription.")
-      .def("subscribe_status",
-           [](PyClient& c, py::function callback, std::optional<dh3::HandAddress> only) {
-             auto& client = c.client();
-             auto cb =
-                 python_callback<dh3::HandStatus>(std::move(callback), "dh3: status callback");
-             py::gil_scoped_release released;
-             return std::make_unique<PySubscription>(client.subscribe_status(std::move(cb), only));
-           },
-           "callback"_a, "only"_a = py::none(),
-           "Calls callback(status) for every new status sample (the ones already received "
-           "first) of every hand or of only. Keep the returned Subscription.");
+      .def("domain", [](PyClient& c) { return c.client()->domain(); })
+      .def(
+          "default_timeout",
+          [](PyClient& c) {
+            return std::chrono::duration<double>(c.client()->default_timeout()).count();
+          },
+          "Seconds.")
+      .def(
+          "services",
+          [](PyClient& c) {
+            auto client = c.client();
+            py::gil_scoped_release released;
+            return client->services();
+          },
+          "Every service seen on the domain (ready says which are here now).")
+      .def(
+          "service",
+          [](PyClient& c, const std::string& name) {
+            auto client = c.client();
+            py::gil_scoped_release released;
+            return client->service(name);
+          },
+          "name"_a)
+      .def(
+          "hands",
+          [](PyClient& c) {
+            auto client = c.client();
+            py::gil_scoped_release released;
+            return client->hands();
+          },
+          "The latest status of every hand seen.")
+      .def(
+          "status",
+          [](PyClient& c, const dh3::HandAddress& address) {
+            auto client = c.client();
+            py::gil_scoped_release released;
+            return client->status(address);
+          },
+          "address"_a)
+      .def(
+          "wait_for_service",
+          [](PyClient& c, const std::string& name, Seconds t) {
+            return value_or_raise(
+                c.wait_in_slices<dh3::ServiceInfo>(t, [&](dh3::Client& client, Milliseconds slice) {
+                  return client.wait_for_service(name, slice);
+                }));
+          },
+          "name"_a = "", timeout_arg,
+          "Waits until the named service (empty: any) is ready; raises dh3.Error(NO_SERVICE) "
+          "on timeout.")
+      .def(
+          "wait_for_statuses",
+          [](PyClient& c, Seconds t) {
+            const auto deadline = Clock::now() + c.effective(t);
+            for (;;) {
+              const auto left = std::chrono::duration_cast<Milliseconds>(deadline - Clock::now());
+              bool done = false;
+              auto client = c.client();  // anew each slice: close() ends the wait
+              {
+                py::gil_scoped_release released;
+                done = client->wait_for_statuses(std::clamp(left, Milliseconds(1), kSlice));
+              }
+              if (done || left <= kSlice) return done;
+              check_signals();
+            }
+          },
+          timeout_arg,
+          "Waits until every ready service's hands have a status here; True if so in time.")
+      .def(
+          "hand",
+          [](PyClient& c, const dh3::HandAddress& address) {
+            return c.wrap(c.client()->hand(address));
+          },
+          "address"_a, "A hand by address; no lookup, no waiting.")
+      .def(
+          "find_hand",
+          [](PyClient& c, const std::string& spec) {
+            auto client = c.client();
+            std::optional<dh3::Found<dh3::Hand>> found;
+            {
+              py::gil_scoped_release released;
+              found.emplace(client->find_hand(spec));
+            }
+            return c.wrap(value_or_raise(std::move(*found)));
+          },
+          "spec"_a,
+          "A hand by \"SERVICE/BUS/ID\", \"BUS/ID\", \"ID\" or name among the hands known now; "
+          "raises dh3.Error otherwise.")
+      .def(
+          "wait_for_hand",
+          [](PyClient& c, const std::string& spec, Seconds t) {
+            return c.wrap(value_or_raise(
+                c.wait_in_slices<dh3::Hand>(t, [&](dh3::Client& client, Milliseconds slice) {
+                  return client.wait_for_hand(spec, slice);
+                })));
+          },
+          "spec"_a, timeout_arg,
+          "Waits until spec names exactly one hand whose status this client has. Raises "
+          "dh3.Error: NO_SERVICE if its service never appeared, UNKNOWN_HAND if the service is "
+          "here but has no such hand, INVALID_ARGUMENT for bad or ambiguous specs.")
+      .def(
+          "scan",
+          [](PyClient& c, const std::string& service, const std::string& bus, Seconds t) {
+            auto client = c.client();
+            auto future =
+                start_call([&] { return client->scan_async(service, bus, to_timeout(t)); });
+            client.reset();  // close() while this waits ends the call NOT_CONNECTED
+            return wait_interruptibly(future);
+          },
+          "service"_a, "bus"_a, timeout_arg,
+          "Probes a bus for hands now; reply.found_ids lists those that answered.")
+      .def(
+          "scan_async",
+          [](PyClient& c, const std::string& service, const std::string& bus, Seconds t) {
+            auto client = c.client();
+            return async_call([&] { return client->scan_async(service, bus, to_timeout(t)); });
+          },
+          "service"_a, "bus"_a, timeout_arg)
+      .def(
+          "subscribe",
+          [](PyClient& c, py::function callback, std::optional<dh3::HandAddress> only) {
+            auto client = c.client();
+            auto cb = python_callback<dh3::HandEvent>(std::move(callback), "dh3: event callback");
+            py::gil_scoped_release released;
+            return std::make_unique<PySubscription>(client->subscribe(std::move(cb), only));
+          },
+          "callback"_a, "only"_a = py::none(),
+          "Calls callback(event) for every event of every hand (or of only) from now on, on the "
+          "client's thread. Keep the returned Subscription.")
+      .def(
+          "subscribe_status",
+          [](PyClient& c, py::function callback, std::optional<dh3::HandAddress> only) {
+            auto client = c.client();
+            auto cb = python_callback<dh3::HandStatus>(std::move(callback), "dh3: status callback");
+            py::gil_scoped_release released;
+            return std::make_unique<PySubscription>(client->subscribe_status(std::move(cb), only));
+          },
+          "callback"_a, "only"_a = py::none(),
+          "Calls callback(status) for every new status sample (the ones already received "
+          "first) of every hand or of only. Keep the returned Subscription.");
 }

@@ -139,3 +139,26 @@ def test_docstrings_come_with_the_module():
     assert "GRASPED" in dh3.Hand.grasp.__doc__
     assert "UNKNOWN_HAND" in dh3.Client.wait_for_hand.__doc__
     assert inspect.getdoc(dh3.Reply.value)
+
+
+def test_close_ends_a_wait_in_another_thread():
+    import threading
+    client = dh3.Client(domain=DOMAIN, default_timeout=60.0)
+    outcome = {}
+    started = threading.Event()
+
+    def wait():
+        started.set()
+        try:
+            client.wait_for_hand("nobody-here/bus0/1", timeout=60.0)
+        except dh3.Error as error:
+            outcome["code"] = error.code
+
+    thread = threading.Thread(target=wait)
+    thread.start()
+    started.wait()
+    client.close()
+    thread.join(timeout=30)
+    assert not thread.is_alive()
+    # Closed while it waited (NOT_CONNECTED), or before it began (the same).
+    assert outcome["code"] == dh3.Code.NOT_CONNECTED
