@@ -162,3 +162,42 @@ def test_close_ends_a_wait_in_another_thread():
     assert not thread.is_alive()
     # Closed while it waited (NOT_CONNECTED), or before it began (the same).
     assert outcome["code"] == dh3.Code.NOT_CONNECTED
+
+
+HEADER = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "include", "dh3",
+                      "client.hpp")
+
+
+def _cpp_block(text, start):
+    """The text of a C++ class or struct from `start` to its closing "};"."""
+    begin = text.index(start)
+    return text[begin:text.index("\n};", begin)]
+
+
+def test_every_client_option_is_a_keyword():
+    import re
+    with open(HEADER) as f:
+        options = _cpp_block(f.read(), "struct ClientOptions {")
+    fields = re.findall(r"^\s+[\w:<>, ]+?\s(\w+)(?:\s*=[^;]*|\{[^}]*\})?;", options, re.M)
+    assert "domain" in fields and "default_timeout" in fields, fields
+    signature = dh3.Client.__init__.__doc__.split("\n", 1)[0]
+    for field in fields:
+        assert f"{field}:" in signature, field
+
+
+def test_every_hand_and_client_command_has_both_forms():
+    import re
+    with open(HEADER) as f:
+        text = f.read()
+    hand = _cpp_block(text, "class DH3_CLIENT_API Hand {")
+    client = _cpp_block(text, "class DH3_CLIENT_API Client {")
+    hand_commands = re.findall(r"^\s+Reply (\w+)\(", hand, re.M)
+    client_commands = re.findall(r"^\s+Reply (\w+)\(", client, re.M)
+    assert "grasp" in hand_commands and "scan" in client_commands
+    for name in hand_commands:
+        assert hasattr(dh3.Hand, name) and hasattr(dh3.Hand, name + "_async"), name
+    for name in client_commands:
+        assert hasattr(dh3.Client, name) and hasattr(dh3.Client, name + "_async"), name
+    for name in re.findall(r"^\s+(?:\[\[nodiscard\]\] )?[\w:<>, ]+ (\w+)\([^)]*\)(?: const)?;",
+                           client, re.M):
+        assert name == "Client" or hasattr(dh3.Client, name), name
