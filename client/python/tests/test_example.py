@@ -26,7 +26,9 @@ def test_pick_loop_grasps_the_object_every_cycle(service):
 
 
 def test_pick_loop_fails_on_a_missing_hand_or_a_bad_force(service):
-    missing = run("--hand", spec(9), "--timeout", "1")
+    # Long enough for a new participant to discover the service on a busy
+    # machine: the wait for hand 9 lasts all of it.
+    missing = run("--hand", spec(9), "--timeout", "10")
     assert missing.returncode == 1
     assert "no hand bus0/9" in missing.stderr
     bad = run("--hand", spec(2), "--force", "5")
