@@ -20,12 +20,14 @@ build_pkgs=(
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
   libspdlog-dev libfmt-dev libcli11-dev libyaml-cpp-dev
   prometheus-cpp-dev
+  pybind11-dev python3-dev   # the Python module dh3 (client/python); skipped when missing
 )
 test_pkgs=(
   libgtest-dev libgmock-dev
   clang libclang-rt-14-dev   # libFuzzer targets (tests/fuzz)
   cyclonedds-dev cyclonedds-tools   # another DDS vendor's participant against dh3-service (tests/integration/vendor)
   iproute2 iputils-ping procps python3 python3-yaml openssl systemd
+  python3-pytest   # the Python module's tests (client/python/tests, ctest label python)
   # tests/kernel: a real Linux kernel with CAN, vcan and vxcan as a process
   # (the build machines' kernel has no CAN), insmod, and candump/cangen.
   user-mode-linux kmod can-utils

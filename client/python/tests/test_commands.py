@@ -1,0 +1,131 @@
+"""Every command against dh3-service on a simulated bus of three hands."""
+
+import concurrent.futures
+
+import pytest
+
+import dh3
+from conftest import DEADLINE, DOMAIN, SERVICE, spec
+
+
+def test_lookups(client):
+    info = client.wait_for_service(SERVICE, timeout=DEADLINE)
+    assert info.name == SERVICE and info.ready
+    assert [b.name for b in info.buses] == ["bus0"]
+    assert [h.can_id for h in info.buses[0].hands] == [1, 2, 3]
+    assert client.wait_for_statuses(timeout=DEADLINE)
+    assert SERVICE in [s.name for s in client.services()]
+    assert client.service(SERVICE).name == SERVICE
+    assert client.service("nobody-here") is None
+    hand = client.wait_for_hand(spec(3), timeout=DEADLINE)
+    assert hand.address == dh3.HandAddress(SERVICE, "bus0", 3)
+    mine = sorted(s.address.can_id for s in client.hands() if s.address.service == SERVICE)
+    assert mine == [1, 2, 3]
+    assert client.status(hand.address).address == hand.address
+    assert client.find_hand(spec(2)).address.can_id == 2
+    assert hand.wait_until(lambda s: s.online, timeout=DEADLINE) is not None
+    assert hand.online()
+    assert hand.status().firmware_version_text == "4.1.2.0"
+
+
+def test_initialize_move_grasp_release(client):
+    one = client.wait_for_hand(spec(1), timeout=DEADLINE)
+    reply = one.initialize()
+    assert reply.ok and reply and reply.code == dh3.Code.OK, reply
+    assert one.wait_until(lambda s: s.initialized, timeout=DEADLINE)
+    assert one.move_to(60).ok
+    assert one.wait_until(lambda s: s.position == 60 and s.grip == dh3.GripState.ARRIVED,
+                          timeout=DEADLINE), one.status()
+    # Hand 1 has an object at 40: closing from 60 stops on it.
+    grasp = one.grasp(40)
+    assert grasp.ok, grasp
+    assert grasp.grasp == dh3.GraspOutcome.GRASPED
+    assert 35 <= grasp.value <= 45
+    assert one.wait_until(lambda s: s.grip == dh3.GripState.CAUGHT, timeout=DEADLINE)
+    release = one.release(100)
+    assert release.ok, release
+    assert one.wait_until(lambda s: s.position == 100, timeout=DEADLINE)
+
+
+def test_grasp_on_nothing_is_missed_at_position_zero(hand):
+    grasp = hand.grasp(30)
+    assert grasp.ok, grasp
+    assert grasp.grasp == dh3.GraspOutcome.MISSED
+    assert grasp.value == 0
+
+
+def test_reads_rotates_sets_forces_and_stops(client):
+    three = client.wait_for_hand(spec(3), timeout=DEADLINE)
+    assert three.initialize().ok
+    force = three.set_force(70, 30)
+    assert force.ok, force
+    assert three.wait_until(lambda s: s.closing_force == 70 and s.opening_force == 30,
+                            timeout=DEADLINE)
+    assert three.set_force(60).ok
+    assert three.read(dh3.reg.closing_force).value == 60
+    assert three.read(dh3.reg.firmware_version).value == 0x04010200
+    assert three.rotate_to(50).ok
+    assert three.wait_until(lambda s: s.rotation == 50, timeout=DEADLINE)
+    assert three.stop().ok
+
+
+def test_scans(client, hand):
+    scan = client.scan(SERVICE, "bus0")
+    assert scan.ok, scan
+    assert scan.found_ids == [1, 2, 3]
+    from_hand = hand.scan_bus()
+    assert from_hand.ok, from_hand
+    assert from_hand.found_ids == [1, 2, 3]
+
+
+def test_asynchronous_forms_return_futures_of_replies(client, hand):
+    futures = {
+        "move_to": hand.move_to_async(50),
+        "read": hand.read_async(dh3.reg.position),
+        "rotate_to": hand.rotate_to_async(20),
+        "set_force": hand.set_force_async(50, 40),
+        "scan_bus": hand.scan_bus_async(),
+        "scan": client.scan_async(SERVICE, "bus0"),
+    }
+    for name, future in futures.items():
+        assert isinstance(future, concurrent.futures.Future), name
+        reply = future.result(timeout=DEADLINE)
+        assert isinstance(reply, dh3.Reply) and reply.ok, (name, reply)
+    grasp = hand.grasp_async(30).result(timeout=DEADLINE)
+    assert grasp.grasp == dh3.GraspOutcome.MISSED
+    assert hand.release_async(100).result(timeout=DEADLINE).ok
+    assert hand.stop_async().result(timeout=DEADLINE).ok
+    assert hand.initialize_async().result(timeout=DEADLINE).ok
+    done = []
+    future = hand.read_async(dh3.reg.position)
+    future.add_done_callback(lambda f: done.append(f.result().value))
+    concurrent.futures.wait([future], timeout=DEADLINE)
+    assert done == [future.result().value]
+
+
+def test_a_lease_holder_keeps_other_clients_out(client, hand):
+    with dh3.Client(domain=DOMAIN, default_timeout=DEADLINE) as other:
+        other.wait_for_service(SERVICE, timeout=DEADLINE)
+        theirs = other.hand(hand.address)
+        lease = hand.acquire_lease(30.0)
+        assert lease.ok, lease
+        denied = theirs.move_to(10)
+        assert denied.code == dh3.Code.DENIED
+        assert denied.lease_holder == client.client_id()
+        assert hand.renew_lease(30.0).ok
+        assert hand.wait_until(lambda s: s.lease_holder == client.client_id(), timeout=DEADLINE)
+        assert hand.move_to(30).ok
+        assert hand.release_lease().ok
+        allowed = theirs.move_to(10)
+        assert allowed.ok, allowed
+        assert theirs.acquire_lease_async(5.0).result(timeout=DEADLINE).ok
+        assert theirs.renew_lease_async(5.0).result(timeout=DEADLINE).ok
+        assert theirs.release_lease_async().result(timeout=DEADLINE).ok
+
+
+def test_administrative_commands_are_denied_unless_allowed(hand):
+    for reply in (hand.set_can_id(5), hand.set_baud_rate(2),
+                  hand.set_can_id_async(5).result(timeout=DEADLINE),
+                  hand.set_baud_rate_async(2).result(timeout=DEADLINE)):
+        assert reply.code == dh3.Code.DENIED, reply
+        assert "administrative" in reply.message or "--allow-admin" in reply.message
