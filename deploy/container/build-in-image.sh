@@ -29,7 +29,7 @@ prefix=/usr/local
 # Warnings are errors in the development build (tests/run-all.sh); a release
 # image must not fail to build over a new compiler's false positive at -O3.
 cmake -S "$src" -B "$build" -G Ninja \
-  -DCMAKE_BUILD_TYPE=Release -DDH3_BUILD_TESTS=OFF -DDH3_WERROR=OFF \
+  -DCMAKE_BUILD_TYPE=Release -DDH3_BUILD_TESTS=OFF -DDH3_BUILD_PYTHON=OFF -DDH3_WERROR=OFF \
   -DCMAKE_INSTALL_PREFIX="$prefix"
 cmake --build "$build" -j "$jobs"
 
