@@ -35,7 +35,8 @@ case $mode in
     #   the installed package; a packaging check, not code that runs.
     # Labels kernel, container and python: they run the plain build's programs
     #   inside user-mode Linux and in container images, or load the client into
-    #   an uninstrumented python3; the sanitized programs are tested on the host.
+    #   an uninstrumented python3 (the Python module is not built here); the
+    #   sanitized programs are tested on the host.
     selection=(-E '^(fuzz\.|install\.client_consumer$)'
                -LE '^(kernel|container|python)$')
     # new_delete_type_mismatch=0: Debian's libfastrtps 2.9 frees objects of its
@@ -66,7 +67,8 @@ case $mode in
 esac
 
 echo "== $sanitize: configure and build in $build"
-cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDH3_SANITIZE="$sanitize" >/dev/null
+cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDH3_SANITIZE="$sanitize" \
+  -DDH3_BUILD_PYTHON=OFF >/dev/null
 cmake --build "$build" -j "$jobs" --target "${targets[@]}"
 echo "== $sanitize: tests"
 status=0
