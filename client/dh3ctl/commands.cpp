@@ -375,18 +375,8 @@ int cmd_hand(Context& c, const std::string& command, const Args& a) {
   return c.fail(command, target, Code::invalid_argument, "unknown command");
 }
 
-}  // namespace
-
-int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err,
-        const std::atomic<bool>& interrupted) {
-  CLI::App app{
-      "dh3ctl: drive DH-3 hands on a DDS domain through their dh3-service.\n"
-      "HAND is SERVICE/BUS/ID (e.g. cell/bus0/2), BUS/ID, SERVICE/NAME, ID or NAME;\n"
-      "the short forms must name exactly one hand."};
-  app.name("dh3ctl");
-  app.require_subcommand(1);
-  app.fallthrough();  // global options after the command too: dh3ctl list --json
-  Globals g;
+/// The options every command takes (before or after the command).
+void declare_global_options(CLI::App& app, Globals& g) {
   app.add_option("-d,--domain", g.domain, "DDS domain id (default 0)")->check(CLI::Range(0, 232));
   app.add_option("-t,--timeout", g.timeout_s,
                  "seconds to wait for the service or hand, and for each reply (default 10)")
@@ -412,9 +402,11 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err,
   app.add_option("--security-identity", g.security_identity,
                  "DDS Security: the identity (folder) in --security-dir to use (default "
                  "operator; monitor: read-only)");
-  app.set_version_flag("--version", DH3_VERSION);
+}
 
-  Args a;
+/// Every command, in the order --help lists them; returns force's optional
+/// OPEN argument (whether it was given tells "force 50" from "force 50 0").
+CLI::Option* declare_commands(CLI::App& app, Args& a) {
   const auto hand_arg = [&a](CLI::App* sub) {
     sub->add_option("HAND", a.hand, "the hand: SERVICE/BUS/ID, BUS/ID, SERVICE/NAME, ID or NAME")
         ->required();
@@ -471,6 +463,43 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err,
   value_arg(set_baud, "INDEX", "0 = 500 kbps, 1 = 400, 2 = 250, 3 = 200, 4 = 125, 5 = 100 kbps");
   set_baud->add_flag("--yes", a.yes, "confirm");
 
+  return open_opt;
+}
+
+ClientOptions client_options(const Globals& g) {
+  ClientOptions options;
+  options.domain = g.domain;
+  options.participant_name = "dh3ctl";
+  options.interfaces = g.interfaces;
+  options.udp_only = g.udp_only;
+  options.xml_profile_file = g.xml_file;
+  options.xml_profile = g.xml_profile;
+  options.discovery_servers = g.discovery_servers;
+  options.security_dir = g.security_dir;
+  options.security_identity = g.security_identity;
+  options.default_timeout =
+      std::chrono::milliseconds(static_cast<std::int64_t>(g.timeout_s * 1000.0));
+  return options;
+}
+
+}  // namespace
+
+int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err,
+        const std::atomic<bool>& interrupted) {
+  CLI::App app{
+      "dh3ctl: drive DH-3 hands on a DDS domain through their dh3-service.\n"
+      "HAND is SERVICE/BUS/ID (e.g. cell/bus0/2), BUS/ID, SERVICE/NAME, ID or NAME;\n"
+      "the short forms must name exactly one hand."};
+  app.name("dh3ctl");
+  app.require_subcommand(1);
+  app.fallthrough();  // global options after the command too: dh3ctl list --json
+  Globals g;
+  declare_global_options(app, g);
+  app.set_version_flag("--version", DH3_VERSION);
+
+  Args a;
+  auto* open_opt = declare_commands(app, a);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -488,19 +517,7 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err,
     return kExitUsage;
   }
 
-  ClientOptions options;
-  options.domain = g.domain;
-  options.participant_name = "dh3ctl";
-  options.interfaces = g.interfaces;
-  options.udp_only = g.udp_only;
-  options.xml_profile_file = g.xml_file;
-  options.xml_profile = g.xml_profile;
-  options.discovery_servers = g.discovery_servers;
-  options.security_dir = g.security_dir;
-  options.security_identity = g.security_identity;
-  options.default_timeout =
-      std::chrono::milliseconds(static_cast<std::int64_t>(g.timeout_s * 1000.0));
-  Client client(options);
+  Client client(client_options(g));
   if (!client.connected()) {
     err << "dh3ctl: " << client.error() << std::endl;
     return kExitFailed;

@@ -24,6 +24,11 @@
 // old one end SERVICE_LOST and its hands go offline; calls not yet written wait for the next
 // incarnation until their deadline.
 //
+// One file per job: client_endpoints (DDS wiring and listeners), pending_calls
+// (calls, the io thread), service_tracker (incarnations, restarts, losses),
+// status_cache (what the client knows and the waits on it), subscriptions
+// (user callbacks), dispatcher (the callback thread), client_core (life cycle).
+//
 // Read-only clients: DDS Security may refuse an identity the request writer,
 // the reply reader or the service info reader (deploy/security's "monitor"
 // may only read statuses and events). Such a client stays connected: services
@@ -52,8 +57,16 @@
 #include "dh3/client.hpp"
 #include "dh3/types.hpp"
 #include "dh3_idl/dh3.h"
+#include "dispatcher.hpp"
 
 namespace dh3::detail {
+
+inline Reply make_reply(Code code, std::string message) {
+  Reply reply;
+  reply.code = code;
+  reply.message = std::move(message);
+  return reply;
+}
 
 struct SubscriptionState {
   std::mutex run_mutex;  ///< held while the callback runs
@@ -64,47 +77,15 @@ struct SubscriptionState {
   std::weak_ptr<ClientCore> core;
 };
 
-/// Runs tasks on one thread in the order posted. Its state is shared with the
-/// thread, so the dispatcher may be stopped from one of its own tasks.
-class Dispatcher {
- public:
-  Dispatcher();
-  ~Dispatcher();
-  Dispatcher(const Dispatcher&) = delete;
-  Dispatcher& operator=(const Dispatcher&) = delete;
-
-  void post(std::function<void()> task);
-  /// Drops what is queued and ends the thread (joined, or detached when
-  /// called from a task).
-  void stop();
-  [[nodiscard]] bool on_dispatcher_thread() const;
-
- private:
-  struct State {
-    std::mutex mutex;
-    std::condition_variable wake;
-    std::deque<std::function<void()>> tasks;
-    bool stop = false;
-  };
-  std::shared_ptr<State> state_;
-  std::thread thread_;
-  std::thread::id thread_id_;
-};
-
-/// Endpoints DDS Security's access control may refuse a client (a read-only
-/// identity). Tests pass one to ClientCore to take the refusal path without
-/// credentials; the library itself always passes none.
-struct Refusals {
-  bool request_writer = false;
-  bool reply_reader = false;
-  bool info_reader = false;
-};
+class EndpointCreator;
 
 class ClientCore : public std::enable_shared_from_this<ClientCore> {
  public:
   using Done = std::function<void(Reply)>;
 
-  explicit ClientCore(ClientOptions options, Refusals simulated = {});
+  explicit ClientCore(ClientOptions options);
+  /// With the readers and writers made by `endpoints` (client_endpoints.hpp).
+  ClientCore(ClientOptions options, const EndpointCreator& endpoints);
   ~ClientCore();
   ClientCore(const ClientCore&) = delete;
   ClientCore& operator=(const ClientCore&) = delete;
@@ -152,7 +133,7 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   void unsubscribe(const std::shared_ptr<SubscriptionState>& state);
   [[nodiscard]] bool on_dispatcher_thread() const { return dispatcher_.on_dispatcher_thread(); }
 
-  // From the DDS listeners (client_core.cpp). `prefix`: a participant's GUID
+  // From the DDS listeners (client_endpoints.hpp). `prefix`: a participant's GUID
   // prefix in hex, as client_id_for() spells it.
   void on_participant_found(const std::string& prefix, const std::string& name);
   void on_participant_left(const std::string& prefix);
@@ -193,12 +174,18 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
     bool wake_io = false;
   };
 
-  bool set_up_dds(std::string& error, const Refusals& simulated);
-  void on_match(std::multiset<std::string>& set, const std::string& prefix, bool matched);
+  // DDS wiring (client_endpoints.cpp).
+  bool set_up_dds(std::string& error, const EndpointCreator& creator);
+  [[nodiscard]] static std::string denied_message(const ClientOptions& options);
+  // Pending calls (pending_calls.cpp).
   void io_loop();
+  void write_requests_locked(std::unique_lock<std::mutex>& lock);
   void run(Actions& actions);
+  [[nodiscard]] Reply expired_locked(const Pending& pending) const;
+  // Following services (service_tracker.cpp).
+  void on_match(std::multiset<std::string>& set, const std::string& prefix, bool matched);
 
-  // All *_locked: `mutex_` held.
+  // All *_locked: `mutex_` held. Following services (service_tracker.cpp):
   [[nodiscard]] bool ready_locked(const std::string& service) const;
   [[nodiscard]] bool prefix_is_dead_locked(const std::string& prefix) const;
   /// Records that `prefix` serves `service`; makes it the current incarnation
@@ -207,11 +194,12 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   void make_current_locked(const std::string& service, const std::string& prefix, Actions& out);
   void dispatch_locked(const std::string& service, Actions& out);
   void lose_locked(const std::string& service, const std::string& why, Actions& out);
+  // Subscriptions (subscriptions.cpp).
   void post_status_locked(const HandStatus& status);
   void post_event_locked(const HandEvent& event);
+  // What the client knows (status_cache.cpp).
   [[nodiscard]] ServiceInfo info_locked(const std::string& name, const ServiceState& s) const;
   [[nodiscard]] std::vector<KnownHand> known_hands_locked() const;
-  [[nodiscard]] Reply expired_locked(const Pending& pending) const;
 
   const ClientOptions options_;
   std::string error_;

@@ -238,8 +238,8 @@ class FileParser {
         config.participant.interfaces.push_back(std::move(address));
       }
       if (config.participant.interfaces.size() > 1 &&
-          std::find(config.participant.interfaces.begin(), config.participant.interfaces.end(), "*") !=
-              config.participant.interfaces.end()) {
+          std::find(config.participant.interfaces.begin(), config.participant.interfaces.end(),
+                    "*") != config.participant.interfaces.end()) {
         fail_at(list, "dds.interfaces", "\"*\" (all interfaces) cannot be combined with addresses");
       }
     }
@@ -258,13 +258,15 @@ class FileParser {
     }
     if (auto n = dds["xml_profile_file"]) {
       config.participant.xml_profile_file = scalar(n, "dds.xml_profile_file");
-      if (auto bad = check_readable_file("XML profiles file", config.participant.xml_profile_file)) {
+      if (auto bad =
+              check_readable_file("XML profiles file", config.participant.xml_profile_file)) {
         fail_at(n, "dds.xml_profile_file", *bad);
       }
     }
     if (auto n = dds["xml_profile"]) {
       config.participant.xml_profile = scalar(n, "dds.xml_profile");
-      if (config.participant.xml_profile.empty()) fail_at(n, "dds.xml_profile", "the profile name is empty");
+      if (config.participant.xml_profile.empty())
+        fail_at(n, "dds.xml_profile", "the profile name is empty");
       if (config.participant.xml_profile_file.empty()) {
         fail_at(n, "dds.xml_profile", "a profile needs dds.xml_profile_file, the file defining it");
       }
@@ -284,7 +286,8 @@ class FileParser {
         fail_at(n, "dds.security.identity", *bad);
       }
     }
-    if (auto bad = check_security(config.participant.security_dir, config.participant.security_identity)) {
+    if (auto bad =
+            check_security(config.participant.security_dir, config.participant.security_identity)) {
       fail_at(dir, "dds.security.dir", *bad);
     }
   }
@@ -458,76 +461,114 @@ Result<ServiceConfig, ConfigError> load_config(const std::string& path) {
   return parse_config(text.str(), path);
 }
 
-Result<ServiceConfig, ConfigError> apply_command_line(ServiceConfig config,
-                                                      const CommandLine& line) {
-  const auto error = [](std::string option, const std::string& what) {
-    return fail(ConfigError{option + ": " + what});
-  };
+namespace {
+
+/// A command line option applied to the configuration, or why it cannot be.
+using Applied = Result<void, ConfigError>;
+
+Failure<ConfigError> option_error(const std::string& option, const std::string& what) {
+  return fail(ConfigError{option + ": " + what});
+}
+
+/// --name, --domain, --log-level, --allow-admin.
+Applied apply_service_options(ServiceConfig& config, const CommandLine& line) {
   if (line.name) {
-    if (auto bad = check_name("service name", *line.name)) return error("--name", *bad);
+    if (auto bad = check_name("service name", *line.name)) return option_error("--name", *bad);
     config.name = *line.name;
   }
   if (line.domain) {
-    if (auto bad = check_domain(*line.domain)) return error("--domain", *bad);
+    if (auto bad = check_domain(*line.domain)) return option_error("--domain", *bad);
     config.participant.domain = *line.domain;
   }
   if (line.log_level) {
-    if (auto bad = check_log_level(*line.log_level)) return error("--log-level", *bad);
+    if (auto bad = check_log_level(*line.log_level)) return option_error("--log-level", *bad);
     config.log_level = *line.log_level;
   }
   if (line.allow_admin) config.allow_admin = true;
+  return {};
+}
+
+/// --udp-only, --interface, --discovery-server.
+Applied apply_transport_options(ServiceConfig& config, const CommandLine& line) {
   if (line.udp_only) config.participant.udp_only = true;
   if (!line.interfaces.empty()) {
     for (const auto& address : line.interfaces) {
-      if (auto bad = check_interface(address)) return error("--interface", *bad);
+      if (auto bad = check_interface(address)) return option_error("--interface", *bad);
     }
     if (line.interfaces.size() > 1 &&
         std::find(line.interfaces.begin(), line.interfaces.end(), "*") != line.interfaces.end()) {
-      return error("--interface", "\"*\" (all interfaces) cannot be combined with addresses");
+      return option_error("--interface",
+                          "\"*\" (all interfaces) cannot be combined with addresses");
     }
     config.participant.interfaces = line.interfaces;
   }
   if (!line.discovery_servers.empty()) {
     for (const auto& entry : line.discovery_servers) {
-      if (auto bad = check_discovery_server(entry)) return error("--discovery-server", *bad);
+      if (auto bad = check_discovery_server(entry)) return option_error("--discovery-server", *bad);
     }
     config.participant.discovery_servers = line.discovery_servers;
   }
+  return {};
+}
+
+/// --xml and --profile; a profile needs its file.
+Applied apply_xml_options(ServiceConfig& config, const CommandLine& line) {
   if (line.xml_profile_file) {
     if (auto bad = check_readable_file("XML profiles file", *line.xml_profile_file)) {
-      return error("--xml", *bad);
+      return option_error("--xml", *bad);
     }
     config.participant.xml_profile_file = *line.xml_profile_file;
   }
   if (line.xml_profile) {
-    if (line.xml_profile->empty()) return error("--profile", "the profile name is empty");
+    if (line.xml_profile->empty()) return option_error("--profile", "the profile name is empty");
     config.participant.xml_profile = *line.xml_profile;
   }
   if (!config.participant.xml_profile.empty() && config.participant.xml_profile_file.empty()) {
-    return error("--profile",
-                 "a profile needs --xml FILE (or dds.xml_profile_file), the file "
-                 "defining it");
+    return option_error("--profile",
+                        "a profile needs --xml FILE (or dds.xml_profile_file), the file "
+                        "defining it");
   }
+  return {};
+}
+
+/// --security-identity.
+Applied apply_security_identity(ServiceConfig& config, const CommandLine& line) {
   if (line.security_identity) {
     if (auto bad = check_identity(*line.security_identity)) {
-      return error("--security-identity", *bad);
+      return option_error("--security-identity", *bad);
     }
     config.participant.security_identity = *line.security_identity;
   }
+  return {};
+}
+
+/// --metrics; empty turns the file's exporter off.
+Applied apply_metrics_option(ServiceConfig& config, const CommandLine& line) {
   if (line.metrics_address) {
     if (!line.metrics_address->empty()) {
       if (auto bad = metrics::check_listen_address(*line.metrics_address)) {
-        return error("--metrics", *bad);
+        return option_error("--metrics", *bad);
       }
     }
     config.metrics_address = *line.metrics_address;
   }
+  return {};
+}
+
+/// --security-dir, checked with the identity in use.
+Applied apply_security_dir(ServiceConfig& config, const CommandLine& line) {
   if (line.security_dir) config.participant.security_dir = *line.security_dir;
   if (line.security_dir || (line.security_identity && !config.participant.security_dir.empty())) {
-    if (auto bad = check_security(config.participant.security_dir, config.participant.security_identity)) {
-      return error(line.security_dir ? "--security-dir" : "--security-identity", *bad);
+    if (auto bad =
+            check_security(config.participant.security_dir, config.participant.security_identity)) {
+      return option_error(line.security_dir ? "--security-dir" : "--security-identity", *bad);
     }
   }
+  return {};
+}
+
+/// --bus: the command line's buses replace the file's.
+Applied apply_bus_options(ServiceConfig& config, const CommandLine& line) {
   if (!line.buses.empty()) {
     config.buses.clear();
     std::set<std::string> names;
@@ -538,13 +579,26 @@ Result<ServiceConfig, ConfigError> apply_command_line(ServiceConfig config,
       bus.spec = equals == std::string::npos ? arg : arg.substr(equals + 1);
       bus.name =
           equals == std::string::npos ? default_bus_name(bus.spec, i) : arg.substr(0, equals);
-      if (auto bad = check_spec(bus.spec)) return error("--bus " + arg, *bad);
-      if (auto bad = check_name("bus name", bus.name)) return error("--bus " + arg, *bad);
+      if (auto bad = check_spec(bus.spec)) return option_error("--bus " + arg, *bad);
+      if (auto bad = check_name("bus name", bus.name)) return option_error("--bus " + arg, *bad);
       if (!names.insert(bus.name).second) {
-        return error("--bus " + arg, "bus name '" + bus.name + "' is used twice");
+        return option_error("--bus " + arg, "bus name '" + bus.name + "' is used twice");
       }
       config.buses.push_back(std::move(bus));
     }
+  }
+  return {};
+}
+
+}  // namespace
+
+Result<ServiceConfig, ConfigError> apply_command_line(ServiceConfig config,
+                                                      const CommandLine& line) {
+  // In this order: with several bad options, the first one's error is reported.
+  for (const auto apply :
+       {apply_service_options, apply_transport_options, apply_xml_options, apply_security_identity,
+        apply_metrics_option, apply_security_dir, apply_bus_options}) {
+    if (auto applied = apply(config, line); !applied) return fail(applied.error());
   }
   if (config.buses.empty()) {
     return fail(ConfigError{"no bus configured: give --bus SPEC or buses in the config file"});

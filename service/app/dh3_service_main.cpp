@@ -11,6 +11,7 @@
 #include <CLI/CLI.hpp>
 #include <csignal>
 #include <cstdio>
+#include <optional>
 #include <string>
 
 #include "app/bus_setup.hpp"
@@ -41,22 +42,20 @@ void set_up_logging(const std::string& level) {
   spdlog::set_level(spdlog::level::from_str(level));
 }
 
-}  // namespace
+/// What the command line says and which config file it names.
+struct Invocation {
+  dh3::app::CommandLine line;
+  std::string config_path;
+};
 
-int main(int argc, char** argv) {
-  // Signals are taken by sigwait() below; every thread started later inherits
-  // the blocked mask, so none of them is interrupted.
-  sigset_t stop_signals;
-  sigemptyset(&stop_signals);
-  sigaddset(&stop_signals, SIGINT);
-  sigaddset(&stop_signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
-
+/// Parses the command line into `invocation`; an exit code when it ends the
+/// program (--help, --version, a usage error).
+std::optional<int> parse_command_line(int argc, char** argv, Invocation& invocation) {
+  auto& line = invocation.line;
+  auto& config_path = invocation.config_path;
   CLI::App cli{
       "dh3-service: DH-3 robot hands on DDS. With no config and no --bus it runs the "
       "simulator with hands 1, 2 and 3."};
-  dh3::app::CommandLine line;
-  std::string config_path;
   std::string name;
   std::string log_level;
   int domain = 0;
@@ -117,36 +116,46 @@ int main(int argc, char** argv) {
   if (*security_dir_option) line.security_dir = security_dir;
   if (*security_identity_option) line.security_identity = security_identity;
   if (*metrics_option) line.metrics_address = metrics_address;
+  return std::nullopt;
+}
 
+/// The config file (or the built-in default) with the command line applied;
+/// nullopt after saying on stderr what is wrong.
+std::optional<dh3::app::ServiceConfig> load_configuration(const Invocation& invocation) {
   auto base =
-      config_path.empty()
+      invocation.config_path.empty()
           ? dh3::Result<dh3::app::ServiceConfig, dh3::app::ConfigError>(dh3::app::default_config())
-          : dh3::app::load_config(config_path);
+          : dh3::app::load_config(invocation.config_path);
   if (!base) {
     std::fprintf(stderr, "dh3-service: config error: %s\n", base.error().message.c_str());
-    return kExitConfigError;
+    return std::nullopt;
   }
-  auto config = dh3::app::apply_command_line(std::move(*base), line);
+  auto config = dh3::app::apply_command_line(std::move(*base), invocation.line);
   if (!config) {
     std::fprintf(stderr, "dh3-service: config error: %s\n", config.error().message.c_str());
-    return kExitConfigError;
+    return std::nullopt;
   }
+  return std::move(*config);
+}
 
-  set_up_logging(config->log_level);
+/// Opens the buses, starts the service (and the metrics exporter) and runs
+/// until SIGINT or SIGTERM; the exit code.
+int run_service(const dh3::app::ServiceConfig& config, const sigset_t& stop_signals) {
+  set_up_logging(config.log_level);
   const dh3::Clock& clock = dh3::SystemClock::instance();
-  auto buses = dh3::app::open_buses(*config, clock);
+  auto buses = dh3::app::open_buses(config, clock);
   if (!buses) {
     spdlog::critical("{}", buses.error());
     return kExitStartFailed;
   }
-  for (std::size_t i = 0; i < config->buses.size(); ++i) {
-    spdlog::info("bus '{}': {}", config->buses[i].name, (*buses)[i].bus->spec());
+  for (std::size_t i = 0; i < config.buses.size(); ++i) {
+    spdlog::info("bus '{}': {}", config.buses[i].name, (*buses)[i].bus->spec());
   }
 
   dh3::dds::ServiceOptions options;
-  options.name = config->name;
-  options.participant = config->participant;
-  options.allow_admin = config->allow_admin;
+  options.name = config.name;
+  options.participant = config.participant;
+  options.allow_admin = config.allow_admin;
   options.version = DH3_VERSION;
   options.host = host_name();
   auto service = dh3::dds::Service::create(options, std::move(*buses), clock);
@@ -155,9 +164,9 @@ int main(int argc, char** argv) {
     return kExitStartFailed;
   }
   std::unique_ptr<dh3::metrics::Exporter> exporter;
-  if (!config->metrics_address.empty()) {
+  if (!config.metrics_address.empty()) {
     auto started = dh3::metrics::Exporter::start(
-        config->metrics_address, [&figures = **service] { return figures.metrics(); });
+        config.metrics_address, [&figures = **service] { return figures.metrics(); });
     if (!started) {
       spdlog::critical("{}", started.error());
       return kExitStartFailed;
@@ -180,4 +189,22 @@ int main(int argc, char** argv) {
   service->reset();
   spdlog::shutdown();
   return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Signals are taken by sigwait() below; every thread started later inherits
+  // the blocked mask, so none of them is interrupted.
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGINT);
+  sigaddset(&stop_signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+
+  Invocation invocation;
+  if (const auto exit_code = parse_command_line(argc, argv, invocation)) return *exit_code;
+  const auto config = load_configuration(invocation);
+  if (!config) return kExitConfigError;
+  return run_service(*config, stop_signals);
 }

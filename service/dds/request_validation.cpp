@@ -103,8 +103,13 @@ RequestAction action_of(msg::CommandType command) {
 
 }  // namespace
 
-Result<ValidRequest, Rejection> validate_request(const msg::CommandRequest& request,
-                                                 const HandDirectory& directory, bool allow_admin) {
+namespace {
+
+using Checked = Result<void, Rejection>;
+
+/// What every request must carry: a client, a service, a known command, a bus,
+/// a timeout within the limit.
+Checked check_request_fields(const msg::CommandRequest& request) {
   const auto& client = request.client_id();
   if (client.empty()) return reject(msg::INVALID_ARGUMENT, "client_id is empty");
   if (client.size() > limits::MAX_NAME_LENGTH) {
@@ -121,16 +126,20 @@ Result<ValidRequest, Rejection> validate_request(const msg::CommandRequest& requ
     return reject(msg::INVALID_ARGUMENT,
                   "unknown command " + std::to_string(static_cast<std::uint32_t>(command)));
   }
-  const std::string name = command_name(command);
   if (address.bus().empty()) return reject(msg::INVALID_ARGUMENT, "hand.bus is empty");
   if (request.timeout_ms() > limits::REQUEST_TIMEOUT_MAX_MS) {
     return reject(msg::INVALID_ARGUMENT, "timeout_ms " + std::to_string(request.timeout_ms()) +
                                              " is over the maximum of " +
                                              std::to_string(limits::REQUEST_TIMEOUT_MAX_MS));
   }
+  return {};
+}
 
+/// The CAN ID, the value and the register are within the contract's limits.
+Checked check_request_values(const msg::CommandRequest& request) {
+  const msg::CommandType command = request.command();
+  const std::uint16_t can_id = request.hand().can_id();
   const RequestAction action = action_of(command);
-  const std::uint16_t can_id = address.can_id();
   if (action != RequestAction::scan) {
     if (can_id > limits::CAN_ID_MAX) {
       return reject(msg::INVALID_ARGUMENT,
@@ -140,7 +149,7 @@ Result<ValidRequest, Rejection> validate_request(const msg::CommandRequest& requ
       return reject(msg::INVALID_ARGUMENT,
                     "can_id 0 addresses whichever hand is on the bus and is only for reading "
                     "or setting the CAN ID; " +
-                        name + " needs a hand's CAN ID (1-255)");
+                        command_name(command) + " needs a hand's CAN ID (1-255)");
     }
   }
   if (auto out_of_range = contract::value_out_of_range(request)) {
@@ -153,27 +162,50 @@ Result<ValidRequest, Rejection> validate_request(const msg::CommandRequest& requ
     return reject(msg::INVALID_ARGUMENT,
                   std::string("register ") + code + " is not in the DH-3 register map");
   }
+  return {};
+}
 
+/// The bus and the hand exist in this service, and an administrative command
+/// is allowed; the bus's index.
+Result<std::uint16_t, Rejection> check_request_target(const msg::CommandRequest& request,
+                                                      const HandDirectory& directory,
+                                                      bool allow_admin) {
+  const auto& address = request.hand();
+  const msg::CommandType command = request.command();
+  const std::uint16_t can_id = address.can_id();
   const auto bus = directory.find_bus(address.bus());
   if (!bus) {
     return reject(msg::UNKNOWN_HAND, "service '" + address.service() + "' has no bus '" +
                                          address.bus() + "' (its buses: " + directory.bus_names() +
                                          ")");
   }
-  if (action != RequestAction::scan && can_id != 0 &&
+  if (action_of(command) != RequestAction::scan && can_id != 0 &&
       !directory.has_hand(*bus, static_cast<std::uint8_t>(can_id))) {
     return reject(msg::UNKNOWN_HAND, "no hand " + std::to_string(can_id) + " on bus '" +
                                          address.bus() + "' of service '" + address.service() +
                                          "'");
   }
   if (is_admin(command) && !allow_admin) {
-    return reject(msg::DENIED, name +
+    return reject(msg::DENIED, command_name(command) +
                                    " is administrative (the hand must be rebooted after it) and "
                                    "service '" +
                                    address.service() +
                                    "' does not allow it; start it with --allow-admin");
   }
+  return *bus;
+}
 
+}  // namespace
+
+Result<ValidRequest, Rejection> validate_request(const msg::CommandRequest& request,
+                                                 const HandDirectory& directory, bool allow_admin) {
+  if (auto checked = check_request_fields(request); !checked) return fail(checked.error());
+  if (auto checked = check_request_values(request); !checked) return fail(checked.error());
+  const auto bus = check_request_target(request, directory, allow_admin);
+  if (!bus) return fail(bus.error());
+  const msg::CommandType command = request.command();
+  const RequestAction action = action_of(command);
+  const std::uint16_t can_id = request.hand().can_id();
   ValidRequest valid;
   valid.action = action;
   valid.bus = *bus;

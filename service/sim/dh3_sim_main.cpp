@@ -126,14 +126,8 @@ int serve(Server& server, std::atomic<Server*>& global, const std::string& ready
   return 0;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  CLI::App app{
-      "dh3-sim: simulated DH-3 hands served as a transfer box over TCP (14-byte frames),\n"
-      "or with --can as nodes on a SocketCAN interface (8-byte payloads, CAN ID = hand ID).\n"
-      "Prints 'listening HOST:PORT' (TCP) or 'serving N hands on IFACE' (CAN) on stdout\n"
-      "when ready; logs go to stderr."};
+/// dh3-sim's command line.
+struct SimArguments {
   std::string listen = "127.0.0.1:0";
   std::string can_interface;
   int min_interval_ms = 0;
@@ -146,13 +140,16 @@ int main(int argc, char** argv) {
   int reply_delay_ms = 0;
   int store_delay_ms = 50;
   std::string log_level = "info";
-  app.add_option("--listen", listen, "HOST:PORT to listen on (IPv4); port 0 picks a free one")
+};
+
+void declare_options(CLI::App& app, SimArguments& args) {
+  app.add_option("--listen", args.listen, "HOST:PORT to listen on (IPv4); port 0 picks a free one")
       ->capture_default_str();
-  app.add_option("--can", can_interface,
+  app.add_option("--can", args.can_interface,
                  "serve the hands on this SocketCAN interface (e.g. vcan0) instead of TCP")
       ->excludes("--listen");
   app.add_option(
-         "--min-interval-ms", min_interval_ms,
+         "--min-interval-ms", args.min_interval_ms,
          "log (stderr) every frame a hand receives sooner than MS after the previous frame to "
          "it, answer 'violations' with 'ok N', print 'interval violations: N' at exit. A frame "
          "to ID 0 counts for every hand. On CAN a frame's time is the kernel's receive "
@@ -160,100 +157,99 @@ int main(int argc, char** argv) {
          "sent together). 0: off")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  app.add_option("--hands", hand_list, "CAN IDs of the simulated hands, e.g. 1,2,3 or 1-8")
+  app.add_option("--hands", args.hand_list, "CAN IDs of the simulated hands, e.g. 1,2,3 or 1-8")
       ->capture_default_str();
-  app.add_option("--object", objects, "ID:POS: an object between hand ID's fingers at POS (0-100)")
+  app.add_option("--object", args.objects,
+                 "ID:POS: an object between hand ID's fingers at POS (0-100)")
       ->take_all();
-  app.add_option("--obstacle", obstacles, "ID:POS: an obstacle blocking hand ID's rotation at POS")
+  app.add_option("--obstacle", args.obstacles,
+                 "ID:POS: an obstacle blocking hand ID's rotation at POS")
       ->take_all();
-  app.add_option("--init-time-ms", init_time_ms, "how long initialization takes")
+  app.add_option("--init-time-ms", args.init_time_ms, "how long initialization takes")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  app.add_option("--speed", speed, "finger speed, percent of the stroke per second")
+  app.add_option("--speed", args.speed, "finger speed, percent of the stroke per second")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  app.add_option("--rotation-speed", rotation_speed,
+  app.add_option("--rotation-speed", args.rotation_speed,
                  "rotation speed, percent of 90 degrees per second (default: --speed)")
       ->check(CLI::PositiveNumber);
-  app.add_option("--reply-delay-ms", reply_delay_ms, "time between a request and its reply")
+  app.add_option("--reply-delay-ms", args.reply_delay_ms, "time between a request and its reply")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  app.add_option("--store-delay-ms", store_delay_ms,
+  app.add_option("--store-delay-ms", args.store_delay_ms,
                  "extra time before answering a CAN ID or baud rate write")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
-  app.add_option("--log-level", log_level, "trace, debug, info, warn, error, critical, off")
+  app.add_option("--log-level", args.log_level, "trace, debug, info, warn, error, critical, off")
       ->capture_default_str()
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}));
   app.footer(std::string(dh3::sim::kControlHelp) +
              "\nSIGINT, SIGTERM or 'quit' stop it; end of stdin does not.");
+}
 
+/// The server's options from the parsed command line; throws
+/// CLI::ValidationError naming the option that is wrong.
+dh3::sim::TransferBoxServerOptions server_options(const SimArguments& args) {
   dh3::sim::TransferBoxServerOptions options;
-  try {
-    app.parse(argc, argv);
-    options.min_interval = std::chrono::milliseconds(min_interval_ms);
-    const std::size_t colon = listen.rfind(':');
-    if (colon == std::string::npos) {
-      throw CLI::ValidationError("--listen", "expected HOST:PORT, got " + listen);
-    }
-    options.host = listen.substr(0, colon);
-    const int port = parse_int(listen.substr(colon + 1), "--listen");
-    if (port < 0 || port > 65535) throw CLI::ValidationError("--listen", "bad port in " + listen);
-    options.port = static_cast<std::uint16_t>(port);
-
-    for (const std::uint8_t id : parse_hand_list(hand_list)) {
-      SimHandOptions hand;
-      hand.id = id;
-      hand.init_time = std::chrono::milliseconds(init_time_ms);
-      hand.position_speed = speed;
-      hand.rotation_speed = rotation_speed > 0 ? rotation_speed : speed;
-      hand.reply_delay = std::chrono::milliseconds(reply_delay_ms);
-      hand.store_delay = std::chrono::milliseconds(store_delay_ms);
-      options.hands.push_back(hand);
-    }
-    const auto find_hand = [&](std::uint8_t id, const std::string& what) -> SimHandOptions& {
-      for (SimHandOptions& hand : options.hands) {
-        if (hand.id == id) return hand;
-      }
-      throw CLI::ValidationError(what, "no hand " + std::to_string(id) + " in --hands");
-    };
-    for (const std::string& text : objects) {
-      const auto [id, position] = parse_placement(text, "--object");
-      find_hand(id, "--object").object_position = position;
-    }
-    for (const std::string& text : obstacles) {
-      const auto [id, position] = parse_placement(text, "--obstacle");
-      find_hand(id, "--obstacle").rotation_obstacle = position;
-    }
-  } catch (const CLI::ParseError& error) {
-    return app.exit(error);
+  options.min_interval = std::chrono::milliseconds(args.min_interval_ms);
+  const std::size_t colon = args.listen.rfind(':');
+  if (colon == std::string::npos) {
+    throw CLI::ValidationError("--listen", "expected HOST:PORT, got " + args.listen);
   }
-
-  auto logger = spdlog::stderr_color_mt("dh3-sim");
-  spdlog::set_default_logger(logger);
-  spdlog::set_level(spdlog::level::from_str(log_level));
-
-  options.control_in = 0;   // stdin
-  options.control_out = 1;  // stdout
-  const bool interval_checked = min_interval_ms > 0;
-
-  if (!can_interface.empty()) {
-    dh3::sim::CanServerOptions can;
-    static_cast<dh3::sim::SimHostOptions&>(can) = options;  // hands, control, interval
-    can.interface_name = can_interface;
-    auto opened = dh3::sim::CanServer::open(
-        can, [can_interface] { return open_can_interface(can_interface); },
-        dh3::SystemClock::instance());
-    if (!opened) {
-      spdlog::critical("dh3-sim: cannot serve on {}: {}", can_interface, opened.error());
-      return 1;
-    }
-    dh3::sim::CanServer& server = *opened.value();
-    return serve(server, g_can_server,
-                 "serving " + std::to_string(server.hand_count()) + " hands on " + can_interface,
-                 interval_checked);
+  options.host = args.listen.substr(0, colon);
+  const int port = parse_int(args.listen.substr(colon + 1), "--listen");
+  if (port < 0 || port > 65535) {
+    throw CLI::ValidationError("--listen", "bad port in " + args.listen);
   }
+  options.port = static_cast<std::uint16_t>(port);
 
+  for (const std::uint8_t id : parse_hand_list(args.hand_list)) {
+    SimHandOptions hand;
+    hand.id = id;
+    hand.init_time = std::chrono::milliseconds(args.init_time_ms);
+    hand.position_speed = args.speed;
+    hand.rotation_speed = args.rotation_speed > 0 ? args.rotation_speed : args.speed;
+    hand.reply_delay = std::chrono::milliseconds(args.reply_delay_ms);
+    hand.store_delay = std::chrono::milliseconds(args.store_delay_ms);
+    options.hands.push_back(hand);
+  }
+  const auto find_hand = [&](std::uint8_t id, const std::string& what) -> SimHandOptions& {
+    for (SimHandOptions& hand : options.hands) {
+      if (hand.id == id) return hand;
+    }
+    throw CLI::ValidationError(what, "no hand " + std::to_string(id) + " in --hands");
+  };
+  for (const std::string& text : args.objects) {
+    const auto [id, position] = parse_placement(text, "--object");
+    find_hand(id, "--object").object_position = position;
+  }
+  for (const std::string& text : args.obstacles) {
+    const auto [id, position] = parse_placement(text, "--obstacle");
+    find_hand(id, "--obstacle").rotation_obstacle = position;
+  }
+  return options;
+}
+
+int serve_on_can(const dh3::sim::TransferBoxServerOptions& options,
+                 const std::string& can_interface, bool interval_checked) {
+  dh3::sim::CanServerOptions can;
+  static_cast<dh3::sim::SimHostOptions&>(can) = options;  // hands, control, interval
+  can.interface_name = can_interface;
+  auto opened = dh3::sim::CanServer::open(
+      can, [can_interface] { return open_can_interface(can_interface); },
+      dh3::SystemClock::instance());
+  if (!opened) {
+    spdlog::critical("dh3-sim: cannot serve on {}: {}", can_interface, opened.error());
+    return 1;
+  }
+  dh3::sim::CanServer& server = *opened.value();
+  return serve(server, g_can_server,
+               "serving " + std::to_string(server.hand_count()) + " hands on " + can_interface,
+               interval_checked);
+}
+
+int serve_on_tcp(const dh3::sim::TransferBoxServerOptions& options, bool interval_checked) {
   auto opened = dh3::sim::TransferBoxServer::open(options, dh3::SystemClock::instance());
   if (!opened) {
     spdlog::critical("dh3-sim: cannot start: {}", dh3::sim::to_string(opened.error()));
@@ -261,4 +257,35 @@ int main(int argc, char** argv) {
   }
   dh3::sim::TransferBoxServer& server = *opened.value();
   return serve(server, g_box_server, "listening " + server.address(), interval_checked);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "dh3-sim: simulated DH-3 hands served as a transfer box over TCP (14-byte frames),\n"
+      "or with --can as nodes on a SocketCAN interface (8-byte payloads, CAN ID = hand ID).\n"
+      "Prints 'listening HOST:PORT' (TCP) or 'serving N hands on IFACE' (CAN) on stdout\n"
+      "when ready; logs go to stderr."};
+  SimArguments args;
+  declare_options(app, args);
+  dh3::sim::TransferBoxServerOptions options;
+  try {
+    app.parse(argc, argv);
+    options = server_options(args);
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error);
+  }
+
+  auto logger = spdlog::stderr_color_mt("dh3-sim");
+  spdlog::set_default_logger(logger);
+  spdlog::set_level(spdlog::level::from_str(args.log_level));
+
+  options.control_in = 0;   // stdin
+  options.control_out = 1;  // stdout
+  const bool interval_checked = args.min_interval_ms > 0;
+  if (!args.can_interface.empty()) {
+    return serve_on_can(options, args.can_interface, interval_checked);
+  }
+  return serve_on_tcp(options, interval_checked);
 }

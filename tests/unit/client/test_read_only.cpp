@@ -1,5 +1,5 @@
 // A read-only client, without DDS Security: ClientCore is told that access
-// control refused it the command endpoints (the seam detail::Refusals), which
+// control refused it the command endpoints (test::RefusingEndpoints, an EndpointCreator), which
 // is what Fast DDS does to a "monitor" identity. It must stay connected, know
 // hands and services from what it may read, and end commands at once with
 // DENIED. test_client_security covers the same with real credentials.
@@ -17,13 +17,15 @@
 
 #include "client_core.hpp"
 #include "fake_service.hpp"
+#include "refusing_endpoints.hpp"
 #include "support/test_domain.hpp"
 
 namespace dh3 {
 namespace {
 
 using detail::ClientCore;
-using detail::Refusals;
+using detail::ClientEndpoint;
+using test::RefusingEndpoints;
 using ::testing::HasSubstr;
 
 constexpr std::chrono::seconds kDeadline{15};
@@ -49,7 +51,9 @@ HandSpec spec(const std::string& text) {
 TEST(ReadOnlyClient, RefusedCommandEndpointsLeaveAConnectedClientThatWatches) {
   test::FakeService fake(test_domain(), service_name());
   ASSERT_TRUE(fake.ok());
-  auto core = std::make_shared<ClientCore>(options(), Refusals{true, true, true});
+  auto core = std::make_shared<ClientCore>(
+      options(), RefusingEndpoints({ClientEndpoint::request_writer, ClientEndpoint::reply_reader,
+                                    ClientEndpoint::info_reader}));
   ASSERT_TRUE(core->connected()) << core->error();
   EXPECT_TRUE(core->read_only());
 
@@ -108,7 +112,8 @@ TEST(ReadOnlyClient, RefusedCommandEndpointsLeaveAConnectedClientThatWatches) {
 }
 
 TEST(ReadOnlyClient, OutOfRangeValuesAreStillInvalidArguments) {
-  auto core = std::make_shared<ClientCore>(options(), Refusals{true, true, false});
+  auto core = std::make_shared<ClientCore>(
+      options(), RefusingEndpoints({ClientEndpoint::request_writer, ClientEndpoint::reply_reader}));
   ASSERT_TRUE(core->connected()) << core->error();
   EXPECT_TRUE(core->read_only());
   const HandAddress hand{service_name(), "bus0", 1};
@@ -120,7 +125,8 @@ TEST(ReadOnlyClient, OutOfRangeValuesAreStillInvalidArguments) {
 TEST(ReadOnlyClient, WithoutTheInfoReaderCommandsStillWork) {
   test::FakeService fake(test_domain(), service_name());
   ASSERT_TRUE(fake.ok());
-  auto core = std::make_shared<ClientCore>(options(), Refusals{false, false, true});
+  auto core =
+      std::make_shared<ClientCore>(options(), RefusingEndpoints({ClientEndpoint::info_reader}));
   ASSERT_TRUE(core->connected()) << core->error();
   EXPECT_FALSE(core->read_only());
   const auto service = core->wait_for_service(service_name(), kDeadline);

@@ -1,0 +1,111 @@
+// DDS wiring: the client's participant, its readers and writers, and which
+// of them DDS Security refused (a read-only client).
+
+#include "client_endpoints.hpp"
+
+#include "dh3_qos.hpp"
+
+namespace dh3::detail {
+
+namespace {
+
+contract::ParticipantOptions participant_options(const ClientOptions& options) {
+  contract::ParticipantOptions participant_options;
+  participant_options.name = options.participant_name;
+  participant_options.domain = options.domain;
+  participant_options.interfaces = options.interfaces;
+  participant_options.udp_only = options.udp_only;
+  participant_options.discovery_servers = options.discovery_servers;
+  participant_options.xml_profile_file = options.xml_profile_file;
+  participant_options.xml_profile = options.xml_profile;
+  participant_options.security_dir = options.security_dir;
+  participant_options.security_identity = options.security_identity;
+  return participant_options;
+}
+
+fdds::StatusMask data_and_matches() {
+  auto mask = fdds::StatusMask::data_available();
+  mask << fdds::StatusMask::subscription_matched();
+  return mask;
+}
+
+}  // namespace
+
+void ClientCore::Dds::create_command_endpoints(const EndpointCreator& creator) {
+  using contract::TopicRole;
+  const contract::Topics& topics = participant->topics();
+  // The command endpoints first, each right after the other: the service
+  // answers on the reply topic as soon as a request arrives, so our reply
+  // reader's announcement should trail the request writer's as little as
+  // possible (a reply written before the service knows our reader is lost).
+  request_writer =
+      creator.create_writer(ClientEndpoint::request_writer, participant->publisher(),
+                            topics.request, contract::writer_qos(TopicRole::request),
+                            &request_listener, fdds::StatusMask::publication_matched());
+  reply_reader = creator.create_reader(ClientEndpoint::reply_reader, participant->subscriber(),
+                                       topics.reply, contract::reader_qos(TopicRole::reply),
+                                       &reader_listener, data_and_matches());
+}
+
+void ClientCore::Dds::create_watch_endpoints(const EndpointCreator& creator) {
+  using contract::TopicRole;
+  const contract::Topics& topics = participant->topics();
+  auto& subscriber = participant->subscriber();
+  const auto data = fdds::StatusMask::data_available();
+  status_reader =
+      creator.create_reader(ClientEndpoint::status_reader, subscriber, topics.status,
+                            contract::reader_qos(TopicRole::hand_status), &reader_listener, data);
+  event_reader = creator.create_reader(ClientEndpoint::event_reader, subscriber, topics.event,
+                                       contract::reader_qos(TopicRole::hand_event),
+                                       &reader_listener, data_and_matches());
+  // Only if statuses and events are readable (set_up_dds() fails otherwise).
+  if (status_reader == nullptr || event_reader == nullptr) return;
+  info_reader =
+      creator.create_reader(ClientEndpoint::info_reader, subscriber, topics.info,
+                            contract::reader_qos(TopicRole::service_info), &reader_listener, data);
+}
+
+bool ClientCore::set_up_dds(std::string& error, const EndpointCreator& creator) {
+  dds_->participant = std::make_unique<contract::Participant>(participant_options(options_),
+                                                              &dds_->participant_listener);
+  if (!dds_->participant->ok()) {
+    error = dds_->participant->error();
+    return false;
+  }
+  // With access control, a writer or reader the permissions do not grant
+  // fails to be created: for the command endpoints that makes a read-only
+  // client, not a failure.
+  const bool access_control = creator.access_control(*dds_->participant);
+  client_id_ = dds_->participant->client_id();
+  dds_->create_command_endpoints(creator);
+  // Every identity must read statuses and events; a refused command endpoint
+  // above is a read-only client (below).
+  dds_->create_watch_endpoints(creator);
+  if (dds_->status_reader == nullptr || dds_->event_reader == nullptr) {
+    error = access_control ? "DDS Security: this identity may not read hand statuses and events"
+                           : "cannot create the dh3 readers";
+    return false;
+  }
+  const bool complete = dds_->request_writer != nullptr && dds_->reply_reader != nullptr &&
+                        dds_->info_reader != nullptr;
+  if (!complete && !access_control) {
+    error = "cannot create the dh3 readers and writers";
+    return false;
+  }
+  can_command_ = dds_->request_writer != nullptr && dds_->reply_reader != nullptr;
+  has_info_reader_ = dds_->info_reader != nullptr;
+  if (!can_command_) denied_message_ = denied_message(options_);
+  return true;
+}
+
+std::string ClientCore::denied_message(const ClientOptions& options) {
+  std::string message = "not permitted to publish command requests";
+  if (!options.security_dir.empty()) {
+    message += " (DDS Security identity '" + options.security_identity + "')";
+  } else {
+    message += " (DDS Security permissions of this participant)";
+  }
+  return message;
+}
+
+}  // namespace dh3::detail

@@ -1,0 +1,176 @@
+// Pending calls: a command from call() to its reply, its deadline or the loss
+// of its service; the io thread that writes every request and ends calls
+// whose deadline passed.
+
+#include <algorithm>
+
+#include "client_core.hpp"
+#include "client_endpoints.hpp"
+#include "conversions.hpp"
+
+namespace dh3::detail {
+
+std::optional<Reply> ClientCore::check(const HandAddress& hand, msg::CommandType command,
+                                       std::int32_t value) {
+  msg::CommandRequest request;
+  request.hand(to_msg(hand));
+  request.command(command);
+  request.value(value);
+  return check_request(request);
+}
+
+void ClientCore::call(const HandAddress& hand, msg::CommandType command, std::int32_t value,
+                      std::uint16_t register_code, Timeout timeout, Done done) {
+  msg::CommandRequest request;
+  request.hand(to_msg(hand));
+  request.command(command);
+  request.value(value);
+  request.register_code(register_code);
+  if (auto invalid = check_request(request)) {
+    done(std::move(*invalid));
+    return;
+  }
+  {
+    std::unique_lock lock(mutex_);
+    if (closed_) {
+      lock.unlock();
+      done(make_reply(Code::not_connected, error_.empty() ? "the client was closed" : error_));
+      return;
+    }
+    if (!can_command_) {
+      lock.unlock();
+      done(make_reply(Code::denied, denied_message_));
+      return;
+    }
+    const std::uint64_t seq = ++last_seq_;
+    request.client_id(client_id_);
+    request.request_seq(seq);
+    Pending pending;
+    pending.hand = hand;
+    pending.request = std::move(request);
+    pending.timeout = effective(timeout);
+    pending.deadline = Clock::now() + pending.timeout;
+    pending.done = std::move(done);
+    if (ready_locked(hand.service)) {
+      pending.sent_to = services_.find(hand.service)->second.incarnation;
+      to_write_.push_back(seq);
+    }
+    pending_.emplace(seq, std::move(pending));
+    io_kick_ = true;  // its deadline may be the earliest now
+  }
+  io_wake_.notify_all();
+}
+
+std::future<Reply> ClientCore::call(const HandAddress& hand, msg::CommandType command,
+                                    std::int32_t value, std::uint16_t register_code,
+                                    Timeout timeout) {
+  auto promise = std::make_shared<std::promise<Reply>>();
+  auto future = promise->get_future();
+  call(hand, command, value, register_code, timeout,
+       [promise](Reply reply) { promise->set_value(std::move(reply)); });
+  return future;
+}
+
+void ClientCore::write_requests_locked(std::unique_lock<std::mutex>& lock) {
+  while (!to_write_.empty() && !closed_) {
+    const std::uint64_t seq = to_write_.front();
+    to_write_.pop_front();
+    const auto it = pending_.find(seq);
+    // Ended meanwhile (service lost, reply, deadline): never send it, so a
+    // command the caller was told failed does not run after all.
+    if (it == pending_.end()) continue;
+    msg::CommandRequest request = it->second.request;
+    lock.unlock();
+    const bool written = dds_->request_writer->write(&request);
+    lock.lock();
+    if (!written) {
+      if (const auto again = pending_.find(seq); again != pending_.end()) {
+        auto done = std::move(again->second.done);
+        pending_.erase(again);
+        lock.unlock();
+        done(make_reply(Code::not_connected, "could not publish the request"));
+        lock.lock();
+      }
+    }
+  }
+}
+
+void ClientCore::io_loop() {
+  std::unique_lock lock(mutex_);
+  while (!closed_) {
+    // Requests first: a deadline check must not end a call whose request was
+    // about to go out.
+    write_requests_locked(lock);
+    if (closed_) break;
+
+    const auto now = Clock::now();
+    std::vector<std::pair<Done, Reply>> expired;
+    auto next = Clock::time_point::max();
+    for (auto it = pending_.begin(); it != pending_.end();) {
+      if (it->second.deadline <= now) {
+        expired.emplace_back(std::move(it->second.done), expired_locked(it->second));
+        it = pending_.erase(it);
+      } else {
+        next = std::min(next, it->second.deadline);
+        ++it;
+      }
+    }
+    if (!expired.empty()) {
+      lock.unlock();
+      for (auto& [done, reply] : expired) done(std::move(reply));
+      lock.lock();
+      continue;  // state may have changed while unlocked
+    }
+    io_kick_ = false;
+    const auto wake = [this] { return closed_ || io_kick_ || !to_write_.empty(); };
+    if (next == Clock::time_point::max()) {
+      io_wake_.wait(lock, wake);
+    } else {
+      io_wake_.wait_until(lock, next, wake);
+    }
+  }
+}
+
+Reply ClientCore::expired_locked(const Pending& pending) const {
+  const auto& service = pending.hand.service;
+  const std::string what =
+      command_name(pending.request.command()) + " for " + pending.hand.to_string();
+  const std::string within = " within " + describe_duration(pending.timeout);
+  if (!pending.sent_to.empty()) {
+    return make_reply(Code::no_reply,
+                      "no reply from service '" + service + "' to " + what + within);
+  }
+  const auto it = services_.find(service);
+  if (it != services_.end() && it->second.alive) {
+    return make_reply(Code::no_service, "service '" + service +
+                                            "' was found but did not become ready to take "
+                                            "requests" +
+                                            within + " (" + what + " not sent)");
+  }
+  return make_reply(Code::no_service, "no service '" + service + "' found on DDS domain " +
+                                          std::to_string(options_.domain) + within + " (" + what +
+                                          " not sent)");
+}
+
+void ClientCore::run(Actions& actions) {
+  for (auto& [done, reply] : actions.completions) done(std::move(reply));
+  actions.completions.clear();
+  if (actions.wake_io) io_wake_.notify_all();
+}
+
+void ClientCore::on_reply(const msg::CommandReply& reply) {
+  // Every client reads every reply on the topic: only our own client_id and a
+  // request we are waiting for resolve anything.
+  if (reply.client_id() != client_id_) return;
+  Done done;
+  {
+    std::lock_guard lock(mutex_);
+    const auto it = pending_.find(reply.request_seq());
+    if (it == pending_.end() || it->second.request.command() != reply.command()) return;
+    done = std::move(it->second.done);
+    pending_.erase(it);
+  }
+  done(to_reply(reply));
+}
+
+}  // namespace dh3::detail

@@ -1,0 +1,107 @@
+// Publishing what the service knows: hand statuses, hand events and the
+// service's info.
+
+#include "dds/service_impl.hpp"
+
+namespace dh3::dds {
+using contract::TopicRole;
+using eprosima::fastrtps::types::ReturnCode_t;
+
+// ---------------------------------------------------------------------------
+// Status, events, service info
+
+Service::Impl::HandSlot& Service::Impl::slot_locked(BusRuntime& bus, std::uint8_t can_id) {
+  auto& slot = bus.hands[can_id];
+  if (!slot) {
+    slot = std::make_unique<HandSlot>();
+    slot->state.can_id = can_id;
+  }
+  return *slot;
+}
+
+void Service::Impl::publish_status_locked(std::uint16_t bus, HandSlot& slot) {
+  const std::string holder = leases_.holder(HandKey{bus, slot.state.can_id});
+  const StatusContext context{options_.name, buses_[bus]->name, holder, ++slot.update_seq,
+                              wall_clock_ns()};
+  fill_status(slot.sample, slot.state, context);
+  if (status_writer_ == nullptr) return;  // DDS set-up failed or is gone
+  std::lock_guard write_lock(status_write_mutex_);
+  if (!status_writer_->write(&slot.sample)) {
+    spdlog::warn("could not publish the status of {}",
+                 hand_text(buses_[bus]->name, slot.state.can_id));
+  }
+}
+
+void Service::Impl::republish_status(HandKey hand) {
+  BusRuntime& bus = *buses_[hand.bus];
+  std::lock_guard lock(bus.status_mutex);
+  publish_status_locked(hand.bus, slot_locked(bus, hand.can_id));
+}
+
+void Service::Impl::on_state(std::uint16_t bus_index, const hand::HandState& state) {
+  BusRuntime& bus = *buses_[bus_index];
+  if (directory_.add_hand(bus_index, state.can_id)) {
+    spdlog::debug("found {}", hand_text(bus.name, state.can_id));
+    publish_info();
+  }
+  std::lock_guard lock(bus.status_mutex);
+  HandSlot& slot = slot_locked(bus, state.can_id);
+  const std::string name = slot.state.name;
+  slot.state = state;
+  if (slot.state.name.empty()) slot.state.name = name;
+  publish_status_locked(bus_index, slot);
+}
+
+void Service::Impl::on_event(std::uint16_t bus_index, const hand::HandEvent& event) {
+  BusRuntime& bus = *buses_[bus_index];
+  // The hand layer logs events itself; this line only adds the service's view.
+  spdlog::debug("event of {}: {}{}{}", hand_text(bus.name, event.can_id),
+                hand::to_string(event.kind), event.message.empty() ? "" : ": ", event.message);
+  if (event_writer_ == nullptr) return;
+  std::lock_guard lock(bus.status_mutex);
+  fill_event(bus.event_sample, event, options_.name, bus.name,
+             directory_.hand_name(bus_index, event.can_id), ++event_seq_, wall_clock_ns());
+  if (!event_writer_->write(&bus.event_sample)) {
+    spdlog::warn("could not publish a {} event of {}", hand::to_string(event.kind),
+                 hand_text(bus.name, event.can_id));
+  }
+}
+
+void Service::Impl::on_link(std::uint16_t bus_index, bus::LinkState state) {
+  const bool up = state == bus::LinkState::up;
+  BusRuntime& bus = *buses_[bus_index];
+  if (bus.link_up.exchange(up) == up) return;
+  // The bus and hand layers log the link change; here it only goes to the service info.
+  spdlog::debug("bus '{}' ({}) is {}: service info republished", bus.name, bus.spec,
+                up ? "up" : "down");
+  publish_info();
+}
+
+void Service::Impl::publish_info() {
+  if (info_writer_ == nullptr) return;
+  std::lock_guard lock(info_mutex_);
+  msg::ServiceInfo info;
+  info.service(options_.name);
+  info.version(options_.version);
+  info.host(options_.host);
+  info.admin_allowed(options_.allow_admin);
+  info.started_ns(started_ns_);
+  for (std::size_t i = 0; i < buses_.size(); ++i) {
+    msg::BusInfo bus;
+    bus.name(buses_[i]->name);
+    bus.spec(buses_[i]->spec);
+    bus.link_up(buses_[i]->link_up.load());
+    for (const auto& hand : directory_.hands(static_cast<std::uint16_t>(i))) {
+      msg::HandInfo entry;
+      entry.can_id(hand.can_id);
+      entry.name(hand.name);
+      bus.hands().push_back(std::move(entry));
+    }
+    info.buses().push_back(std::move(bus));
+  }
+  if (!info_writer_->write(&info)) {
+    spdlog::warn("could not publish the service info");
+  }
+}
+
+}  // namespace dh3::dds
