@@ -29,6 +29,12 @@ print_phases() {
 
 deploy/install-deps.sh
 end_phase "install dependencies"
+# Three build trees (plain, ASan, TSan) compile mostly the same files; ccache
+# keeps what a previous run compiled. Paths are taken relative to the clone, so
+# another clone on the same machine hits the same entries.
+if [[ -z ${CMAKE_CXX_COMPILER_LAUNCHER:-} ]] && command -v ccache >/dev/null; then
+  export CMAKE_CXX_COMPILER_LAUNCHER=ccache CCACHE_BASEDIR=$PWD CCACHE_NOHASHDIR=true
+fi
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo
 cmake --build "$build" -j "$jobs"
 end_phase "build"
