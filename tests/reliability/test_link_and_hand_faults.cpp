@@ -75,9 +75,12 @@ TEST_F(LinkAndHandFaults, AHandAnsweringAfterTheTimeoutGetsOneReplyPerRequest) {
 
 TEST_F(LinkAndHandFaults, ACutLinkEndsPendingRequestsWithBusDownAndTheHandsReturn) {
   // Initialization never finishes, so hand 1's INITIALIZE is pending when the
-  // link goes; hand 2 is muted, so its read is pending too.
+  // link goes; hand 2 is muted, so its read is pending too: the service waits
+  // long for its echo, or the read would end TIMEOUT before the cut on a slow
+  // (sanitized) run.
   BoxOptions options;
   options.init_time_ms = 600000;
+  options.reply_timeout_ms = 10000;
   ASSERT_NO_FATAL_FAILURE(start(options));
   const std::string init_frame = "FF FE FD FC 01 08 02 01";
   const std::string read_frame = "FF FE FD FC 02 13 01 00";
