@@ -31,6 +31,7 @@ test_pkgs=(
   # tests/kernel: a real Linux kernel with CAN, vcan and vxcan as a process
   # (the build machines' kernel has no CAN), insmod, and candump/cangen.
   user-mode-linux kmod can-utils
+  universal-ctags   # tests/style: function lengths for the size check of product code
   ccache   # tests/run-all.sh: the plain, ASan and TSan builds share compiled objects across runs
 )
 
