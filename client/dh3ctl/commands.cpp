@@ -26,17 +26,17 @@
 namespace dh3::ctl {
 namespace {
 
+/// The options every command takes: the client's own, bound to the command
+/// line as they are (dh3ctl builds no other copy of them), and how it prints.
 struct Globals {
-  int domain = 0;
+  ClientOptions client;
   double timeout_s = 10.0;
   bool json = false;
-  std::vector<std::string> interfaces;
-  bool udp_only = false;
-  std::string xml_file;
-  std::string xml_profile;
-  std::vector<std::string> discovery_servers;
-  std::string security_dir;
-  std::string security_identity = "operator";
+
+  /// --timeout: for the service or hand, and for each reply.
+  [[nodiscard]] Timeout timeout() const {
+    return std::chrono::milliseconds(static_cast<std::int64_t>(timeout_s * 1000.0));
+  }
 };
 
 /// What one command line asked for, beyond the globals.
@@ -53,9 +53,7 @@ struct Args {
 };
 
 struct Context {
-  [[nodiscard]] Timeout timeout() const {
-    return std::chrono::milliseconds(static_cast<std::int64_t>(globals.timeout_s * 1000.0));
-  }
+  [[nodiscard]] Timeout timeout() const { return globals.timeout(); }
 
   /// Prints a failure the way every command does; returns the exit code.
   int fail(std::string_view command, std::string_view target, Code code,
@@ -183,7 +181,7 @@ int watch_statuses(Context& c, std::optional<HandAddress> only, int count) {
     std::strftime(clock, sizeof clock, "%H:%M:%S", std::localtime(&now));
     // Home and clear, then the table: a redraw, not a scroll.
     c.out << "\033[H\033[2J"
-          << "dh3ctl status --watch  domain " << c.globals.domain << "  " << clock
+          << "dh3ctl status --watch  domain " << c.globals.client.domain << "  " << clock
           << "  (Ctrl-C to stop)\n\n"
           << status_table(hands) << std::flush;
     // At most ten redraws a second: a moving hand changes faster than anyone reads.
@@ -377,29 +375,30 @@ int cmd_hand(Context& c, const std::string& command, const Args& a) {
 
 /// The options every command takes (before or after the command).
 void declare_global_options(CLI::App& app, Globals& g) {
-  app.add_option("-d,--domain", g.domain, "DDS domain id (default 0)")->check(CLI::Range(0, 232));
+  app.add_option("-d,--domain", g.client.domain, "DDS domain id (default 0)")
+      ->check(CLI::Range(0, 232));
   app.add_option("-t,--timeout", g.timeout_s,
                  "seconds to wait for the service or hand, and for each reply (default 10)")
       ->check(CLI::PositiveNumber);
   app.add_flag("--json", g.json, "one JSON object per line, for scripts");
-  app.add_option("-i,--interface", g.interfaces,
+  app.add_option("-i,--interface", g.client.interfaces,
                  "IPv4 address of a network interface for DDS (repeatable), or * for all; "
                  "default loopback only");
-  app.add_flag("--udp-only", g.udp_only, "no shared-memory transport, UDP only");
-  app.add_option("--xml", g.xml_file,
+  app.add_flag("--udp-only", g.client.udp_only, "no shared-memory transport, UDP only");
+  app.add_option("--xml", g.client.xml_profile_file,
                  "Fast DDS XML profiles file (its participant profile "
                  "replaces --interface and --udp-only)")
       ->check(CLI::ExistingFile);
-  app.add_option("--profile", g.xml_profile, "participant profile name in --xml");
+  app.add_option("--profile", g.client.xml_profile, "participant profile name in --xml");
   app.add_option(
-      "--discovery-server", g.discovery_servers,
+      "--discovery-server", g.client.discovery_servers,
       "a Fast DDS discovery server as HOST[:PORT] (repeatable; the n-th is server id n); "
       "default: ROS_DISCOVERY_SERVER, else multicast discovery");
-  app.add_option("--security-dir", g.security_dir,
+  app.add_option("--security-dir", g.client.security_dir,
                  "DDS Security: directory of credentials as deploy/security/make-test-pki.sh "
                  "lays them out")
       ->check(CLI::ExistingDirectory);
-  app.add_option("--security-identity", g.security_identity,
+  app.add_option("--security-identity", g.client.security_identity,
                  "DDS Security: the identity (folder) in --security-dir to use (default "
                  "operator; monitor: read-only)");
 }
@@ -466,19 +465,12 @@ CLI::Option* declare_commands(CLI::App& app, Args& a) {
   return open_opt;
 }
 
+/// The client's options as the command line gave them, under dh3ctl's name
+/// and with --timeout the default of its calls.
 ClientOptions client_options(const Globals& g) {
-  ClientOptions options;
-  options.domain = g.domain;
+  ClientOptions options = g.client;
   options.participant_name = "dh3ctl";
-  options.interfaces = g.interfaces;
-  options.udp_only = g.udp_only;
-  options.xml_profile_file = g.xml_file;
-  options.xml_profile = g.xml_profile;
-  options.discovery_servers = g.discovery_servers;
-  options.security_dir = g.security_dir;
-  options.security_identity = g.security_identity;
-  options.default_timeout =
-      std::chrono::milliseconds(static_cast<std::int64_t>(g.timeout_s * 1000.0));
+  options.default_timeout = g.timeout();
   return options;
 }
 

@@ -1,0 +1,177 @@
+// The value types the client hands out: addresses, replies, statuses, events,
+// what services say about themselves, and the Subscription handle.
+
+#include <pybind11/stl.h>
+
+#include <cstdint>
+#include <string>
+#include <utility>
+
+#include "bindings.hpp"
+#include "calls.hpp"
+#include "dh3/address.hpp"
+#include "dh3/types.hpp"
+#include "support.hpp"
+
+namespace dh3::python {
+
+namespace {
+
+using namespace pybind11::literals;
+
+std::string hand_address_repr(const dh3::HandAddress& a) {
+  return "HandAddress(service='" + a.service + "', bus='" + a.bus +
+         "', can_id=" + std::to_string(a.can_id) + ")";
+}
+
+void bind_hand_address(py::module_& m) {
+  py::class_<dh3::HandAddress>(m, "HandAddress", "A hand, unique in a DDS domain.")
+      .def(py::init([](std::string service, std::string bus, std::uint16_t can_id) {
+             return dh3::HandAddress{std::move(service), std::move(bus), can_id};
+           }),
+           "service"_a, "bus"_a, "can_id"_a)
+      .def_readwrite("service", &dh3::HandAddress::service)
+      .def_readwrite("bus", &dh3::HandAddress::bus)
+      .def_readwrite("can_id", &dh3::HandAddress::can_id)
+      .def("__str__", &dh3::HandAddress::to_string, "\"service/bus/id\"")
+      .def("__repr__", &hand_address_repr)
+      .def("__eq__", [](const dh3::HandAddress& a, const dh3::HandAddress& b) { return a == b; })
+      .def("__lt__", [](const dh3::HandAddress& a, const dh3::HandAddress& b) { return a < b; })
+      .def("__hash__", [](const dh3::HandAddress& a) {
+        return py::hash(py::make_tuple(a.service, a.bus, a.can_id));
+      });
+
+  m.def(
+      "parse_hand_address",
+      [](const std::string& text) {
+        auto spec = value_or_raise(dh3::parse_hand_spec(text));
+        if (!spec.is_full()) {
+          raise_error(dh3::Code::invalid_argument,
+                      "'" + text + "' is not a full hand address (SERVICE/BUS/ID)");
+        }
+        return spec.address();
+      },
+      "text"_a, "The HandAddress of \"service/bus/id\"; dh3.Error(INVALID_ARGUMENT) otherwise.");
+}
+
+void bind_reply(py::module_& m) {
+  py::class_<dh3::Reply>(m, "Reply",
+                         "What a call returns: always a code and, unless OK, a message that says "
+                         "why. The other fields matter for some commands only.")
+      .def_property_readonly("ok", &dh3::Reply::ok, "True when code is Code.OK.")
+      .def("__bool__", &dh3::Reply::ok)
+      .def_readonly("code", &dh3::Reply::code)
+      .def_readonly("message", &dh3::Reply::message)
+      .def_readonly("value", &dh3::Reply::value,
+                    "READ: the value read. GRASP: the final position. Writes: the value written.")
+      .def_readonly("grasp", &dh3::Reply::grasp,
+                    "GRASP: GRASPED (holding something) or MISSED (closed on nothing).")
+      .def_readonly("found_ids", &dh3::Reply::found_ids, "SCAN: the CAN IDs that answered.")
+      .def_readonly("lease_holder", &dh3::Reply::lease_holder,
+                    "Lease commands, and commands refused because of a lease: who holds it.")
+      .def("__repr__", [](const dh3::Reply& r) {
+        return "Reply(code=" + std::string(dh3::to_string(r.code)) +
+               ", value=" + std::to_string(r.value) +
+               ", grasp=" + std::string(dh3::to_string(r.grasp)) + ", message='" + r.message + "')";
+      });
+}
+
+void bind_hand_status(py::module_& m) {
+  using S = dh3::HandStatus;
+  py::class_<S>(m, "HandStatus", "The latest status the service published for a hand.")
+      .def_readonly("address", &S::address)
+      .def_readonly("name", &S::name, "From the service's config, may be empty.")
+      .def_readonly("online", &S::online)
+      .def_readonly("initialized", &S::initialized)
+      .def_readonly("grip", &S::grip)
+      .def_readonly("position", &S::position, "-1 until read.")
+      .def_readonly("target_position", &S::target_position, "-1 until written.")
+      .def_readonly("closing_force", &S::closing_force)
+      .def_readonly("opening_force", &S::opening_force)
+      .def_readonly("rotation", &S::rotation)
+      .def_readonly("rotation_target", &S::rotation_target)
+      .def_readonly("rotation_state", &S::rotation_state)
+      .def_readonly("firmware_version", &S::firmware_version, "Raw 0x1301 value.")
+      .def_readonly("firmware_version_text", &S::firmware_version_text)
+      .def_readonly("last_error", &S::last_error)
+      .def_readonly("last_error_message", &S::last_error_message)
+      .def_readonly("lease_holder", &S::lease_holder, "Empty when nobody holds a lease.")
+      .def_readonly("timestamp_ns", &S::timestamp_ns,
+                    "The service's wall clock, ns since the epoch.")
+      .def_readonly("update_seq", &S::update_seq, "Increments on every change of this hand.")
+      .def_readonly("service_lost", &S::service_lost,
+                    "True when the client marked the hand offline itself because its service "
+                    "left the domain without saying so.")
+      .def("__repr__", [](const S& s) {
+        return "HandStatus(" + s.address.to_string() + ", online=" + (s.online ? "True" : "False") +
+               ", initialized=" + (s.initialized ? "True" : "False") +
+               ", grip=" + std::string(dh3::to_string(s.grip)) +
+               ", position=" + std::to_string(s.position) + ")";
+      });
+}
+
+void bind_hand_event(py::module_& m) {
+  py::class_<dh3::HandEvent>(m, "HandEvent", "Something that happened to a hand.")
+      .def_readonly("hand", &dh3::HandEvent::hand)
+      .def_readonly("name", &dh3::HandEvent::name)
+      .def_readonly("kind", &dh3::HandEvent::kind)
+      .def_readonly("position", &dh3::HandEvent::position, "Position when it happened.")
+      .def_readonly("target", &dh3::HandEvent::target, "Target in force.")
+      .def_readonly("value", &dh3::HandEvent::value, "Status value or force that explains it.")
+      .def_readonly("message", &dh3::HandEvent::message)
+      .def_readonly("timestamp_ns", &dh3::HandEvent::timestamp_ns)
+      .def_readonly("event_seq", &dh3::HandEvent::event_seq,
+                    "Per service; 0 for events the client made itself.")
+      .def_readonly("from_client", &dh3::HandEvent::from_client,
+                    "True for the OFFLINE events the client emits when a service disappears.")
+      .def("__repr__", [](const dh3::HandEvent& e) {
+        return "HandEvent(" + e.hand.to_string() + ", " + std::string(dh3::to_string(e.kind)) +
+               ", position=" + std::to_string(e.position) + ")";
+      });
+}
+
+void bind_service_info(py::module_& m) {
+  py::class_<dh3::HandInfo>(m, "HandInfo")
+      .def_readonly("can_id", &dh3::HandInfo::can_id)
+      .def_readonly("name", &dh3::HandInfo::name);
+  py::class_<dh3::BusInfo>(m, "BusInfo")
+      .def_readonly("name", &dh3::BusInfo::name)
+      .def_readonly("spec", &dh3::BusInfo::spec, "E.g. \"tcp:127.0.0.1:9000\", \"sim:1,2,3\".")
+      .def_readonly("link_up", &dh3::BusInfo::link_up)
+      .def_readonly("hands", &dh3::BusInfo::hands);
+  py::class_<dh3::ServiceInfo>(m, "ServiceInfo")
+      .def_readonly("name", &dh3::ServiceInfo::name)
+      .def_readonly("version", &dh3::ServiceInfo::version)
+      .def_readonly("host", &dh3::ServiceInfo::host)
+      .def_readonly("admin_allowed", &dh3::ServiceInfo::admin_allowed)
+      .def_readonly("buses", &dh3::ServiceInfo::buses)
+      .def_readonly("started_ns", &dh3::ServiceInfo::started_ns)
+      .def_readonly("ready", &dh3::ServiceInfo::ready,
+                    "The service is on the domain now and calls to it go out at once.");
+}
+
+void bind_subscription(py::module_& m) {
+  py::class_<PySubscription>(m, "Subscription",
+                             "Keeps a callback registered; unsubscribes when unsubscribe() is "
+                             "called, when used as a context manager and the block ends, or when "
+                             "garbage collected. After unsubscribe() returns the callback is not "
+                             "running and will not run again (it may be called from inside the "
+                             "callback itself).")
+      .def("unsubscribe", &PySubscription::unsubscribe)
+      .def("active", &PySubscription::active)
+      .def("__enter__", [](py::object self) { return self; })
+      .def("__exit__", [](PySubscription& s, const py::args&) { s.unsubscribe(); });
+}
+
+}  // namespace
+
+void bind_values(py::module_& m) {
+  bind_hand_address(m);
+  bind_reply(m);
+  bind_hand_status(m);
+  bind_hand_event(m);
+  bind_service_info(m);
+  bind_subscription(m);
+}
+
+}  // namespace dh3::python
