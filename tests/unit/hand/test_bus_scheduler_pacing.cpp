@@ -139,8 +139,7 @@ TEST(BusSchedulerPacing, TheIntervalCountsFromWhenAFrameLeftNotFromWhenTheLoopPa
   h.run_for(2s);
   ASSERT_GT(h.recorder().sent.size(), 40u);
   const auto violations = pacing_violations(h.recorder(), ids, test_options().command_interval);
-  EXPECT_TRUE(violations.empty()) << violations.size() << " frames too soon:\n"
-                                  << joined(violations);
+  EXPECT_TRUE(violations.empty()) << violations.size() << " frames too soon:\n" << joined(violations);
 }
 
 }  // namespace
