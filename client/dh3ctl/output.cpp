@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <ctime>
 
 namespace dh3::ctl {
 
@@ -116,6 +117,7 @@ std::string to_json(const HandStatus& s) {
       .add("lease_holder", s.lease_holder)
       .add("timestamp_ns", s.timestamp_ns)
       .add("update_seq", s.update_seq)
+      .add("read_at_ns", s.read_at_ns)
       .add("service_lost", s.service_lost);
   return o.str();
 }
@@ -188,6 +190,18 @@ std::string number_or_dash(std::int32_t value) {
   return value < 0 ? std::string("-") : std::to_string(value);
 }
 
+/// "14:03:07.250" (local time) of a wall-clock time in ns, "-" for 0 (never).
+std::string time_of_day_or_dash(std::uint64_t ns) {
+  if (ns == 0) return "-";
+  const auto seconds = static_cast<std::time_t>(ns / 1'000'000'000U);
+  std::tm local{};
+  localtime_r(&seconds, &local);
+  char text[32];
+  std::snprintf(text, sizeof text, "%02d:%02d:%02d.%03u", local.tm_hour, local.tm_min, local.tm_sec,
+                static_cast<unsigned>(ns / 1'000'000U % 1000U));
+  return text;
+}
+
 std::string pad(std::string text, std::size_t width) {
   if (text.size() < width) text.append(width - text.size(), ' ');
   return text;
@@ -199,9 +213,9 @@ std::string status_table(const std::vector<HandStatus>& hands) {
   struct Row {
     std::vector<std::string> cells;
   };
-  const std::vector<std::string> header = {"HAND", "NAME",   "ONLINE",    "INIT",
-                                           "POS",  "TARGET", "GRIP",      "FORCE",
-                                           "ROT",  "LEASE",  "LAST ERROR"};
+  const std::vector<std::string> header = {"HAND", "NAME",   "ONLINE", "INIT",
+                                           "POS",  "TARGET", "GRIP",   "FORCE",
+                                           "ROT",  "LEASE",  "READ",   "LAST ERROR"};
   std::vector<Row> rows;
   for (const auto& s : hands) {
     std::string error;
@@ -209,13 +223,13 @@ std::string status_table(const std::vector<HandStatus>& hands) {
       error = std::string(to_string(s.last_error));
       if (!s.last_error_message.empty()) error += ": " + s.last_error_message;
     }
-    rows.push_back(
-        Row{{s.address.to_string(), s.name.empty() ? "-" : s.name,
-             s.online ? "yes" : (s.service_lost ? "lost" : "no"), s.initialized ? "yes" : "no",
-             number_or_dash(s.position), number_or_dash(s.target_position),
-             std::string(to_string(s.grip)),
-             std::to_string(s.closing_force) + "/" + std::to_string(s.opening_force),
-             number_or_dash(s.rotation), s.lease_holder.empty() ? "-" : s.lease_holder, error}});
+    rows.push_back(Row{{s.address.to_string(), s.name.empty() ? "-" : s.name,
+                        s.online ? "yes" : (s.service_lost ? "lost" : "no"),
+                        s.initialized ? "yes" : "no", number_or_dash(s.position),
+                        number_or_dash(s.target_position), std::string(to_string(s.grip)),
+                        std::to_string(s.closing_force) + "/" + std::to_string(s.opening_force),
+                        number_or_dash(s.rotation), s.lease_holder.empty() ? "-" : s.lease_holder,
+                        time_of_day_or_dash(s.read_at_ns), error}});
   }
   std::vector<std::size_t> widths(header.size());
   for (std::size_t c = 0; c < header.size(); ++c) {
@@ -246,6 +260,7 @@ std::string status_line(const HandStatus& s) {
          std::to_string(s.closing_force) + "/" + std::to_string(s.opening_force) + " rotation " +
          number_or_dash(s.rotation) + " " + std::string(to_string(s.rotation_state));
   if (!s.lease_holder.empty()) out += " leased by " + s.lease_holder;
+  out += " read " + time_of_day_or_dash(s.read_at_ns);
   if (s.last_error != Code::ok) {
     out += " last error " + std::string(to_string(s.last_error));
     if (!s.last_error_message.empty()) out += ": " + s.last_error_message;

@@ -139,6 +139,7 @@ HandStatus to_public(const msg::HandStatus& s) {
   out.lease_holder = s.lease_holder();
   out.timestamp_ns = s.timestamp_ns();
   out.update_seq = s.update_seq();
+  out.read_at_ns = s.read_at_ns();
   return out;
 }
 

@@ -295,12 +295,13 @@ class FileParser {
   BusSettings parse_bus(const YAML::Node& node, std::size_t index, std::set<std::string>& names) {
     const std::string key = "buses[" + std::to_string(index) + "]";
     expect_map(node, key);
-    check_keys(node, key + ".",
-               {"name", "spec", "hands", "sim", "bit_rate", "command_interval_ms",
-                "poll_interval_moving_ms", "poll_interval_idle_ms", "reply_timeout_ms",
-                "admin_reply_timeout_ms", "max_retries", "offline_after_timeouts",
-                "offline_probe_interval_ms", "init_timeout_ms", "motion_timeout_ms",
-                "queue_capacity", "discovery_interval_ms", "probe_spacing_ms"});
+    check_keys(
+        node, key + ".",
+        {"name", "spec", "hands", "sim", "bit_rate", "command_interval_ms",
+         "poll_interval_watch_ms", "poll_interval_moving_ms", "poll_interval_idle_ms",
+         "reply_timeout_ms", "admin_reply_timeout_ms", "max_retries", "offline_after_timeouts",
+         "offline_probe_interval_ms", "init_timeout_ms", "motion_timeout_ms", "queue_capacity",
+         "discovery_interval_ms", "probe_spacing_ms"});
     BusSettings bus;
     const auto spec = node["spec"];
     if (!spec) fail_at(node, key + ".spec", "missing (e.g. sim:1,2,3, tcp:HOST:PORT)");
@@ -323,6 +324,7 @@ class FileParser {
       if (auto n = node[field]) target = millis(n, key + "." + field, min);
     };
     timing("command_interval_ms", s.command_interval);
+    timing("poll_interval_watch_ms", s.poll_interval_watch, 1);
     timing("poll_interval_moving_ms", s.poll_interval_moving, 1);
     timing("poll_interval_idle_ms", s.poll_interval_idle, 1);
     timing("reply_timeout_ms", s.reply_timeout, 1);

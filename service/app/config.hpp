@@ -32,7 +32,7 @@
 //
 // Bus specs: sim | sim:1,2,3 | socketcan:can0 | tcp:HOST:PORT | serial:PATH@BAUD.
 // Scheduler keys per bus (milliseconds unless said): command_interval_ms,
-// poll_interval_moving_ms, poll_interval_idle_ms, reply_timeout_ms,
+// poll_interval_watch_ms, poll_interval_moving_ms, poll_interval_idle_ms, reply_timeout_ms,
 // admin_reply_timeout_ms, offline_probe_interval_ms, init_timeout_ms,
 // motion_timeout_ms, discovery_interval_ms, probe_spacing_ms, max_retries,
 // offline_after_timeouts, queue_capacity. Simulator keys (sim:): reply_delay_ms,

@@ -155,6 +155,7 @@ void fill_status(msg::HandStatus& out, const hand::HandState& state, const Statu
   out.lease_holder(std::string(context.lease_holder));
   out.timestamp_ns(context.timestamp_ns);
   out.update_seq(context.update_seq);
+  out.read_at_ns(context.read_at_ns);
 }
 
 void fill_event(msg::HandEvent& out, const hand::HandEvent& event, std::string_view service,

@@ -35,6 +35,7 @@ struct StatusContext {
   std::string_view lease_holder;
   std::uint64_t update_seq = 0;
   std::uint64_t timestamp_ns = 0;  ///< wall clock, ns since the epoch
+  std::uint64_t read_at_ns = 0;    ///< the state's read_at on the same wall clock; 0: never
 };
 
 /// Fills every field of `out` (reused between samples to save allocations).

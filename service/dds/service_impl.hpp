@@ -87,6 +87,8 @@ class Service::Impl {
    public:
     BusObserver(Impl& impl, std::uint16_t bus) : impl_(impl), bus_(bus) {}
     void on_state(const hand::HandState& state) override { impl_.on_state(bus_, state); }
+    // The same values, read again: republished so that read_at_ns shows it.
+    void on_fresh(const hand::HandState& state) override { impl_.on_state(bus_, state); }
     void on_event(const hand::HandEvent& event) override { impl_.on_event(bus_, event); }
     void on_link(bus::LinkState state) override { impl_.on_link(bus_, state); }
 

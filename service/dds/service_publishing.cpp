@@ -1,6 +1,9 @@
 // Publishing what the service knows: hand statuses, hand events and the
 // service's info.
 
+#include <algorithm>
+#include <chrono>
+
 #include "dds/service_impl.hpp"
 
 namespace dh3::dds {
@@ -21,8 +24,16 @@ Service::Impl::HandSlot& Service::Impl::slot_locked(BusRuntime& bus, std::uint8_
 
 void Service::Impl::publish_status_locked(std::uint16_t bus, HandSlot& slot) {
   const std::string holder = leases_.holder(HandKey{bus, slot.state.can_id});
+  const std::uint64_t now_ns = wall_clock_ns();
+  std::uint64_t read_at_ns = 0;
+  if (slot.state.read_at != TimePoint{}) {
+    // The hand layer keeps steady time; the sample says wall time, like timestamp_ns.
+    const auto age =
+        std::chrono::duration_cast<std::chrono::nanoseconds>(clock_.now() - slot.state.read_at);
+    read_at_ns = now_ns - static_cast<std::uint64_t>(std::max<std::int64_t>(age.count(), 0));
+  }
   const StatusContext context{options_.name, buses_[bus]->name, holder, ++slot.update_seq,
-                              wall_clock_ns()};
+                              now_ns,        read_at_ns};
   fill_status(slot.sample, slot.state, context);
   if (status_writer_ == nullptr) return;  // DDS set-up failed or is gone
   std::lock_guard write_lock(status_write_mutex_);

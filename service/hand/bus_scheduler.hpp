@@ -32,7 +32,14 @@ struct HandConfig {
 struct SchedulerOptions {
   /// Minimum time between two frames to the same hand (docs/protocol-notes.md reading 9).
   Duration command_interval = std::chrono::milliseconds(20);
-  /// Status poll period while a hand moves, and at rest.
+  /// Status polling by what can change (poll_policy.hpp): the status register
+  /// that shows the change a hand waits for (the grip status of fingers that
+  /// hold an object or move, the rotation status while rotating) is read every
+  /// poll_interval_watch; the position of moving fingers (rotation of a running
+  /// rotation) every poll_interval_moving; everything else, and a hand at rest
+  /// that holds nothing, every poll_interval_idle. Never closer than
+  /// command_interval, and within the line budget.
+  Duration poll_interval_watch = std::chrono::milliseconds(20);
   Duration poll_interval_moving = std::chrono::milliseconds(50);
   Duration poll_interval_idle = std::chrono::milliseconds(500);
   /// Deadline for one frame's reply before it is re-sent or fails.
@@ -73,6 +80,11 @@ class HandObserver {
  public:
   virtual ~HandObserver() = default;
   virtual void on_state(const HandState& state) = 0;
+  /// The hand answered again and the published values still stand: `state` is
+  /// the published state with a newer read_at. At most once per
+  /// poll_interval_idle per hand, so that who shows the state can show how
+  /// fresh it is without a sample on every poll.
+  virtual void on_fresh(const HandState& /*state*/) {}
   virtual void on_event(const HandEvent& event) = 0;
   virtual void on_link(bus::LinkState state) = 0;
 };

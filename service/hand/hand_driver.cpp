@@ -129,18 +129,28 @@ void HandDriver::set_init(InitState init) {
   on->init = init;
 }
 
-bool HandDriver::moving() const {
+PollPlan HandDriver::poll_plan() const {
   // Status 0 also means "default" (after power-on or initialization), so only
-  // motions we commanded, or a drop in progress, count as moving.
-  return finger_motion_ || rotation_motion_ || motion_waiter_.has_value();
+  // motions we commanded count as moving.
+  PollActivity activity;
+  if (finger_motion_) {
+    activity.fingers = finger_motion_->closing ? FingerActivity::closing : FingerActivity::opening;
+  } else if (state_.grip == GripState::caught) {
+    activity.fingers = FingerActivity::holding;
+  }
+  activity.rotating = rotation_motion_.has_value();
+  activity.initializing = initializing() != nullptr;
+  return plan_polls(activity,
+                    PollIntervals{options_.poll_interval_watch, options_.poll_interval_moving,
+                                  options_.poll_interval_idle});
 }
 
 void HandDriver::on_answer(TimePoint now) {
   consecutive_timeouts_ = 0;
+  state_.read_at = now;
   if (online() || anonymous_) return;
   Online fresh;
   fresh.refresh.assign(std::begin(kRefresh), std::end(kRefresh));
-  fresh.poll.next_round_at = now;
   link_ = std::move(fresh);
   state_.online = true;
   emit(EventKind::online, now, state_.firmware_version);
@@ -152,7 +162,11 @@ void HandDriver::lose_link(TimePoint now, LinkLoss loss, const std::string& why)
   finger_motion_.reset();
   rotation_motion_.reset();
   end_of_motion_.read_due = false;
+  end_of_motion_.recheck_arrival = false;
+  end_of_rotation_.read_due = false;
+  end_of_rotation_.recheck_arrival = false;
   emit_ending_event(now);
+  emit_rotation_event(now);
   const bool was_online = online() != nullptr;
   // Probed again after the probe interval; a returning link probes at once.
   link_ = Offline{now + options_.offline_probe_interval};
@@ -251,7 +265,11 @@ void HandDriver::on_timeout(TimePoint now) {
                                                  protocol::describe(lost.message), lost.attempts));
     finish_active(fail(CommandError::timeout));
   } else if (lost.purpose == Purpose::confirm_position) {
-    on_position_confirmed(now);  // with the position as last read
+    end_of_motion_.recheck_arrival = false;  // the status is read again anyway
+    on_position_confirmed(now);              // with the position as last read
+  } else if (lost.purpose == Purpose::confirm_rotation) {
+    end_of_rotation_.recheck_arrival = false;
+    on_rotation_confirmed(now);
   }
   // Polls and probes are simply read again later.
   if (online() && !anonymous_ && consecutive_timeouts_ >= options_.offline_after_timeouts) {
@@ -274,11 +292,13 @@ std::optional<TimePoint> HandDriver::next_wakeup() const {
       // never polled or probed
     } else if (const auto* offline = std::get_if<Offline>(&link_)) {
       consider(std::max(next_send_at_, offline->next_probe_at));
-    } else if (const Online* on = online(); end_of_motion_.read_due || (init && init->check_now) ||
-                                            !on->refresh.empty() || on->poll.running) {
+    } else if (const Online* on = online(); end_of_motion_.read_due || end_of_rotation_.read_due ||
+                                            (init && init->check_now) || !on->refresh.empty()) {
       consider(next_send_at_);
     } else {
-      consider(std::max(next_send_at_, on->poll.next_round_at));
+      if (auto due = next_poll_due(poll_plan(), on->poll.last_read)) {
+        consider(std::max(next_send_at_, *due));
+      }
       if (init) consider(std::max(next_send_at_, init->next_check_at));
     }
   }
@@ -340,6 +360,18 @@ void HandDriver::emit_ending_event(TimePoint now) {
   emit(event.kind, now, event.value);
 }
 
+void HandDriver::emit_rotation_event(TimePoint now) {
+  if (!end_of_rotation_.event) return;
+  const PendingEvent event = *end_of_rotation_.event;
+  end_of_rotation_.event.reset();
+  std::string message;
+  if (event.kind == EventKind::rotation_blocked) {
+    message = fmt::format("rotation blocked at {} on the way to {}", state_.rotation,
+                          state_.rotation_target);
+  }
+  emit(event.kind, now, event.value, std::move(message), state_.rotation, state_.rotation_target);
+}
+
 void HandDriver::emit(EventKind kind, TimePoint now, std::int32_t value, std::string message,
                       std::optional<std::int32_t> position, std::optional<std::int32_t> target) {
   if (anonymous_) return;
@@ -370,6 +402,10 @@ void HandDriver::flush(TimePoint now) {
     published_ = state_;
     if (context_.on_published) context_.on_published(state_);
     context_.observer.on_state(state_);
+  } else if (!anonymous_ && state_.read_at >= published_.read_at + options_.poll_interval_idle) {
+    published_.read_at = state_.read_at;
+    if (context_.on_published) context_.on_published(published_);
+    context_.observer.on_fresh(published_);
   }
   // Callbacks may call back into the scheduler (submit): take the lists first.
   auto events = std::move(pending_events_);

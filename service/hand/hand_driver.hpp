@@ -120,7 +120,6 @@ class HandDriver {
   protocol::Message send_job(protocol::Message message, TimePoint now);
   void finger_motion_sent(std::int32_t target, bool gripping);
   void rotation_motion_sent(std::int32_t target);
-  void poll_soon();
 
   // Receiving (hand_driver_receiving.cpp).
   void on_reply(const InFlight& sent, const protocol::Message& reply, TimePoint now);
@@ -131,8 +130,9 @@ class HandDriver {
   void advance_job(const protocol::Message& reply, TimePoint now);
   void advance_stop(StopStep& step, const protocol::Message& reply);
   void apply_read(protocol::Register reg, const protocol::Message& reply, TimePoint now);
-  void on_grip_status(std::int32_t status, TimePoint now);
-  void on_rotation_status(std::int32_t status, TimePoint now);
+  void on_grip_status(std::int32_t status, TimePoint now, bool may_recheck = true);
+  void on_rotation_status(std::int32_t status, TimePoint now, bool may_recheck = true);
+  void on_rotation_confirmed(TimePoint now);
   void on_initialized_flag(std::int32_t value, TimePoint now);
   void on_position_confirmed(TimePoint now);
   void finger_motion_ended(GripState grip, EventKind event);
@@ -149,7 +149,8 @@ class HandDriver {
   [[nodiscard]] Initializing* initializing();
   [[nodiscard]] const Initializing* initializing() const;
   [[nodiscard]] bool init_known() const;
-  [[nodiscard]] bool moving() const;
+  /// What to poll how often, from what the hand is doing now.
+  [[nodiscard]] PollPlan poll_plan() const;
 
   // Finishing and reporting (hand_driver.cpp).
   void cancel_motion(bool fingers, bool rotation);
@@ -158,6 +159,7 @@ class HandDriver {
   void finish_motion_waiter(const CommandResult& result);
   void fail_everything(CommandError error);
   void emit_ending_event(TimePoint now);
+  void emit_rotation_event(TimePoint now);
   void emit(EventKind kind, TimePoint now, std::int32_t value = 0, std::string message = {},
             std::optional<std::int32_t> position = {}, std::optional<std::int32_t> target = {});
   /// Counts the job's result and queues its completion for flush().
@@ -200,6 +202,7 @@ class HandDriver {
   std::uint64_t finger_epoch_ = 0;
   bool hold_untouched_ = false;  ///< holding a catch, no finger command sent since
   EndOfMotion end_of_motion_;
+  EndOfRotation end_of_rotation_;
   /// Status values outside the document, reported once per axis.
   std::int32_t last_undefined_grip_status_ = 0;
   std::int32_t last_undefined_rotation_status_ = 0;

@@ -62,9 +62,27 @@ void HandDriver::on_reply(const InFlight& sent, const Message& reply, TimePoint 
       return;
     case Purpose::confirm_position:
       apply_read(reply.reg, reply, now);
+      if (end_of_motion_.recheck_arrival) {
+        end_of_motion_.recheck_arrival = false;
+        on_grip_status(static_cast<std::int32_t>(FingerStatus::arrived), now, false);
+        end_of_motion_.read_due = false;  // this read is where the fingers stopped
+      }
       on_position_confirmed(now);
       return;
+    case Purpose::confirm_rotation:
+      apply_read(reply.reg, reply, now);
+      if (end_of_rotation_.recheck_arrival) {
+        end_of_rotation_.recheck_arrival = false;
+        on_rotation_status(static_cast<std::int32_t>(RotationStatus::arrived), now, false);
+        end_of_rotation_.read_due = false;  // this read is where the rotation stopped
+      }
+      on_rotation_confirmed(now);
+      return;
   }
+}
+
+void HandDriver::on_rotation_confirmed(TimePoint now) {
+  emit_rotation_event(now);
 }
 
 void HandDriver::on_position_confirmed(TimePoint now) {
@@ -230,10 +248,17 @@ void HandDriver::on_initialized_flag(std::int32_t value, TimePoint now) {
   }
 }
 
-void HandDriver::on_grip_status(std::int32_t status, TimePoint now) {
+void HandDriver::on_grip_status(std::int32_t status, TimePoint now, bool may_recheck) {
   const GripReading reading =
       read_grip_status(status, FingerView{state_.grip, finger_motion_, hold_untouched_,
                                           state_.position, last_undefined_grip_status_});
+  if (reading.stale && may_recheck && status == static_cast<std::int32_t>(FingerStatus::arrived)) {
+    // The grip status is watched more often than the position is polled, so a
+    // 2 usually comes before a position near the target: read it now.
+    end_of_motion_.recheck_arrival = true;
+    end_of_motion_.read_due = true;
+    return;
+  }
   if (reading.hold_starts) hold_untouched_ = true;
   if (reading.motion_ended) {
     finger_motion_ended(*reading.grip, *reading.event);
@@ -267,18 +292,22 @@ void HandDriver::finger_motion_ended(GripState grip, EventKind event) {
   }
 }
 
-void HandDriver::on_rotation_status(std::int32_t status, TimePoint now) {
+void HandDriver::on_rotation_status(std::int32_t status, TimePoint now, bool may_recheck) {
   const RotationReading reading = read_rotation_status(
       status, RotationView{rotation_motion_, state_.rotation, last_undefined_rotation_status_});
+  if (reading.stale && may_recheck) {
+    // The rotation status is watched more often than the rotation is polled.
+    end_of_rotation_.recheck_arrival = true;
+    end_of_rotation_.read_due = true;
+    return;
+  }
   if (reading.motion_ended) rotation_motion_.reset();
   if (reading.state) state_.rotation_state = *reading.state;
-  if (reading.event == EventKind::rotation_arrived) {
-    emit(EventKind::rotation_arrived, now, status, {}, state_.rotation, state_.rotation_target);
-  } else if (reading.event == EventKind::rotation_blocked) {
-    emit(EventKind::rotation_blocked, now, status,
-         fmt::format("rotation blocked at {} on the way to {}", state_.rotation,
-                     state_.rotation_target),
-         state_.rotation, state_.rotation_target);
+  if (reading.event == EventKind::rotation_arrived ||
+      reading.event == EventKind::rotation_blocked) {
+    // Reported once a fresh read says where the rotation stopped (as for fingers).
+    end_of_rotation_.event = PendingEvent{*reading.event, status};
+    end_of_rotation_.read_due = true;
   } else if (reading.event == EventKind::fault) {
     last_undefined_rotation_status_ = status;
     emit(EventKind::fault, now, status,

@@ -15,12 +15,6 @@ namespace reg = protocol::reg;
 using protocol::Message;
 using protocol::Register;
 
-/// Read in every status round; an idle round also reads 0x0802, so a hand that
-/// rebooted (and lost its initialization) is noticed.
-constexpr Register kPollRound[] = {reg::kPosition, reg::kGripStatus, reg::kRotation,
-                                   reg::kRotationStatus, reg::kInitialize};
-constexpr std::size_t kMovingRoundLength = 4;
-
 }  // namespace
 
 std::optional<Message> HandDriver::next_frame(TimePoint now) {
@@ -205,6 +199,11 @@ std::optional<Message> HandDriver::online_frame(Online& on, TimePoint now) {
     return send(protocol::make_read(id, reg::kPosition), Purpose::confirm_position, now, true,
                 options_.reply_timeout);
   }
+  if (end_of_rotation_.read_due) {
+    end_of_rotation_.read_due = false;
+    return send(protocol::make_read(id, reg::kRotation), Purpose::confirm_rotation, now, true,
+                options_.reply_timeout);
+  }
   Initializing* init = std::get_if<Initializing>(&on.init);
   if (init && (init->check_now || now >= init->next_check_at)) {
     init->check_now = false;
@@ -218,27 +217,17 @@ std::optional<Message> HandDriver::online_frame(Online& on, TimePoint now) {
     return send(protocol::make_read(id, r), Purpose::refresh, now, true, options_.reply_timeout);
   }
   PollSchedule& poll = on.poll;
-  if (!poll.running) {
-    if (now < poll.next_round_at) return std::nullopt;
-    poll.running = true;
-    poll.index = 0;
-    const bool idle = !moving() && !init;
-    poll.next_round_at = now + (idle ? options_.poll_interval_idle : options_.poll_interval_moving);
-    poll.round_length = idle ? std::size(kPollRound) : kMovingRoundLength;
-  }
-  const Register r = kPollRound[poll.index++];
-  if (poll.index >= poll.round_length) poll.running = false;
-  return send(protocol::make_read(id, r), Purpose::poll, now, false, options_.reply_timeout);
+  const std::optional<std::size_t> next =
+      next_poll(poll_plan(), poll.last_read, poll.previous, now);
+  if (!next) return std::nullopt;
+  poll.last_read[*next] = now;
+  poll.previous = next;
+  return send(protocol::make_read(id, kPolledRegisters[*next]), Purpose::poll, now, false,
+              options_.reply_timeout);
 }
 
 // ---------------------------------------------------------------------------
 // Motions started by sending
-
-void HandDriver::poll_soon() {
-  // A motion started while idle: poll soon, not at the idle period.
-  if (Online* on = online())
-    on->poll.next_round_at = std::min(on->poll.next_round_at, next_send_at_);
-}
 
 void HandDriver::finger_motion_sent(std::int32_t target, bool gripping) {
   if (active_) active_->motion_sent = true;
@@ -249,7 +238,6 @@ void HandDriver::finger_motion_sent(std::int32_t target, bool gripping) {
   hold_untouched_ = false;
   state_.target_position = target;
   state_.grip = GripState::moving;
-  poll_soon();
 }
 
 void HandDriver::rotation_motion_sent(std::int32_t target) {
@@ -257,7 +245,6 @@ void HandDriver::rotation_motion_sent(std::int32_t target) {
   rotation_motion_ = RotationMotion{target};
   state_.rotation_target = target;
   state_.rotation_state = RotationState::moving;
-  poll_soon();
 }
 
 }  // namespace dh3::hand

@@ -8,7 +8,8 @@
 //                   Initialized; the 0x0802 write echoed --> Initializing --flag 1-->
 //                   Initialized; its deadline --> NotInitialized
 //   Motions         FingerMotion and RotationMotion exist only while a commanded
-//                   motion runs; EndOfMotion holds the event of a finger motion that
+//                   motion runs; EndOfMotion holds the event of a finger motion (and
+//                   EndOfRotation of a rotation) that
 //                   ended until a fresh position read confirms where the fingers stopped
 //   Commands        ActiveJob: the one command being sent, with a step per frame for the
 //                   commands that take several (initialize, grasp, stop); InitWaiter and
@@ -25,6 +26,7 @@
 #include "common/clock.hpp"
 #include "hand/bus_scheduler.hpp"
 #include "hand/hand_types.hpp"
+#include "hand/poll_policy.hpp"
 #include "protocol/codec.hpp"
 
 namespace dh3::hand {
@@ -49,13 +51,11 @@ struct Initializing {
 struct Initialized {};
 using InitState = std::variant<InitUnknown, NotInitialized, Initializing, Initialized>;
 
-/// Status polling: a round reads registers in turn; rounds start every
-/// poll_interval_moving while something moves, poll_interval_idle otherwise.
+/// Status polling: what each status register was last read, so that the
+/// plan of the moment (poll_policy.hpp) says which one is due.
 struct PollSchedule {
-  std::size_t index = 0;
-  std::size_t round_length = 0;
-  bool running = false;
-  TimePoint next_round_at{};
+  PollTimes last_read{};
+  std::optional<std::size_t> previous;  ///< index of the register the last poll read
 };
 
 /// The hand does not answer (or has not yet): it is probed now and then.
@@ -99,6 +99,18 @@ struct PendingEvent {
 struct EndOfMotion {
   std::optional<PendingEvent> event;
   bool read_due = false;  ///< the confirming position read is still to be sent
+  /// A grip status 2 came while the position last read was far from the target:
+  /// the arrival, or a reading from before the motion. The position read at once
+  /// (read_due) tells which, instead of a position poll some frames later.
+  bool recheck_arrival = false;
+};
+
+/// The same for a rotation: its event waits for a fresh rotation read, and a
+/// status 2 far from the target as last read is checked with a read at once.
+struct EndOfRotation {
+  std::optional<PendingEvent> event;
+  bool read_due = false;
+  bool recheck_arrival = false;
 };
 
 // ---- commands --------------------------------------------------------------
@@ -145,7 +157,15 @@ struct MotionWaiter {
 
 // ---- frames ----------------------------------------------------------------
 
-enum class Purpose : std::uint8_t { job, poll, probe, refresh, init_check, confirm_position };
+enum class Purpose : std::uint8_t {
+  job,
+  poll,
+  probe,
+  refresh,
+  init_check,
+  confirm_position,
+  confirm_rotation
+};
 
 /// The frame sent and not answered yet.
 struct InFlight {

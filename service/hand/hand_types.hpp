@@ -95,6 +95,10 @@ struct HandState {
   std::string last_error_message;
   std::uint64_t sequence = 0;  ///< increments on every change
   TimePoint updated_at{};
+  /// When the hand last answered: the latest reply that went into these values
+  /// (each register is read at its own pace, see poll_policy.hpp). Zero before
+  /// the hand ever answered.
+  TimePoint read_at{};
 };
 
 enum class EventKind : std::uint8_t {

@@ -1,5 +1,6 @@
 #include "sim/sim_hand.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -89,6 +90,7 @@ void SimHand::reboot(TimePoint now) {
     axis->status = GripStatus::moving;
   }
   unsolicited_.clear();
+  note_grip_change(now);
 }
 
 void SimHand::set_muted(bool muted) {
@@ -111,6 +113,7 @@ void SimHand::place_object(std::optional<std::int32_t> position) {
     fingers_.status = GripStatus::moving;
     step_fingers(0.0);
   }
+  note_grip_change(last_update_);
 }
 
 void SimHand::drop_object() {
@@ -184,9 +187,26 @@ void SimHand::update(TimePoint now) {
   }
   if (now <= last_update_) return;  // time never runs backwards for the model
   const double seconds = seconds_between(last_update_, now);
+  const bool fingers_were_moving = fingers_.moving;
   step_fingers(seconds);
   step_rotation(seconds);
+  const TimePoint stopped_at =
+      fingers_were_moving && !fingers_.moving
+          ? last_update_ + std::chrono::duration_cast<Duration>(
+                               std::chrono::duration<double>(fingers_.stopped_after))
+          : now;
   last_update_ = now;
+  note_grip_change(std::min(stopped_at, now));
+}
+
+void SimHand::note_grip_change(TimePoint at) {
+  if (fingers_.status == noted_grip_) return;
+  noted_grip_ = fingers_.status;
+  grip_since_ = at;
+}
+
+TimePoint SimHand::grip_status_since() const {
+  return grip_since_;
 }
 
 void SimHand::finish_initialization() {
@@ -219,6 +239,7 @@ void SimHand::step_axis(Axis& axis, double seconds, std::optional<double> stop) 
   const double remaining = std::abs(end - axis.position);
   const double travel = axis.speed * seconds;
   if (travel + kArrivalTolerance >= remaining) {
+    axis.stopped_after = axis.speed > 0.0 ? std::min(seconds, remaining / axis.speed) : 0.0;
     axis.position = end;
     axis.moving = false;
     axis.status = stop ? GripStatus::caught : GripStatus::arrived;
@@ -253,6 +274,7 @@ void SimHand::start_motion(Axis& axis, std::int32_t target) {
   // Already there (or already against the object): settle at once.
   step_fingers(0.0);
   step_rotation(0.0);
+  note_grip_change(last_update_);
 }
 
 std::optional<SimHand::Answer> SimHand::answer(const Message& request, TimePoint now) {

@@ -147,6 +147,11 @@ class SimHand {
   [[nodiscard]] double rotation() const;
   [[nodiscard]] protocol::GripStatus grip_status() const;
   [[nodiscard]] protocol::GripStatus rotation_status() const;
+  /// When the grip status took its current value: the exact moment the fingers
+  /// touched the object or reached their target (worked out from their speed,
+  /// not when the model was next advanced), or of the drop, command or reboot
+  /// that changed it. Lets a benchmark time how long the news takes to arrive.
+  [[nodiscard]] TimePoint grip_status_since() const;
   [[nodiscard]] std::int32_t closing_force() const;
   [[nodiscard]] std::int32_t opening_force() const;
   [[nodiscard]] std::optional<std::int32_t> object_position() const;
@@ -161,9 +166,13 @@ class SimHand {
     double speed = 0.0;
     bool moving = false;
     protocol::GripStatus status = protocol::GripStatus::moving;
+    /// Seconds into the last step at which it stopped (caught or arrived).
+    double stopped_after = 0.0;
   };
 
   void update(TimePoint now);
+  /// Records when the grip status changed, if it did since the last call.
+  void note_grip_change(TimePoint at);
   void finish_initialization();
   void step_fingers(double seconds);
   void step_rotation(double seconds);
@@ -199,6 +208,8 @@ class SimHand {
   TimePoint last_update_{};
   std::vector<Outgoing> unsolicited_;
   std::uint64_t requests_seen_ = 0;
+  protocol::GripStatus noted_grip_ = protocol::GripStatus::moving;
+  TimePoint grip_since_{};
 };
 
 }  // namespace dh3::sim

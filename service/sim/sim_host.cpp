@@ -77,7 +77,10 @@ std::string describe_state(const SimHand& hand) {
         << " rotation=" << hand.rotation()
         << " rotation_status=" << static_cast<int>(hand.rotation_status())
         << " closing_force=" << hand.closing_force() << " opening_force=" << hand.opening_force()
-        << " muted=" << hand.muted();
+        << " muted=" << hand.muted() << " grip_status_since_ns="
+        << std::chrono::duration_cast<std::chrono::nanoseconds>(
+               hand.grip_status_since().time_since_epoch())
+               .count();
   return state.str();
 }
 
@@ -94,7 +97,8 @@ const std::string_view kControlHelp =
     "  delay ID MS        hand ID answers MS milliseconds after each request\n"
     "  corrupt ID N       the next N frames of hand ID have their low data byte flipped\n"
     "  reboot ID          power-cycle hand ID (a stored CAN ID takes effect)\n"
-    "  state ID           print hand ID's true state\n"
+    "  state ID           print hand ID's true state (grip_status_since_ns: when the\n"
+    "                     grip status took its value, steady clock, ns)\n"
     "  hands              list the hands' CAN IDs\n"
     "  violations         'ok N': interval violations so far (needs --min-interval-ms)\n"
     "  kick               close every client connection (TCP only; simulates link loss)\n"

@@ -10,7 +10,7 @@ out=${BENCH_OUT:-$build/bench}
 deploy/install-deps.sh
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 cmake --build "$build" -j "${JOBS:-2}" --target bench_bus_efficiency bench_round_trip \
-  bench_status_fanout bench_footprint
+  bench_status_fanout bench_footprint bench_event_latency
 mkdir -p "$out"
 bench="$build/tests/bench"
 # 1 and 2: round trip vs raw Fast DDS (shm and UDP), service overhead (~1.5 min).
@@ -24,4 +24,7 @@ echo
 echo
 # 5: footprint with 1, 32 and 255 hands (~50 s; CPU time has 10 ms ticks).
 "$bench/bench_footprint" --warmup 3 --seconds 10 --json "$out/footprint.json"
+echo
+# 6: event latency, simulated change to the event at a client process (~2 min).
+"$bench/bench_event_latency" --cycles 20 --many-cycles 40 --json "$out/event_latency.json"
 echo "JSON written to $out/"

@@ -146,6 +146,11 @@ struct HandStatus {
   std::string lease_holder;        ///< empty when nobody holds a lease
   std::uint64_t timestamp_ns = 0;  ///< the service's wall clock, ns since the epoch
   std::uint64_t update_seq = 0;    ///< increments on every change of this hand
+  /// When the values were read from the hand: the hand's last reply that went
+  /// into this sample, on the service's wall clock (ns since the epoch); 0 before
+  /// the hand ever answered. While nothing changes, a sample with the same values
+  /// and a newer read_at_ns follows about every poll_interval_idle of the bus.
+  std::uint64_t read_at_ns = 0;
   /// True when the client marked the hand offline itself because its service
   /// left the domain without saying so (killed, network lost).
   bool service_lost = false;

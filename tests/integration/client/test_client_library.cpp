@@ -84,6 +84,22 @@ TEST_F(ClientLibraryTest, ListsTheServiceAndItsHandsWithTheirStatus) {
   EXPECT_TRUE(one.wait_until([](const HandStatus& s) { return s.online; }, kClientDeadline));
 }
 
+TEST_F(ClientLibraryTest, AStatusSaysWhenItsValuesWereReadAndAtRestThatAdvances) {
+  Hand one = hand(1);
+  const auto first = one.wait_until(
+      [](const HandStatus& s) { return s.online && s.read_at_ns != 0; }, kClientDeadline);
+  ASSERT_TRUE(first);
+  EXPECT_LE(first->read_at_ns, first->timestamp_ns);
+  // Nothing moves, so no value changes; the hand is still read (every 50 ms
+  // here), and a sample with the same values says so.
+  const auto later = one.wait_until(
+      [&](const HandStatus& s) { return s.read_at_ns > first->read_at_ns; }, kClientDeadline);
+  ASSERT_TRUE(later);
+  EXPECT_LE(later->read_at_ns, later->timestamp_ns);
+  EXPECT_EQ(later->position, first->position);
+  EXPECT_EQ(later->grip, first->grip);
+}
+
 TEST_F(ClientLibraryTest, InitializeMoveGraspAndRelease) {
   Hand one = hand(1);
   const Reply init = one.initialize();

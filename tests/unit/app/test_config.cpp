@@ -55,6 +55,7 @@ buses:
   - name: left
     spec: tcp:127.0.0.1:9000
     command_interval_ms: 5
+    poll_interval_watch_ms: 25
     poll_interval_moving_ms: 30
     poll_interval_idle_ms: 400
     reply_timeout_ms: 100
@@ -86,6 +87,7 @@ buses:
   EXPECT_EQ(left.name, "left");
   EXPECT_EQ(left.spec, "tcp:127.0.0.1:9000");
   EXPECT_EQ(left.scheduler.command_interval, milliseconds(5));
+  EXPECT_EQ(left.scheduler.poll_interval_watch, milliseconds(25));
   EXPECT_EQ(left.scheduler.poll_interval_moving, milliseconds(30));
   EXPECT_EQ(left.scheduler.poll_interval_idle, milliseconds(400));
   EXPECT_EQ(left.scheduler.reply_timeout, milliseconds(100));

@@ -80,6 +80,16 @@ TEST(JsonTest, StatusObjectIsOneLineWithEveryField) {
   EXPECT_THAT(line, Not(HasSubstr("\n")));
 }
 
+TEST(JsonTest, StatusSaysWhenItsValuesWereRead) {
+  auto s = sample_status();
+  s.read_at_ns = 1'700'000'000'123'000'000ULL;
+  EXPECT_THAT(to_json(s), HasSubstr(R"("read_at_ns":1700000000123000000)"));
+  // Text: the time of day it was read, with milliseconds; "-" before any answer.
+  EXPECT_THAT(status_line(s), HasSubstr(".123"));
+  EXPECT_THAT(status_line(sample_status()), HasSubstr(" read -"));
+  EXPECT_THAT(status_table({s}), HasSubstr("READ"));
+}
+
 TEST(JsonTest, EventAndServiceObjects) {
   HandEvent e;
   e.hand = {"cell", "bus0", 2};

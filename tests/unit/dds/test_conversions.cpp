@@ -61,7 +61,7 @@ TEST(Conversions, StatusCarriesTheHandStateAndTheServicesAdditions) {
   state.last_error_message = "no answer";
 
   msg::HandStatus out;
-  fill_status(out, state, StatusContext{"dh3", "bus0", "abc", 12, 1234});
+  fill_status(out, state, StatusContext{"dh3", "bus0", "abc", 12, 1234, 1200});
   EXPECT_EQ(out.service(), "dh3");
   EXPECT_EQ(out.bus(), "bus0");
   EXPECT_EQ(out.can_id(), 3);
@@ -83,11 +83,13 @@ TEST(Conversions, StatusCarriesTheHandStateAndTheServicesAdditions) {
   EXPECT_EQ(out.lease_holder(), "abc");
   EXPECT_EQ(out.update_seq(), 12U);
   EXPECT_EQ(out.timestamp_ns(), 1234U);
+  EXPECT_EQ(out.read_at_ns(), 1200U);
 
   // Reusing the sample leaves nothing of the previous hand behind.
   fill_status(out, hand::HandState{}, StatusContext{"dh3", "bus0", "", 13, 1235});
   EXPECT_EQ(out.name(), "");
   EXPECT_EQ(out.lease_holder(), "");
+  EXPECT_EQ(out.read_at_ns(), 0U);  // never answered
   EXPECT_EQ(out.firmware_version_text(), "");
   EXPECT_EQ(out.last_error(), msg::OK);
   EXPECT_EQ(out.grip(), msg::GRIP_UNKNOWN);

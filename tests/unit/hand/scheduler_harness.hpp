@@ -86,6 +86,7 @@ class RecordingObserver final : public HandObserver {
     states.push_back(state);
     if (while_publishing) while_publishing();
   }
+  void on_fresh(const HandState& state) override { fresh.push_back(state); }
   void on_event(const HandEvent& event) override { events.push_back(event); }
   void on_link(bus::LinkState state) override { links.push_back(state); }
 
@@ -104,6 +105,8 @@ class RecordingObserver final : public HandObserver {
   }
 
   std::vector<HandState> states;
+  /// on_fresh: the published values read again, with a newer read_at.
+  std::vector<HandState> fresh;
   std::vector<HandEvent> events;
   std::vector<bus::LinkState> links;
   /// Runs inside each on_state, on the loop thread: a slow publisher.

@@ -307,6 +307,28 @@ TEST_F(SimHandTest, AnObjectStopsTheClosingFingersWithStatusCaught) {
   EXPECT_EQ(hand_.grip_status(), GripStatus::caught);
 }
 
+TEST_F(SimHandTest, TheGripStatusSaysWhenItChangedEvenIfNobodyAskedThen) {
+  // What a benchmark times from: the moment of contact, arrival or drop, not
+  // when the model was next advanced.
+  SimHandOptions options = make_options();
+  options.object_position = 50;
+  rebuild(options);
+  initialize();
+  const TimePoint closing_from = now_;
+  ask(make_write(1, reg::kPosition, 20));
+  pass(700ms);  // 100 -> 50 at 200 %/s: contact after 250 ms
+  EXPECT_EQ(hand_.grip_status(), GripStatus::caught);
+  EXPECT_EQ(hand_.grip_status_since(), closing_from + 250ms);
+  pass(100ms);
+  const TimePoint dropped_at = now_;
+  hand_.drop_object();
+  EXPECT_EQ(hand_.grip_status_since(), dropped_at);
+  pass(1s);  // 50 -> 20: arrives 150 ms after the drop
+  EXPECT_EQ(hand_.grip_status(), GripStatus::arrived);
+  // Worked out in floating point: to the microsecond.
+  EXPECT_LE(std::chrono::abs(hand_.grip_status_since() - (dropped_at + 150ms)), 1us);
+}
+
 TEST_F(SimHandTest, ClosingToAboveTheObjectArrives) {
   SimHandOptions options = make_options();
   options.object_position = 50;

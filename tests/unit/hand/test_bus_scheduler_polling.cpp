@@ -1,0 +1,243 @@
+// Polling by what can change (poll_policy.hpp), as the hand sees it: which
+// status reads go out in each state of a hand, how soon a slip, catch or
+// arrival is seen, that the pacing and the line budget still hold, and that
+// the state says when the hand last answered.
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <map>
+#include <string>
+
+#include "unit/hand/scheduler_harness.hpp"
+
+namespace dh3::hand::test {
+namespace {
+
+/// Reads of `r` sent to hand `id` from `from` on.
+std::vector<TimePoint> reads_of(const SchedulerHarness& h, std::uint8_t id, protocol::Register r,
+                                TimePoint from) {
+  std::vector<TimePoint> out;
+  for (const auto& s : h.sent_to(id, r)) {
+    if (s.at >= from && s.message.access == protocol::Access::read) out.push_back(s.at);
+  }
+  return out;
+}
+
+Duration longest_gap(const std::vector<TimePoint>& times) {
+  Duration longest{};
+  for (std::size_t i = 1; i < times.size(); ++i)
+    longest = std::max(longest, times[i] - times[i - 1]);
+  return longest;
+}
+
+/// Hand 1 with an object at 40, initialized and holding it.
+void grasp_object(SchedulerHarness& h) {
+  h.sim_bus().with_hand(1, [](sim::SimHand& hand) { hand.place_object(40); });
+  const auto result = h.call(1, grasp(50));
+  ASSERT_TRUE(result && result->ok());
+  ASSERT_EQ(result->value().grasp, GraspOutcome::grasped);
+}
+
+TEST(BusSchedulerPolling, AHandAtRestThatHoldsNothingReadsItsFiveRegistersOncePerIdlePeriod) {
+  SchedulerHarness h(sim_hands({1}), configs({1}));
+  h.bring_up({1});
+  h.run_for(1s);  // the reads after initialization settle
+  const TimePoint from = h.clock.now();
+  h.run_for(5s);
+  // As before polling followed the state: one round of five reads per 500 ms.
+  for (const auto r :
+       {reg::kPosition, reg::kGripStatus, reg::kRotation, reg::kRotationStatus, reg::kInitialize}) {
+    const auto reads = reads_of(h, 1, r, from);
+    EXPECT_GE(reads.size(), 9u) << protocol::name(r);
+    EXPECT_LE(reads.size(), 11u) << protocol::name(r);
+  }
+  std::size_t frames = 0;
+  for (const auto& s : h.sent_to(1)) frames += s.at >= from ? 1 : 0;
+  EXPECT_LE(frames, 55u);
+}
+
+TEST(BusSchedulerPolling, AHeldObjectsGripStatusIsReadEveryCommandIntervalAndLittleElse) {
+  SchedulerHarness h(sim_hands({1}), configs({1}));
+  h.bring_up({1});
+  grasp_object(h);
+  const TimePoint from = h.clock.now();
+  h.run_for(2s);
+  const auto grip = reads_of(h, 1, reg::kGripStatus, from);
+  EXPECT_GE(grip.size(), 80u);  // 100 chances in 2 s at 20 ms, 4 per 500 ms for slow reads
+  // A slow read takes at most one grip-status read's place.
+  EXPECT_LE(longest_gap(grip), 2 * test_options().command_interval);
+  EXPECT_LE(reads_of(h, 1, reg::kPosition, from).size(), 5u);
+  EXPECT_LE(reads_of(h, 1, reg::kRotation, from).size(), 5u);
+  EXPECT_LE(reads_of(h, 1, reg::kRotationStatus, from).size(), 5u);
+  EXPECT_GE(reads_of(h, 1, reg::kInitialize, from).size(), 3u);  // a reboot is still noticed
+}
+
+TEST(BusSchedulerPolling, ASlipIsSeenWithinTwoCommandIntervals) {
+  SchedulerHarness h(sim_hands({1}), configs({1}));
+  h.bring_up({1});
+  for (int attempt = 0; attempt < 6; ++attempt) {
+    ASSERT_TRUE(h.call(1, cmd(CommandKind::release, 100))->ok());
+    grasp_object(h);
+    h.run_for(std::chrono::milliseconds(300 + 7 * attempt));  // drops at varied phases
+    const std::size_t before = h.observer.events_of(EventKind::dropped, 1).size();
+    const TimePoint dropped_at = h.clock.now();
+    h.sim_bus().with_hand(1, [](sim::SimHand& hand) { hand.drop_object(); });
+    ASSERT_TRUE(h.run_until(
+        [&] { return h.observer.events_of(EventKind::dropped, 1).size() > before; }, 2s));
+    const Duration seen_after =
+        h.observer.events_of(EventKind::dropped, 1).back().time - dropped_at;
+    EXPECT_LE(seen_after, 2 * test_options().command_interval) << "attempt " << attempt;
+  }
+}
+
+TEST(BusSchedulerPolling, ClosingFingersWatchTheGripStatusAndFollowThePosition) {
+  auto sim = sim_hands({1});
+  sim[0].position_speed = 10.0;  // 100 % takes 10 s
+  SchedulerHarness h(sim, configs({1}));
+  h.bring_up({1});
+  h.scheduler->submit(1, grasp(50), [](const CommandResult&) {});
+  h.run_for(200ms);
+  const TimePoint from = h.clock.now();
+  h.run_for(1s);
+  const auto grip = reads_of(h, 1, reg::kGripStatus, from);
+  EXPECT_GE(grip.size(), 30u);
+  EXPECT_LE(longest_gap(grip), 2 * test_options().command_interval);
+  EXPECT_GE(reads_of(h, 1, reg::kPosition, from).size(), 12u);  // every 50 ms, so ~17
+  EXPECT_LE(reads_of(h, 1, reg::kRotationStatus, from).size(), 3u);
+}
+
+TEST(BusSchedulerPolling, ARotationWatchesTheRotationStatusNotTheGrip) {
+  auto sim = sim_hands({1});
+  sim[0].rotation_speed = 10.0;
+  SchedulerHarness h(sim, configs({1}));
+  h.bring_up({1});
+  h.run_for(1s);
+  ASSERT_TRUE(h.call(1, cmd(CommandKind::rotate_to, 100))->ok());
+  const TimePoint from = h.clock.now();
+  h.run_for(1s);
+  const auto status = reads_of(h, 1, reg::kRotationStatus, from);
+  EXPECT_GE(status.size(), 30u);
+  EXPECT_LE(longest_gap(status), 2 * test_options().command_interval);
+  EXPECT_GE(reads_of(h, 1, reg::kRotation, from).size(), 12u);
+  EXPECT_LE(reads_of(h, 1, reg::kGripStatus, from).size(), 3u);
+}
+
+TEST(BusSchedulerPolling, AnArrivalIsReportedWithinThreeCommandIntervals) {
+  // The grip status shows it within one or two intervals, then one more frame
+  // reads where the fingers stopped before the event goes out.
+  auto sim = sim_hands({1});
+  sim[0].position_speed = 100.0;
+  SchedulerHarness h(sim, configs({1}));
+  h.bring_up({1});
+  for (const std::int32_t target : {30, 70, 45, 90}) {
+    ASSERT_TRUE(h.call(1, move(target))->ok());
+    TimePoint arrived_at{};
+    ASSERT_TRUE(h.run_until([&] {
+      h.sim_bus().with_hand(1, [&](sim::SimHand& hand) {
+        if (hand.grip_status() == protocol::GripStatus::arrived && arrived_at == TimePoint{}) {
+          arrived_at = hand.grip_status_since();
+        }
+      });
+      return arrived_at != TimePoint{};
+    }));
+    const std::size_t before = h.observer.events_of(EventKind::arrived, 1).size();
+    ASSERT_TRUE(h.run_until(
+        [&] { return h.observer.events_of(EventKind::arrived, 1).size() > before; }, 2s));
+    const Duration seen_after =
+        h.observer.events_of(EventKind::arrived, 1).back().time - arrived_at;
+    EXPECT_LE(seen_after, 3 * test_options().command_interval) << "to " << target;
+  }
+}
+
+/// Every pair of consecutive frames to one hand closer than `interval`.
+std::vector<std::string> too_close(const RecordingBus& bus, Duration interval) {
+  std::map<std::uint8_t, TimePoint> last;
+  std::vector<std::string> out;
+  for (const auto& sent : bus.sent) {
+    const auto it = last.find(sent.message.hand_id);
+    if (it != last.end() && sent.at - it->second < interval) {
+      out.push_back(
+          fmt::format("hand {}: {}", sent.message.hand_id, protocol::describe(sent.message)));
+    }
+    last[sent.message.hand_id] = sent.at;
+  }
+  return out;
+}
+
+TEST(BusSchedulerPolling, ManyHoldingHandsKeepThePacingAndTheLineBudget) {
+  // 32 hands on a 500 kbps line, all holding: they would like a grip-status
+  // read each every 20 ms, more than 80 % of the line carries; the budget
+  // shares what it carries and every hand's slips are still watched.
+  const int n = 32;
+  std::vector<std::uint8_t> ids;
+  for (int id = 1; id <= n; ++id) ids.push_back(static_cast<std::uint8_t>(id));
+  auto sim = sim_hands(ids);
+  for (auto& hand : sim) hand.object_position = 40;
+  bus::SimBusOptions line;
+  line.bit_rate = 500'000;
+  line.bits_per_frame = 135;
+  line.tx_queue_length = 4;
+  SchedulerHarness h(sim, configs(ids), test_options(), line);
+  h.bring_up(ids);
+  std::map<std::uint8_t, std::optional<CommandResult>> results;
+  for (auto id : ids) {
+    h.scheduler->submit(id, grasp(50), [&results, id](const CommandResult& r) { results[id] = r; });
+  }
+  ASSERT_TRUE(h.run_until([&] { return results.size() == ids.size(); }, 10s));
+  for (auto& [id, result] : results) ASSERT_TRUE(result->ok()) << "hand " << int(id);
+  const TimePoint from = h.clock.now();
+  const std::size_t sent_before = h.recorder().sent.size();
+  h.run_for(3s);
+
+  EXPECT_TRUE(too_close(h.recorder(), test_options().command_interval).empty());
+  // Requests and replies of 135 bits within 80 % of 500 kbps.
+  const double requests = static_cast<double>(h.recorder().sent.size() - sent_before);
+  const double load = requests * 2 * 135 / (500'000.0 * 3);
+  EXPECT_LE(load, 0.81);
+  for (auto id : ids) {
+    const auto grip = reads_of(h, id, reg::kGripStatus, from);
+    EXPECT_GE(grip.size(), 60u) << "hand " << int(id);  // ~30 ms apart on a full line
+    EXPECT_LE(longest_gap(grip), 100ms) << "hand " << int(id);
+  }
+  EXPECT_EQ(h.scheduler->counters().timeouts, 0u);
+}
+
+TEST(BusSchedulerPolling, TheStateSaysWhenTheHandLastAnsweredAndStaysFreshAtRest) {
+  SchedulerHarness h(sim_hands({1}), configs({1}));
+  h.bring_up({1});
+  h.run_for(1s);
+  const TimePoint first = h.state(1)->read_at;
+  EXPECT_NE(first, TimePoint{});
+  EXPECT_LE(first, h.clock.now());
+  const std::size_t samples = h.observer.states.size();
+  const std::size_t fresh = h.observer.fresh.size();
+  h.run_for(3s);
+  // Nothing changed, so no new sample; but the published state was read again.
+  EXPECT_EQ(h.observer.states.size(), samples);
+  ASSERT_GE(h.observer.fresh.size(), fresh + 4);  // once per 500 ms idle round
+  TimePoint last = first;
+  for (std::size_t i = fresh; i < h.observer.fresh.size(); ++i) {
+    EXPECT_GT(h.observer.fresh[i].read_at, last);
+    EXPECT_EQ(h.observer.fresh[i].position, h.observer.last_state(1)->position);
+    last = h.observer.fresh[i].read_at;
+  }
+  EXPECT_GE(h.state(1)->read_at, last);
+  EXPECT_GE(h.clock.now() - h.state(1)->read_at, Duration::zero());
+  EXPECT_LE(h.clock.now() - h.state(1)->read_at, 500ms);
+}
+
+TEST(BusSchedulerPolling, ASampleCarriesTheTimeOfTheReplyThatChangedIt) {
+  SchedulerHarness h(sim_hands({1}), configs({1}));
+  h.bring_up({1});
+  ASSERT_TRUE(h.call(1, move(30))->ok());
+  h.run_for(1s);
+  const auto state = h.observer.last_state(1);
+  ASSERT_TRUE(state);
+  EXPECT_EQ(state->position, 30);
+  // Published as the reply came in: read at the moment of publication.
+  EXPECT_EQ(state->read_at, state->updated_at);
+}
+
+}  // namespace
+}  // namespace dh3::hand::test
