@@ -161,6 +161,9 @@ class HandStatus:
     def update_seq(self) -> int:
         """Increments on every change of this hand."""
     @property
+    def read_at_ns(self) -> int:
+        """When the hand last answered a read whose values are in this sample, on the service's wall clock (ns since the epoch); 0 before the hand ever answered."""
+    @property
     def service_lost(self) -> bool:
         """True when the client marked the hand offline because its service left unannounced."""
 

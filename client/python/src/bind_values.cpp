@@ -99,6 +99,9 @@ void bind_hand_status(py::module_& m) {
       .def_readonly("timestamp_ns", &S::timestamp_ns,
                     "The service's wall clock, ns since the epoch.")
       .def_readonly("update_seq", &S::update_seq, "Increments on every change of this hand.")
+      .def_readonly("read_at_ns", &S::read_at_ns,
+                    "When the hand last answered a read whose values are in this sample, on the "
+                    "service's wall clock (ns since the epoch); 0 before the hand ever answered.")
       .def_readonly("service_lost", &S::service_lost,
                     "True when the client marked the hand offline itself because its service "
                     "left the domain without saying so.")

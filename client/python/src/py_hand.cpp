@@ -8,7 +8,8 @@ namespace {
 
 bool is_newer(const dh3::HandStatus& s, const dh3::HandStatus& old) {
   return s.update_seq != old.update_seq || s.timestamp_ns != old.timestamp_ns ||
-         s.online != old.online || s.service_lost != old.service_lost;
+         s.read_at_ns != old.read_at_ns || s.online != old.online ||
+         s.service_lost != old.service_lost;
 }
 
 }  // namespace

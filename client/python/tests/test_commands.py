@@ -28,6 +28,15 @@ def test_lookups(client):
     assert hand.status().firmware_version_text == "4.1.2.0"
 
 
+def test_status_says_when_its_values_were_read(client):
+    hand = client.wait_for_hand(spec(3), timeout=DEADLINE)
+    first = hand.wait_until(lambda s: s.online and s.read_at_ns > 0, timeout=DEADLINE)
+    assert first is not None
+    # At rest nothing changes, yet the hand is read again: a later sample says so.
+    later = hand.wait_until(lambda s: s.read_at_ns > first.read_at_ns, timeout=DEADLINE)
+    assert later is not None and later.position == first.position
+
+
 def test_initialize_move_grasp_release(client):
     one = client.wait_for_hand(spec(1), timeout=DEADLINE)
     reply = one.initialize()
