@@ -79,13 +79,13 @@ class BusScheduler::Impl {
   // ---- any thread ----------------------------------------------------------
 
   void submit(std::uint8_t can_id, Command command, Completion done) {
-    if (auto invalid = validate(can_id, command, options_.allow_admin)) {
+    if (auto valid = validate(can_id, command, options_.allow_admin); !valid) {
       spdlog::debug("{}/{}: refused {}: {}", name_, can_id, to_string(command.kind),
-                    invalid->message);
-      refuse(can_id, command, done, invalid->error);
+                    valid.error().message);
+      refuse(can_id, command, done, valid.error().error);
       return;
     }
-    if (can_id != 0 && !known_[can_id].load()) {
+    if (can_id != 0 && !roster_.knows(can_id)) {
       refuse(can_id, command, done, CommandError::unknown_hand);
       return;
     }
