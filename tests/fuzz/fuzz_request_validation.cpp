@@ -26,9 +26,11 @@ using dh3::dds::RequestAction;
 /// The service of the seeds: bus "box" with hands 1-3, bus "spare" with none.
 const dh3::dds::HandDirectory& directory() {
   static const auto* const instance = [] {
+    static const dh3::hand::HandRoster box({{1, "left"}, {2, ""}, {3, "right"}});
+    static const dh3::hand::HandRoster spare;
     auto* d = new dh3::dds::HandDirectory;
-    d->add_bus("box", {{1, "left"}, {2, ""}, {3, "right"}});
-    d->add_bus("spare", {});
+    d->add_bus("box", box);
+    d->add_bus("spare", spare);
     return d;
   }();
   return *instance;

@@ -150,8 +150,9 @@ TEST(MetricsText, ABusThatSeesNoControllerHasNoControllerSeries) {
 // The names a dashboard filters on are the ones the contract gives the
 // commands a client sends and the results it gets back.
 TEST(MetricsNames, CommandTypesAreTheContractsNames) {
+  const hand::HandRoster bus0({{1, ""}});
   dds::HandDirectory directory;
-  directory.add_bus("bus0", {{1, ""}});
+  directory.add_bus("bus0", bus0);
   const std::pair<msg::CommandType, std::int32_t> commands[] = {{msg::INITIALIZE, 0},
                                                                 {msg::MOVE, 50},
                                                                 {msg::SET_CLOSING_FORCE, 50},
