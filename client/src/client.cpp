@@ -91,8 +91,8 @@ std::future<Reply> Hand::set_force_async(std::int32_t closing, std::optional<std
   // Both values are checked before anything is sent: a bad opening force
   // must not leave the closing force changed.
   if (opening) {
-    if (auto invalid = ClientCore::check(address_, msg::SET_OPENING_FORCE, *opening)) {
-      promise->set_value(std::move(*invalid));
+    if (auto checked = ClientCore::check(address_, msg::SET_OPENING_FORCE, *opening); !checked) {
+      promise->set_value(std::move(checked).error());
       return future;
     }
   }

@@ -13,9 +13,8 @@ ClientCore::ClientCore(ClientOptions options) : ClientCore(std::move(options), E
 ClientCore::ClientCore(ClientOptions options, const EndpointCreator& endpoints)
     : options_(std::move(options)) {
   dds_ = std::make_unique<Dds>(*this);
-  std::string error;
-  if (!set_up_dds(error, endpoints)) {
-    error_ = std::move(error);
+  if (auto set_up = set_up_dds(endpoints); !set_up) {
+    error_ = std::move(set_up).error();
     dds_.reset();
     closed_ = true;
     return;

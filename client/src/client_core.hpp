@@ -53,6 +53,7 @@
 #include <thread>
 #include <vector>
 
+#include "common/result.hpp"
 #include "dh3/address.hpp"
 #include "dh3/client.hpp"
 #include "dh3/types.hpp"
@@ -110,8 +111,8 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   std::future<Reply> call(const HandAddress& hand, msg::CommandType command, std::int32_t value,
                           std::uint16_t register_code, Timeout timeout);
   /// The local check call() makes first (limits of the contract).
-  [[nodiscard]] static std::optional<Reply> check(const HandAddress& hand, msg::CommandType command,
-                                                  std::int32_t value);
+  [[nodiscard]] static Result<void, Reply> check(const HandAddress& hand, msg::CommandType command,
+                                                 std::int32_t value);
 
   [[nodiscard]] std::vector<ServiceInfo> services() const;
   [[nodiscard]] std::optional<ServiceInfo> service(std::string_view name) const;
@@ -175,7 +176,7 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   };
 
   // DDS wiring (client_endpoints.cpp).
-  bool set_up_dds(std::string& error, const EndpointCreator& creator);
+  Result<void, std::string> set_up_dds(const EndpointCreator& creator);
   [[nodiscard]] static std::string denied_message(const ClientOptions& options);
   // Pending calls (pending_calls.cpp).
   void io_loop();

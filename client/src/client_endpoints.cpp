@@ -65,13 +65,10 @@ void ClientCore::Dds::create_watch_endpoints(const EndpointCreator& creator) {
                             contract::reader_qos(TopicRole::service_info), &reader_listener, data);
 }
 
-bool ClientCore::set_up_dds(std::string& error, const EndpointCreator& creator) {
+Result<void, std::string> ClientCore::set_up_dds(const EndpointCreator& creator) {
   dds_->participant = std::make_unique<contract::Participant>(participant_options(options_),
                                                               &dds_->participant_listener);
-  if (!dds_->participant->ok()) {
-    error = dds_->participant->error();
-    return false;
-  }
+  if (!dds_->participant->ok()) return fail(dds_->participant->error());
   // With access control, a writer or reader the permissions do not grant
   // fails to be created: for the command endpoints that makes a read-only
   // client, not a failure.
@@ -82,20 +79,18 @@ bool ClientCore::set_up_dds(std::string& error, const EndpointCreator& creator) 
   // above is a read-only client (below).
   dds_->create_watch_endpoints(creator);
   if (dds_->status_reader == nullptr || dds_->event_reader == nullptr) {
-    error = access_control ? "DDS Security: this identity may not read hand statuses and events"
-                           : "cannot create the dh3 readers";
-    return false;
+    return fail(access_control ? "DDS Security: this identity may not read hand statuses and events"
+                               : "cannot create the dh3 readers");
   }
   const bool complete = dds_->request_writer != nullptr && dds_->reply_reader != nullptr &&
                         dds_->info_reader != nullptr;
   if (!complete && !access_control) {
-    error = "cannot create the dh3 readers and writers";
-    return false;
+    return fail("cannot create the dh3 readers and writers");
   }
   can_command_ = dds_->request_writer != nullptr && dds_->reply_reader != nullptr;
   has_info_reader_ = dds_->info_reader != nullptr;
   if (!can_command_) denied_message_ = denied_message(options_);
-  return true;
+  return {};
 }
 
 std::string ClientCore::denied_message(const ClientOptions& options) {

@@ -192,16 +192,16 @@ Reply to_reply(const msg::CommandReply& reply) {
 
 namespace {
 
-Reply invalid(std::string message) {
+Failure<Reply> invalid(std::string message) {
   Reply reply;
   reply.code = Code::invalid_argument;
   reply.message = std::move(message);
-  return reply;
+  return fail(std::move(reply));
 }
 
 }  // namespace
 
-std::optional<Reply> check_request(const msg::CommandRequest& request) {
+Result<void, Reply> check_request(const msg::CommandRequest& request) {
   const auto& hand = request.hand();
   if (hand.service().empty()) return invalid("the hand's service name is empty");
   if (hand.bus().empty()) return invalid("the hand's bus name is empty");
@@ -219,7 +219,7 @@ std::optional<Reply> check_request(const msg::CommandRequest& request) {
   if (auto out_of_range = contract::value_out_of_range(request)) {
     return invalid(std::move(*out_of_range));
   }
-  return std::nullopt;
+  return {};
 }
 
 std::string describe_duration(std::chrono::milliseconds duration) {

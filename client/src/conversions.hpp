@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "common/result.hpp"
 #include "dh3/types.hpp"
 #include "dh3_idl/dh3.h"
 #include "dh3_names.hpp"
@@ -32,8 +33,9 @@ using contract::command_name;
 
 /// Checks a request against the contract's limits before it is sent, so an
 /// out-of-range value is answered at once (the service checks again). The
-/// message names the value, the allowed range and what it is.
-[[nodiscard]] std::optional<Reply> check_request(const msg::CommandRequest& request);
+/// message names the value, the allowed range and what it is: the refusal is
+/// the reply the caller gets.
+[[nodiscard]] Result<void, Reply> check_request(const msg::CommandRequest& request);
 
 /// "4.5 s", "200 ms": durations in messages.
 [[nodiscard]] std::string describe_duration(std::chrono::milliseconds duration);

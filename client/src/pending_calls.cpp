@@ -10,8 +10,8 @@
 
 namespace dh3::detail {
 
-std::optional<Reply> ClientCore::check(const HandAddress& hand, msg::CommandType command,
-                                       std::int32_t value) {
+Result<void, Reply> ClientCore::check(const HandAddress& hand, msg::CommandType command,
+                                      std::int32_t value) {
   msg::CommandRequest request;
   request.hand(to_msg(hand));
   request.command(command);
@@ -26,8 +26,8 @@ void ClientCore::call(const HandAddress& hand, msg::CommandType command, std::in
   request.command(command);
   request.value(value);
   request.register_code(register_code);
-  if (auto invalid = check_request(request)) {
-    done(std::move(*invalid));
+  if (auto checked = check_request(request); !checked) {
+    done(std::move(checked).error());
     return;
   }
   {

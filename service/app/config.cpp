@@ -25,82 +25,84 @@ constexpr int kMaxDomain = 232;             // Fast DDS's default port mapping e
 constexpr std::array<std::string_view, 7> kLogLevels{"trace", "debug",    "info", "warn",
                                                      "error", "critical", "off"};
 
-// Checks shared by the file and the command line: nullopt when fine, otherwise
-// what is wrong with the value.
-std::optional<std::string> check_name(std::string_view what, std::string_view name) {
-  if (name.empty()) return std::string(what) + " is empty";
+// Checks shared by the file and the command line: fine, or what is wrong with
+// the value.
+using Checked = Result<void, std::string>;
+
+Checked check_name(std::string_view what, std::string_view name) {
+  if (name.empty()) return fail(std::string(what) + " is empty");
   if (name.size() > kMaxNameLength) {
-    return std::string(what) + " '" + std::string(name) + "' is longer than " +
-           std::to_string(kMaxNameLength) + " characters";
+    return fail(std::string(what) + " '" + std::string(name) + "' is longer than " +
+                std::to_string(kMaxNameLength) + " characters");
   }
-  return std::nullopt;
+  return {};
 }
 
-std::optional<std::string> check_domain(long long domain) {
+Checked check_domain(long long domain) {
   if (domain < 0 || domain > kMaxDomain) {
-    return "domain " + std::to_string(domain) + " is out of range (0-" +
-           std::to_string(kMaxDomain) + ")";
+    return fail("domain " + std::to_string(domain) + " is out of range (0-" +
+                std::to_string(kMaxDomain) + ")");
   }
-  return std::nullopt;
+  return {};
 }
 
-std::optional<std::string> check_log_level(std::string_view level) {
+Checked check_log_level(std::string_view level) {
   if (std::find(kLogLevels.begin(), kLogLevels.end(), level) != kLogLevels.end()) {
-    return std::nullopt;
+    return {};
   }
-  return "log level '" + std::string(level) +
-         "' is not one of trace, debug, info, warn, error, critical, off";
+  return fail("log level '" + std::string(level) +
+              "' is not one of trace, debug, info, warn, error, critical, off");
 }
 
-std::optional<std::string> check_interface(std::string_view address) {
-  if (address == "*") return std::nullopt;
+Checked check_interface(std::string_view address) {
+  if (address == "*") return {};
   in_addr parsed{};
-  if (inet_pton(AF_INET, std::string(address).c_str(), &parsed) == 1) return std::nullopt;
-  return "interface '" + std::string(address) + "' is not an IPv4 address (or \"*\" for all)";
+  if (inet_pton(AF_INET, std::string(address).c_str(), &parsed) == 1) return {};
+  return fail("interface '" + std::string(address) + "' is not an IPv4 address (or \"*\" for all)");
 }
 
-std::optional<std::string> check_discovery_server(std::string_view entry) {
+Checked check_discovery_server(std::string_view entry) {
   // One entry on its own: its position (the server id) cannot be wrong here,
   // only its text; empty entries are allowed (they skip an id).
   const auto list = contract::discovery_servers_from_entries({std::string(entry)});
-  if (!list.ok()) return list.error;
-  return std::nullopt;
+  if (!list.ok()) return fail(list.error);
+  return {};
 }
 
-std::optional<std::string> check_readable_file(std::string_view what, const std::string& path) {
-  if (path.empty()) return std::string(what) + " is empty";
+Checked check_readable_file(std::string_view what, const std::string& path) {
+  if (path.empty()) return fail(std::string(what) + " is empty");
   if (::access(path.c_str(), R_OK) != 0) {
-    return "cannot read the " + std::string(what) + " '" + path + "'";
+    return fail("cannot read the " + std::string(what) + " '" + path + "'");
   }
-  return std::nullopt;
+  return {};
 }
 
 // The identity names a sub-directory of the security directory: a plain name,
 // so that it cannot point elsewhere.
-std::optional<std::string> check_identity(std::string_view identity) {
-  if (identity.empty()) return std::string("the security identity is empty");
+Checked check_identity(std::string_view identity) {
+  if (identity.empty()) return fail(std::string("the security identity is empty"));
   if (identity == "." || identity == ".." ||
       identity.find_first_not_of(
           "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_.") !=
           std::string_view::npos) {
-    return "security identity '" + std::string(identity) +
-           "' is not a plain name (letters, digits, '-', '_', '.')";
+    return fail("security identity '" + std::string(identity) +
+                "' is not a plain name (letters, digits, '-', '_', '.')");
   }
-  return std::nullopt;
+  return {};
 }
 
-std::optional<std::string> check_security(const std::string& dir, const std::string& identity) {
-  if (dir.empty()) return std::string("the security directory is empty");
-  if (auto bad = check_identity(identity)) return bad;
+Checked check_security(const std::string& dir, const std::string& identity) {
+  if (dir.empty()) return fail(std::string("the security directory is empty"));
+  if (auto checked = check_identity(identity); !checked) return checked;
   auto bad = contract::check_security_files(contract::security_files_in(dir, identity));
-  if (!bad.empty()) return bad + " (identity '" + identity + "' in '" + dir + "')";
-  return std::nullopt;
+  if (!bad.empty()) return fail(bad + " (identity '" + identity + "' in '" + dir + "')");
+  return {};
 }
 
-std::optional<std::string> check_spec(std::string_view spec) {
+Checked check_spec(std::string_view spec) {
   auto parsed = bus::parse_bus_spec(spec);
-  if (!parsed) return parsed.error();
-  return std::nullopt;
+  if (!parsed) return fail(parsed.error());
+  return {};
 }
 
 /// A mistake in the file: where it is and what is wrong. Thrown inside the
@@ -125,14 +127,12 @@ class FileParser {
     }
     if (auto n = root["log_level"]) {
       config.log_level = scalar(n, "log_level");
-      if (auto bad = check_log_level(config.log_level)) fail_at(n, "log_level", *bad);
+      require(n, "log_level", check_log_level(config.log_level));
     }
     if (auto n = root["allow_admin"]) config.allow_admin = boolean(n, "allow_admin");
     if (auto n = root["metrics"]) {
       config.metrics_address = scalar(n, "metrics");
-      if (auto bad = metrics::check_listen_address(config.metrics_address)) {
-        fail_at(n, "metrics", *bad);
-      }
+      require(n, "metrics", metrics::check_listen_address(config.metrics_address));
     }
     if (auto dds = root["dds"]) parse_dds(dds, config);
     if (auto buses = root["buses"]) {
@@ -151,6 +151,10 @@ class FileParser {
     std::ostringstream out;
     out << source_ << ":" << node.Mark().line + 1 << ": " << key << ": " << what;
     throw FileError{out.str()};
+  }
+
+  void require(const YAML::Node& node, std::string_view key, const Checked& checked) const {
+    if (!checked) fail_at(node, key, checked.error());
   }
 
   void expect_map(const YAML::Node& node, std::string_view key) const {
@@ -175,7 +179,7 @@ class FileParser {
 
   std::string name(const YAML::Node& node, std::string_view key, std::string_view what) const {
     auto value = scalar(node, key);
-    if (auto bad = check_name(what, value)) fail_at(node, key, *bad);
+    require(node, key, check_name(what, value));
     return value;
   }
 
@@ -234,7 +238,7 @@ class FileParser {
       for (std::size_t i = 0; i < list.size(); ++i) {
         const std::string key = "dds.interfaces[" + std::to_string(i) + "]";
         auto address = scalar(list[i], key);
-        if (auto bad = check_interface(address)) fail_at(list[i], key, *bad);
+        require(list[i], key, check_interface(address));
         config.participant.interfaces.push_back(std::move(address));
       }
       if (config.participant.interfaces.size() > 1 &&
@@ -252,16 +256,14 @@ class FileParser {
         const std::string key = "dds.discovery_servers[" + std::to_string(i) + "]";
         // A null entry ("- ~" or "- ''") skips a server id, as in ROS_DISCOVERY_SERVER.
         auto entry = list[i].IsNull() ? std::string() : scalar(list[i], key);
-        if (auto bad = check_discovery_server(entry)) fail_at(list[i], key, *bad);
+        require(list[i], key, check_discovery_server(entry));
         config.participant.discovery_servers.push_back(std::move(entry));
       }
     }
     if (auto n = dds["xml_profile_file"]) {
       config.participant.xml_profile_file = scalar(n, "dds.xml_profile_file");
-      if (auto bad =
-              check_readable_file("XML profiles file", config.participant.xml_profile_file)) {
-        fail_at(n, "dds.xml_profile_file", *bad);
-      }
+      require(n, "dds.xml_profile_file",
+              check_readable_file("XML profiles file", config.participant.xml_profile_file));
     }
     if (auto n = dds["xml_profile"]) {
       config.participant.xml_profile = scalar(n, "dds.xml_profile");
@@ -282,14 +284,10 @@ class FileParser {
     config.participant.security_dir = scalar(dir, "dds.security.dir");
     if (auto n = security["identity"]) {
       config.participant.security_identity = scalar(n, "dds.security.identity");
-      if (auto bad = check_identity(config.participant.security_identity)) {
-        fail_at(n, "dds.security.identity", *bad);
-      }
+      require(n, "dds.security.identity", check_identity(config.participant.security_identity));
     }
-    if (auto bad =
-            check_security(config.participant.security_dir, config.participant.security_identity)) {
-      fail_at(dir, "dds.security.dir", *bad);
-    }
+    require(dir, "dds.security.dir",
+            check_security(config.participant.security_dir, config.participant.security_identity));
   }
 
   BusSettings parse_bus(const YAML::Node& node, std::size_t index, std::set<std::string>& names) {
@@ -306,7 +304,7 @@ class FileParser {
     const auto spec = node["spec"];
     if (!spec) fail_at(node, key + ".spec", "missing (e.g. sim:1,2,3, tcp:HOST:PORT)");
     bus.spec = scalar(spec, key + ".spec");
-    if (auto bad = check_spec(bus.spec)) fail_at(spec, key + ".spec", *bad);
+    require(spec, key + ".spec", check_spec(bus.spec));
     const bool is_sim = bus::parse_bus_spec(bus.spec)->kind == bus::BusKind::sim;
 
     if (auto n = node["name"]) {
@@ -475,15 +473,18 @@ Failure<ConfigError> option_error(const std::string& option, const std::string& 
 /// --name, --domain, --log-level, --allow-admin.
 Applied apply_service_options(ServiceConfig& config, const CommandLine& line) {
   if (line.name) {
-    if (auto bad = check_name("service name", *line.name)) return option_error("--name", *bad);
+    if (auto checked = check_name("service name", *line.name); !checked)
+      return option_error("--name", checked.error());
     config.name = *line.name;
   }
   if (line.domain) {
-    if (auto bad = check_domain(*line.domain)) return option_error("--domain", *bad);
+    if (auto checked = check_domain(*line.domain); !checked)
+      return option_error("--domain", checked.error());
     config.participant.domain = *line.domain;
   }
   if (line.log_level) {
-    if (auto bad = check_log_level(*line.log_level)) return option_error("--log-level", *bad);
+    if (auto checked = check_log_level(*line.log_level); !checked)
+      return option_error("--log-level", checked.error());
     config.log_level = *line.log_level;
   }
   if (line.allow_admin) config.allow_admin = true;
@@ -495,7 +496,8 @@ Applied apply_transport_options(ServiceConfig& config, const CommandLine& line) 
   if (line.udp_only) config.participant.udp_only = true;
   if (!line.interfaces.empty()) {
     for (const auto& address : line.interfaces) {
-      if (auto bad = check_interface(address)) return option_error("--interface", *bad);
+      if (auto checked = check_interface(address); !checked)
+        return option_error("--interface", checked.error());
     }
     if (line.interfaces.size() > 1 &&
         std::find(line.interfaces.begin(), line.interfaces.end(), "*") != line.interfaces.end()) {
@@ -506,7 +508,8 @@ Applied apply_transport_options(ServiceConfig& config, const CommandLine& line) 
   }
   if (!line.discovery_servers.empty()) {
     for (const auto& entry : line.discovery_servers) {
-      if (auto bad = check_discovery_server(entry)) return option_error("--discovery-server", *bad);
+      if (auto checked = check_discovery_server(entry); !checked)
+        return option_error("--discovery-server", checked.error());
     }
     config.participant.discovery_servers = line.discovery_servers;
   }
@@ -516,8 +519,8 @@ Applied apply_transport_options(ServiceConfig& config, const CommandLine& line) 
 /// --xml and --profile; a profile needs its file.
 Applied apply_xml_options(ServiceConfig& config, const CommandLine& line) {
   if (line.xml_profile_file) {
-    if (auto bad = check_readable_file("XML profiles file", *line.xml_profile_file)) {
-      return option_error("--xml", *bad);
+    if (auto checked = check_readable_file("XML profiles file", *line.xml_profile_file); !checked) {
+      return option_error("--xml", checked.error());
     }
     config.participant.xml_profile_file = *line.xml_profile_file;
   }
@@ -536,8 +539,8 @@ Applied apply_xml_options(ServiceConfig& config, const CommandLine& line) {
 /// --security-identity.
 Applied apply_security_identity(ServiceConfig& config, const CommandLine& line) {
   if (line.security_identity) {
-    if (auto bad = check_identity(*line.security_identity)) {
-      return option_error("--security-identity", *bad);
+    if (auto checked = check_identity(*line.security_identity); !checked) {
+      return option_error("--security-identity", checked.error());
     }
     config.participant.security_identity = *line.security_identity;
   }
@@ -548,8 +551,8 @@ Applied apply_security_identity(ServiceConfig& config, const CommandLine& line) 
 Applied apply_metrics_option(ServiceConfig& config, const CommandLine& line) {
   if (line.metrics_address) {
     if (!line.metrics_address->empty()) {
-      if (auto bad = metrics::check_listen_address(*line.metrics_address)) {
-        return option_error("--metrics", *bad);
+      if (auto checked = metrics::check_listen_address(*line.metrics_address); !checked) {
+        return option_error("--metrics", checked.error());
       }
     }
     config.metrics_address = *line.metrics_address;
@@ -561,9 +564,11 @@ Applied apply_metrics_option(ServiceConfig& config, const CommandLine& line) {
 Applied apply_security_dir(ServiceConfig& config, const CommandLine& line) {
   if (line.security_dir) config.participant.security_dir = *line.security_dir;
   if (line.security_dir || (line.security_identity && !config.participant.security_dir.empty())) {
-    if (auto bad =
-            check_security(config.participant.security_dir, config.participant.security_identity)) {
-      return option_error(line.security_dir ? "--security-dir" : "--security-identity", *bad);
+    if (auto checked =
+            check_security(config.participant.security_dir, config.participant.security_identity);
+        !checked) {
+      return option_error(line.security_dir ? "--security-dir" : "--security-identity",
+                          checked.error());
     }
   }
   return {};
@@ -581,8 +586,10 @@ Applied apply_bus_options(ServiceConfig& config, const CommandLine& line) {
       bus.spec = equals == std::string::npos ? arg : arg.substr(equals + 1);
       bus.name =
           equals == std::string::npos ? default_bus_name(bus.spec, i) : arg.substr(0, equals);
-      if (auto bad = check_spec(bus.spec)) return option_error("--bus " + arg, *bad);
-      if (auto bad = check_name("bus name", bus.name)) return option_error("--bus " + arg, *bad);
+      if (auto checked = check_spec(bus.spec); !checked)
+        return option_error("--bus " + arg, checked.error());
+      if (auto checked = check_name("bus name", bus.name); !checked)
+        return option_error("--bus " + arg, checked.error());
       if (!names.insert(bus.name).second) {
         return option_error("--bus " + arg, "bus name '" + bus.name + "' is used twice");
       }

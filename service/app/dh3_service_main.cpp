@@ -48,9 +48,15 @@ struct Invocation {
   std::string config_path;
 };
 
-/// Parses the command line into `invocation`; an exit code when it ends the
-/// program (--help, --version, a usage error).
-std::optional<int> parse_command_line(int argc, char** argv, Invocation& invocation) {
+/// The command line ends the program here (--help, --version, a usage error),
+/// CLI11 having said why: the exit status.
+struct EarlyExit {
+  int status = 0;
+};
+
+/// What the command line asks for.
+dh3::Result<Invocation, EarlyExit> parse_command_line(int argc, char** argv) {
+  Invocation invocation;
   auto& line = invocation.line;
   auto& config_path = invocation.config_path;
   CLI::App cli{
@@ -103,10 +109,10 @@ std::optional<int> parse_command_line(int argc, char** argv, Invocation& invocat
   try {
     cli.parse(argc, argv);
   } catch (const CLI::Success& done) {
-    return cli.exit(done);
+    return dh3::fail(EarlyExit{cli.exit(done)});
   } catch (const CLI::ParseError& error) {
     cli.exit(error);
-    return kExitConfigError;
+    return dh3::fail(EarlyExit{kExitConfigError});
   }
   if (*name_option) line.name = name;
   if (*domain_option) line.domain = domain;
@@ -116,26 +122,18 @@ std::optional<int> parse_command_line(int argc, char** argv, Invocation& invocat
   if (*security_dir_option) line.security_dir = security_dir;
   if (*security_identity_option) line.security_identity = security_identity;
   if (*metrics_option) line.metrics_address = metrics_address;
-  return std::nullopt;
+  return invocation;
 }
 
-/// The config file (or the built-in default) with the command line applied;
-/// nullopt after saying on stderr what is wrong.
-std::optional<dh3::app::ServiceConfig> load_configuration(const Invocation& invocation) {
+/// The config file (or the built-in default) with the command line applied.
+dh3::Result<dh3::app::ServiceConfig, dh3::app::ConfigError> load_configuration(
+    const Invocation& invocation) {
   auto base =
       invocation.config_path.empty()
           ? dh3::Result<dh3::app::ServiceConfig, dh3::app::ConfigError>(dh3::app::default_config())
           : dh3::app::load_config(invocation.config_path);
-  if (!base) {
-    std::fprintf(stderr, "dh3-service: config error: %s\n", base.error().message.c_str());
-    return std::nullopt;
-  }
-  auto config = dh3::app::apply_command_line(std::move(*base), invocation.line);
-  if (!config) {
-    std::fprintf(stderr, "dh3-service: config error: %s\n", config.error().message.c_str());
-    return std::nullopt;
-  }
-  return std::move(*config);
+  if (!base) return base;
+  return dh3::app::apply_command_line(std::move(*base), invocation.line);
 }
 
 /// Opens the buses, starts the service (and the metrics exporter) and runs
@@ -202,9 +200,12 @@ int main(int argc, char** argv) {
   sigaddset(&stop_signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
 
-  Invocation invocation;
-  if (const auto exit_code = parse_command_line(argc, argv, invocation)) return *exit_code;
-  const auto config = load_configuration(invocation);
-  if (!config) return kExitConfigError;
+  const auto invocation = parse_command_line(argc, argv);
+  if (!invocation) return invocation.error().status;
+  const auto config = load_configuration(*invocation);
+  if (!config) {
+    std::fprintf(stderr, "dh3-service: config error: %s\n", config.error().message.c_str());
+    return kExitConfigError;
+  }
   return run_service(*config, stop_signals);
 }

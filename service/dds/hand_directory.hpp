@@ -1,11 +1,10 @@
 #pragma once
-// Which buses a service has and which hands are known on each: the hands its
-// config names, plus those a bus discovered since. Requests are checked against
-// it before anything is queued. Reads are lock-free (one flag per CAN ID), so
-// the request path never waits for a bus thread that reports a new hand.
+// Which buses a service has, by name, and for each the roster of its hands
+// (hand/hand_roster.hpp): the directory keeps no list of hands of its own, it
+// asks the bus's roster, which the bus's scheduler owns. Requests are checked
+// against it before anything is queued; hand lookups are lock-free, so the
+// request path never waits for a bus thread that reports a new hand.
 
-#include <array>
-#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -13,42 +12,43 @@
 #include <string_view>
 #include <vector>
 
+#include "hand/hand_roster.hpp"
+
 namespace dh3::dds {
 
 class HandDirectory {
  public:
-  struct Hand {
-    std::uint8_t can_id = 0;
-    std::string name;
-  };
+  using Hand = hand::HandConfig;
 
-  /// Adds a bus with its configured hands; returns its index.
-  std::uint16_t add_bus(std::string name, const std::vector<Hand>& hands);
+  /// Adds a bus whose hands `roster` knows (it must outlive the directory);
+  /// returns the bus's index.
+  std::uint16_t add_bus(std::string name, const hand::HandRoster& roster);
 
   [[nodiscard]] std::size_t bus_count() const { return buses_.size(); }
-  [[nodiscard]] const std::string& bus_name(std::uint16_t bus) const { return buses_[bus]->name; }
+  [[nodiscard]] const std::string& bus_name(std::uint16_t bus) const { return buses_[bus].name; }
   /// The bus's index, nullopt if the service has no bus of that name.
   [[nodiscard]] std::optional<std::uint16_t> find_bus(std::string_view name) const;
   /// "bus0, bus1" for messages that list what exists.
   [[nodiscard]] std::string bus_names() const;
 
   [[nodiscard]] bool has_hand(std::uint16_t bus, std::uint8_t can_id) const {
-    return buses_[bus]->known[can_id].load(std::memory_order_acquire);
+    return buses_[bus].roster->knows(can_id);
   }
-  /// Records a hand the bus reported; true if it was not known before.
-  bool add_hand(std::uint16_t bus, std::uint8_t can_id);
   /// The hand's configured name, empty if none.
-  [[nodiscard]] std::string hand_name(std::uint16_t bus, std::uint8_t can_id) const;
+  [[nodiscard]] std::string hand_name(std::uint16_t bus, std::uint8_t can_id) const {
+    return buses_[bus].roster->name(can_id);
+  }
   /// Every known hand of a bus, by CAN ID.
-  [[nodiscard]] std::vector<Hand> hands(std::uint16_t bus) const;
+  [[nodiscard]] std::vector<Hand> hands(std::uint16_t bus) const {
+    return buses_[bus].roster->hands();
+  }
 
  private:
   struct Bus {
     std::string name;
-    std::array<std::atomic<bool>, 256> known{};
-    std::array<std::string, 256> names{};  ///< from config; fixed after add_bus()
+    const hand::HandRoster* roster = nullptr;
   };
-  std::vector<std::unique_ptr<Bus>> buses_;  ///< fixed after start-up
+  std::vector<Bus> buses_;  ///< fixed after start-up
 };
 
 }  // namespace dh3::dds

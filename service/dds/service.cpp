@@ -25,23 +25,21 @@ Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups) {
   if (auto created = create_writers(); !created) return created;
 
   for (auto& setup : setups) {
-    std::vector<HandDirectory::Hand> hands;
-    for (const auto& hand : setup.hands) hands.push_back({hand.can_id, hand.name});
-    const std::uint16_t index = directory_.add_bus(setup.name, hands);
+    const auto index = static_cast<std::uint16_t>(buses_.size());
     auto runtime = std::make_unique<BusRuntime>();
     runtime->name = setup.name;
     runtime->spec = setup.bus->spec();
     runtime->observer = std::make_unique<BusObserver>(*this, index);
-    for (const auto& hand : setup.hands) {
-      HandSlot& slot = slot_locked(*runtime, hand.can_id);
-      slot.state.name = hand.name;
-    }
-    // In the list before the scheduler exists: it may report from its constructor.
+    // Configured hands are in the service info from the start: not news (on_state).
+    for (const auto& hand : setup.hands) slot_locked(*runtime, hand.can_id).announced = true;
+    // In the list before the scheduler exists: it may report (states, never
+    // events) from its constructor.
     BusRuntime& added = *buses_.emplace_back(std::move(runtime));
     setup.scheduler.allow_admin = options_.allow_admin;
     added.scheduler = std::make_unique<hand::BusScheduler>(
         setup.name, std::move(setup.bus), setup.hands, setup.scheduler, clock_, *added.observer);
     added.link_up = added.scheduler->link_state() == bus::LinkState::up;
+    directory_.add_bus(setup.name, added.scheduler->roster());
   }
   return {};
 }
@@ -106,10 +104,11 @@ Result<void, std::string> Service::Impl::start() {
   publish_info();
   for (std::size_t i = 0; i < buses_.size(); ++i) {
     BusRuntime& bus = *buses_[i];
-    std::lock_guard lock(bus.status_mutex);
-    for (auto& slot : bus.hands) {
-      if (slot && slot->update_seq == 0)
-        publish_status_locked(static_cast<std::uint16_t>(i), *slot);
+    for (const hand::HandState& state : bus.scheduler->state()) {
+      std::lock_guard lock(bus.status_mutex);
+      if (slot_locked(bus, state.can_id).update_seq == 0) {
+        on_state_locked(static_cast<std::uint16_t>(i), state);
+      }
     }
   }
   for (auto& bus : buses_) bus->scheduler->start();
@@ -151,10 +150,11 @@ void Service::Impl::stop() {
   for (std::size_t i = 0; i < buses_.size(); ++i) {
     BusRuntime& bus = *buses_[i];
     std::lock_guard lock(bus.status_mutex);
-    for (auto& slot : bus.hands) {
-      if (slot && slot->state.online) {
-        slot->state.online = false;
-        publish_status_locked(static_cast<std::uint16_t>(i), *slot);
+    for (std::size_t id = 0; id < bus.hands.size(); ++id) {
+      HandSlot* slot = bus.hands[id].get();
+      if (slot && slot->written && slot->sample.online()) {
+        slot->sample.online(false);
+        write_status_locked(static_cast<std::uint16_t>(i), static_cast<std::uint8_t>(id), *slot);
       }
     }
   }

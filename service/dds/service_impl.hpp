@@ -124,10 +124,13 @@ class Service::Impl {
     Impl& impl_;
   };
 
+  /// What only the DDS side knows of a hand: its status samples. Its state is
+  /// the driver's; each sample is filled from the state the bus reports.
   struct HandSlot {
-    hand::HandState state;
     std::uint64_t update_seq = 0;
-    msg::HandStatus sample;  ///< reused for every sample of this hand
+    bool announced = false;  ///< the service info lists it
+    bool written = false;    ///< `sample` was filled from a reported state
+    msg::HandStatus sample;  ///< the last sample, reused for every sample of this hand
   };
 
   struct BusRuntime {
@@ -170,7 +173,10 @@ class Service::Impl {
 
   // Publishing.
   HandSlot& slot_locked(BusRuntime& bus, std::uint8_t can_id);
-  void publish_status_locked(std::uint16_t bus, HandSlot& slot);
+  void on_state_locked(std::uint16_t bus, const hand::HandState& state);
+  void write_status_locked(std::uint16_t bus, std::uint8_t can_id, HandSlot& slot);
+  /// A hand-layer (steady) time on the wall clock, ns since the epoch; 0 for "never".
+  [[nodiscard]] std::uint64_t wall_clock_ns_of(TimePoint time) const;
   void republish_status(HandKey hand);
   void publish_info();
 

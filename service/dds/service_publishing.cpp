@@ -15,52 +15,52 @@ using eprosima::fastrtps::types::ReturnCode_t;
 
 Service::Impl::HandSlot& Service::Impl::slot_locked(BusRuntime& bus, std::uint8_t can_id) {
   auto& slot = bus.hands[can_id];
-  if (!slot) {
-    slot = std::make_unique<HandSlot>();
-    slot->state.can_id = can_id;
-  }
+  if (!slot) slot = std::make_unique<HandSlot>();
   return *slot;
 }
 
-void Service::Impl::publish_status_locked(std::uint16_t bus, HandSlot& slot) {
-  const std::string holder = leases_.holder(HandKey{bus, slot.state.can_id});
-  const std::uint64_t now_ns = wall_clock_ns();
-  std::uint64_t read_at_ns = 0;
-  if (slot.state.read_at != TimePoint{}) {
-    // The hand layer keeps steady time; the sample says wall time, like timestamp_ns.
-    const auto age =
-        std::chrono::duration_cast<std::chrono::nanoseconds>(clock_.now() - slot.state.read_at);
-    read_at_ns = now_ns - static_cast<std::uint64_t>(std::max<std::int64_t>(age.count(), 0));
-  }
-  const StatusContext context{options_.name, buses_[bus]->name, holder, ++slot.update_seq,
-                              now_ns,        read_at_ns};
-  fill_status(slot.sample, slot.state, context);
+void Service::Impl::write_status_locked(std::uint16_t bus, std::uint8_t can_id, HandSlot& slot) {
+  slot.sample.lease_holder(leases_.holder(HandKey{bus, can_id}));
+  slot.sample.update_seq(++slot.update_seq);
+  slot.sample.timestamp_ns(wall_clock_ns());
   if (status_writer_ == nullptr) return;  // DDS set-up failed or is gone
   std::lock_guard write_lock(status_write_mutex_);
   if (!status_writer_->write(&slot.sample)) {
-    spdlog::warn("could not publish the status of {}",
-                 hand_text(buses_[bus]->name, slot.state.can_id));
+    spdlog::warn("could not publish the status of {}", hand_text(buses_[bus]->name, can_id));
   }
+}
+
+std::uint64_t Service::Impl::wall_clock_ns_of(TimePoint time) const {
+  if (time == TimePoint{}) return 0;  // never
+  // The hand layer keeps steady time; samples say wall time, like timestamp_ns.
+  const auto age = std::chrono::duration_cast<std::chrono::nanoseconds>(clock_.now() - time);
+  return wall_clock_ns() - static_cast<std::uint64_t>(std::max<std::int64_t>(age.count(), 0));
 }
 
 void Service::Impl::republish_status(HandKey hand) {
   BusRuntime& bus = *buses_[hand.bus];
   std::lock_guard lock(bus.status_mutex);
-  publish_status_locked(hand.bus, slot_locked(bus, hand.can_id));
+  HandSlot& slot = slot_locked(bus, hand.can_id);
+  // A hand's first status carries its lease holder anyway.
+  if (slot.written) write_status_locked(hand.bus, hand.can_id, slot);
 }
 
 void Service::Impl::on_state(std::uint16_t bus_index, const hand::HandState& state) {
+  std::lock_guard lock(buses_[bus_index]->status_mutex);
+  on_state_locked(bus_index, state);
+}
+
+void Service::Impl::on_state_locked(std::uint16_t bus_index, const hand::HandState& state) {
   BusRuntime& bus = *buses_[bus_index];
-  if (directory_.add_hand(bus_index, state.can_id)) {
-    spdlog::debug("found {}", hand_text(bus.name, state.can_id));
-    publish_info();
-  }
-  std::lock_guard lock(bus.status_mutex);
   HandSlot& slot = slot_locked(bus, state.can_id);
-  const std::string name = slot.state.name;
-  slot.state = state;
-  if (slot.state.name.empty()) slot.state.name = name;
-  publish_status_locked(bus_index, slot);
+  if (!std::exchange(slot.announced, true)) {
+    spdlog::debug("found {}", hand_text(bus.name, state.can_id));
+    publish_info();  // the roster lists it already
+  }
+  fill_status(slot.sample, state,
+              StatusContext{options_.name, bus.name, {}, 0, 0, wall_clock_ns_of(state.read_at)});
+  slot.written = true;
+  write_status_locked(bus_index, state.can_id, slot);  // with lease holder, sequence and time
 }
 
 void Service::Impl::on_event(std::uint16_t bus_index, const hand::HandEvent& event) {

@@ -47,12 +47,9 @@ class BusScheduler::Impl {
         options_(options),
         clock_(clock),
         observer_(observer),
-        context_{options_, observer_, name_, {}, retries_, timeouts_, unexpected_},
+        roster_(hands),
+        context_{options_, observer_, name_, roster_, unexpected_},
         discover_(hands.empty()) {
-    context_.on_published = [this](const HandState& state) {
-      std::lock_guard lock(snapshot_mutex_);
-      snapshot_[state.can_id] = state;
-    };
     if (bus_->bit_rate() > 0 && options_.max_line_load > 0.0) {
       // A request and its reply, worst-case bit stuffing, at the allowed load.
       const double seconds = 2.0 * kWorstCaseBitsPerFrame / static_cast<double>(bus_->bit_rate()) /
@@ -79,13 +76,13 @@ class BusScheduler::Impl {
   // ---- any thread ----------------------------------------------------------
 
   void submit(std::uint8_t can_id, Command command, Completion done) {
-    if (auto invalid = validate(can_id, command, options_.allow_admin)) {
+    if (auto valid = validate(can_id, command, options_.allow_admin); !valid) {
       spdlog::debug("{}/{}: refused {}: {}", name_, can_id, to_string(command.kind),
-                    invalid->message);
-      refuse(can_id, command, done, invalid->error);
+                    valid.error().message);
+      refuse(can_id, command, done, valid.error().error);
       return;
     }
-    if (can_id != 0 && !known_[can_id].load()) {
+    if (can_id != 0 && !roster_.knows(can_id)) {
       refuse(can_id, command, done, CommandError::unknown_hand);
       return;
     }
@@ -120,18 +117,20 @@ class BusScheduler::Impl {
     done({});
   }
 
-  std::vector<HandState> state() const {
-    std::lock_guard lock(snapshot_mutex_);
-    std::vector<HandState> out;
-    out.reserve(snapshot_.size());
-    for (const auto& [id, state] : snapshot_) out.push_back(state);
-    return out;
-  }
+  std::vector<HandState> state() const { return roster_.published(); }
+  const HandRoster& roster() const { return roster_; }
 
   SchedulerCounters counters() const {
-    return SchedulerCounters{frames_sent_.load(), frames_received_.load(), unexpected_.load(),
-                             retries_.load(),     timeouts_.load(),        bus_errors_.load(),
-                             reconnects_.load()};
+    SchedulerCounters out{frames_sent_.load(), frames_received_.load(), unexpected_.load(), 0, 0,
+                          bus_errors_.load(),  reconnects_.load()};
+    // Retries and timeouts are counted per hand only; the bus's are their sum.
+    for (const auto& slot : hand_counters_) {
+      if (const HandCounters* hand = slot.load(std::memory_order_acquire)) {
+        out.retries += hand->retries();
+        out.timeouts += hand->timeouts();
+      }
+    }
+    return out;
   }
 
   BusMetrics metrics() const {
@@ -211,7 +210,7 @@ class BusScheduler::Impl {
   /// A command that ends before any driver has it. Commands to hands that do
   /// not exist are not counted: no hand's figures should grow from them.
   void refuse(std::uint8_t can_id, const Command& command, Completion& done, CommandError error) {
-    if (can_id == 0 || known_[can_id].load())
+    if (can_id == 0 || roster_.knows(can_id))
       counters_for(can_id).count_command(command, fail(error));
     done(fail(error));
   }
@@ -263,7 +262,7 @@ class BusScheduler::Impl {
     drivers_[id] = std::make_unique<HandDriver>(std::move(config), context_, queued_[id],
                                                 counters_for(id), now, id == 0);
     order_.push_back(id);
-    if (id != 0) known_[id].store(true);
+    roster_.add(id);
     return drivers_[id].get();
   }
 
@@ -574,10 +573,10 @@ class BusScheduler::Impl {
   std::atomic<std::uint64_t> frames_sent_{0};
   std::atomic<std::uint64_t> frames_received_{0};
   std::atomic<std::uint64_t> unexpected_{0};
-  std::atomic<std::uint64_t> retries_{0};
-  std::atomic<std::uint64_t> timeouts_{0};
   std::atomic<std::uint64_t> bus_errors_{0};
   std::atomic<std::uint64_t> reconnects_{0};
+  /// The set of hands and their published states (hand_roster.hpp).
+  HandRoster roster_;
   DriverContext context_;
   /// Per hand; created on first use (from any thread), never removed.
   std::array<std::atomic<HandCounters*>, 256> hand_counters_{};
@@ -585,7 +584,6 @@ class BusScheduler::Impl {
   RecentFrames recent_frames_{clock_.now()};
 
   // Read by submit() on any thread; written by the loop.
-  std::array<std::atomic<bool>, 256> known_{};
   std::array<std::atomic<int>, 256> queued_{};
   std::atomic<bus::LinkState> link_{bus::LinkState::down};
 
@@ -593,9 +591,6 @@ class BusScheduler::Impl {
   std::vector<Submitted> inbox_;
   std::vector<ScanCompletion> scan_requests_;
   bool stopped_ = false;
-
-  mutable std::mutex snapshot_mutex_;
-  std::map<std::uint8_t, HandState> snapshot_;
 
   // Loop thread only.
   std::array<std::unique_ptr<HandDriver>, 256> drivers_{};
@@ -637,6 +632,9 @@ void BusScheduler::request_scan(ScanCompletion done) {
 }
 std::vector<HandState> BusScheduler::state() const {
   return impl_->state();
+}
+const HandRoster& BusScheduler::roster() const {
+  return impl_->roster();
 }
 SchedulerCounters BusScheduler::counters() const {
   return impl_->counters();

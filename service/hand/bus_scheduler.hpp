@@ -3,8 +3,8 @@
 // that sends, matches replies, paces, polls status, times out and detects
 // events. Many hands share a bus fairly; every command ends in one result.
 //
-// Threading: submit(), request_scan(), state(), counters() and metrics() are
-// safe from any thread.
+// Threading: submit(), request_scan(), state(), roster(), counters() and
+// metrics() are safe from any thread.
 // Everything else happens on the loop: either the scheduler's own thread
 // (start()/stop()) or, in tests, whoever calls step(). Completions and observer
 // callbacks run on the loop thread and must not block.
@@ -19,14 +19,10 @@
 #include "bus/bus.hpp"
 #include "common/clock.hpp"
 #include "hand/hand_metrics.hpp"
+#include "hand/hand_roster.hpp"
 #include "hand/hand_types.hpp"
 
 namespace dh3::hand {
-
-struct HandConfig {
-  std::uint8_t can_id = 1;
-  std::string name;
-};
 
 /// Tuning of one bus. Defaults follow the document (20 ms between commands).
 struct SchedulerOptions {
@@ -109,8 +105,11 @@ class BusScheduler {
   /// Probes IDs 1-255 now and reports the IDs that answered.
   void request_scan(ScanCompletion done);
 
-  /// Snapshot of every known hand.
+  /// Every known hand's last published state (the drivers own the live state
+  /// on the loop; this is the copy they publish to the roster).
   [[nodiscard]] std::vector<HandState> state() const;
+  /// The bus's hands, configured and discovered, and their published states.
+  [[nodiscard]] const HandRoster& roster() const;
   [[nodiscard]] SchedulerCounters counters() const;
   /// The bus's counters, its recent load and every known hand's counters
   /// (hand_metrics.hpp); cheap enough for every scrape of a metrics endpoint.

@@ -5,18 +5,18 @@
 namespace dh3::hand {
 namespace {
 
-std::optional<ValidationFailure> invalid(std::string message) {
-  return ValidationFailure{CommandError::invalid_argument, std::move(message)};
+Failure<ValidationFailure> invalid(std::string message) {
+  return fail(ValidationFailure{CommandError::invalid_argument, std::move(message)});
 }
 
-std::optional<ValidationFailure> check_value(protocol::Register reg, std::int32_t value,
-                                             std::string_view what) {
+Result<void, ValidationFailure> check_value(protocol::Register reg, std::int32_t value,
+                                            std::string_view what) {
   const auto range = protocol::write_range(reg);
   if (range && !range->contains(value)) {
     return invalid(
         fmt::format("{} {} is out of range (expected {}-{})", what, value, range->min, range->max));
   }
-  return std::nullopt;
+  return {};
 }
 
 }  // namespace
@@ -25,8 +25,8 @@ bool is_admin_register(protocol::Register reg) {
   return reg == protocol::reg::kCanId || reg == protocol::reg::kBaudRate;
 }
 
-std::optional<ValidationFailure> validate(std::uint8_t can_id, const Command& command,
-                                          bool allow_admin) {
+Result<void, ValidationFailure> validate(std::uint8_t can_id, const Command& command,
+                                         bool allow_admin) {
   namespace reg = protocol::reg;
   if (command.timeout && *command.timeout <= Duration::zero()) {
     return invalid("timeout must be positive");
@@ -43,7 +43,7 @@ std::optional<ValidationFailure> validate(std::uint8_t can_id, const Command& co
   switch (command.kind) {
     case CommandKind::initialize:
     case CommandKind::stop:
-      return std::nullopt;
+      return {};
     case CommandKind::move_to:
       return check_value(reg::kPosition, command.value, "position");
     case CommandKind::release:
@@ -61,25 +61,23 @@ std::optional<ValidationFailure> validate(std::uint8_t can_id, const Command& co
         return invalid(
             fmt::format("register 0x{:04X} is not in the DH-3 register map", command.reg.code()));
       }
-      return std::nullopt;
+      return {};
     case CommandKind::write_register: {
-      if (const auto error = protocol::check_write(command.reg, command.value)) {
+      if (const auto written = protocol::check_write(command.reg, command.value); !written) {
         const auto range = protocol::write_range(command.reg);
-        if (*error == protocol::RegisterError::out_of_range && range) {
+        if (written.error() == protocol::RegisterError::out_of_range && range) {
           return invalid(fmt::format("{} {} is out of range (expected {}-{})",
                                      protocol::name(command.reg), command.value, range->min,
                                      range->max));
         }
         return invalid(fmt::format("cannot write register 0x{:04X}: {}", command.reg.code(),
-                                   protocol::to_string(*error)));
+                                   protocol::to_string(written.error())));
       }
       if (is_admin_register(command.reg) && !allow_admin) {
-        return ValidationFailure{
-            CommandError::invalid_argument,
-            fmt::format("writing {} is administrative and not allowed on this bus",
-                        protocol::name(command.reg))};
+        return invalid(fmt::format("writing {} is administrative and not allowed on this bus",
+                                   protocol::name(command.reg)));
       }
-      return std::nullopt;
+      return {};
     }
   }
   return invalid("unknown command");

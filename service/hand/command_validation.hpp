@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "common/result.hpp"
 #include "hand/hand_types.hpp"
 
 namespace dh3::hand {
@@ -15,11 +16,11 @@ struct ValidationFailure {
   std::string message;  ///< what is wrong and what was expected
 };
 
-/// nullopt when the command may be queued for the hand with `can_id`.
+/// Fine when the command may be queued for the hand with `can_id`.
 /// ID 0 ("whichever hand is there", reading 10) only reads or sets the CAN ID.
 /// CAN ID and baud-rate writes need `allow_admin`.
-[[nodiscard]] std::optional<ValidationFailure> validate(std::uint8_t can_id, const Command& command,
-                                                        bool allow_admin);
+[[nodiscard]] Result<void, ValidationFailure> validate(std::uint8_t can_id, const Command& command,
+                                                       bool allow_admin);
 
 /// True for the registers whose write only takes effect after a reboot and
 /// which reply only once stored (reading 6).

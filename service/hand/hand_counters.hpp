@@ -20,6 +20,9 @@ class HandCounters {
   void count_retry() { retries_.fetch_add(1, std::memory_order_relaxed); }
   void observe_round_trip(Duration round_trip);
 
+  [[nodiscard]] std::uint64_t timeouts() const { return timeouts_.load(std::memory_order_relaxed); }
+  [[nodiscard]] std::uint64_t retries() const { return retries_.load(std::memory_order_relaxed); }
+
   /// Fills the counted fields of `out` (not its identity or online state).
   void snapshot(HandMetrics& out) const;
 

@@ -21,16 +21,6 @@ constexpr Register kRefresh[] = {reg::kInitialize,    reg::kClosingForce, reg::k
                                  reg::kPosition,      reg::kGripStatus,   reg::kRotation,
                                  reg::kRotationStatus};
 
-bool same_published_fields(const HandState& a, const HandState& b) {
-  return a.can_id == b.can_id && a.name == b.name && a.online == b.online &&
-         a.initialized == b.initialized && a.grip == b.grip && a.position == b.position &&
-         a.target_position == b.target_position && a.closing_force == b.closing_force &&
-         a.opening_force == b.opening_force && a.rotation == b.rotation &&
-         a.rotation_target == b.rotation_target && a.rotation_state == b.rotation_state &&
-         a.firmware_version == b.firmware_version && a.last_error == b.last_error &&
-         a.last_error_message == b.last_error_message;
-}
-
 }  // namespace
 
 HandDriver::HandDriver(HandConfig config, DriverContext& context, std::atomic<int>& queued,
@@ -250,7 +240,6 @@ void HandDriver::on_init_deadlines(TimePoint now) {
 void HandDriver::on_timeout(TimePoint now) {
   const InFlight lost = *in_flight_;
   in_flight_.reset();
-  context_.timeouts.fetch_add(1);
   counters_.count_timeout();
   ++consecutive_timeouts_;
 
@@ -258,7 +247,6 @@ void HandDriver::on_timeout(TimePoint now) {
     InFlight again = lost;
     ++again.attempts;
     resend_ = again;
-    context_.retries.fetch_add(1);
     counters_.count_retry();
   } else if (lost.purpose == Purpose::job && active_) {
     set_error(CommandError::timeout, fmt::format("no answer to {} after {} tries",
@@ -395,17 +383,17 @@ void HandDriver::publish_now(TimePoint now) {
 }
 
 void HandDriver::flush(TimePoint now) {
-  if (!anonymous_ && (!ever_published_ || !same_published_fields(state_, published_))) {
+  if (!anonymous_ && (!ever_published_ || context_.roster.differs_from_published(state_))) {
     ever_published_ = true;
     ++state_.sequence;
     state_.updated_at = now;
-    published_ = state_;
-    if (context_.on_published) context_.on_published(state_);
+    published_read_at_ = state_.read_at;
+    context_.roster.publish(state_);
     context_.observer.on_state(state_);
-  } else if (!anonymous_ && state_.read_at >= published_.read_at + options_.poll_interval_idle) {
-    published_.read_at = state_.read_at;
-    if (context_.on_published) context_.on_published(published_);
-    context_.observer.on_fresh(published_);
+  } else if (!anonymous_ && state_.read_at >= published_read_at_ + options_.poll_interval_idle) {
+    published_read_at_ = state_.read_at;
+    context_.roster.publish(state_);  // the same fields, read again
+    context_.observer.on_fresh(state_);
   }
   // Callbacks may call back into the scheduler (submit): take the lists first.
   auto events = std::move(pending_events_);

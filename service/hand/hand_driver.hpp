@@ -35,6 +35,7 @@
 #include "hand/bus_scheduler.hpp"
 #include "hand/hand_counters.hpp"
 #include "hand/hand_driver_states.hpp"
+#include "hand/hand_roster.hpp"
 #include "hand/hand_types.hpp"
 #include "protocol/codec.hpp"
 
@@ -45,10 +46,8 @@ struct DriverContext {
   const SchedulerOptions& options;
   HandObserver& observer;
   std::string bus_name;
-  /// Called with every published state (for the scheduler's snapshot).
-  std::function<void(const HandState&)> on_published;
-  std::atomic<std::uint64_t>& retries;
-  std::atomic<std::uint64_t>& timeouts;
+  /// The bus's hands and their published states, which other threads read.
+  HandRoster& roster;
   std::atomic<std::uint64_t>& unexpected_frames;
 };
 
@@ -176,11 +175,13 @@ class HandDriver {
   std::atomic<int>& queued_;
   HandCounters& counters_;
   bool anonymous_;
-  /// What is published; `online` and `initialized` mirror link_ (initialized:
-  /// as last known while the initialization is unknown).
+  /// The hand's state, owned here on the loop thread; what other threads see is
+  /// the copy it publishes to the roster (DriverContext::roster). `online` and
+  /// `initialized` mirror link_ (initialized: as last known while unknown).
   HandState state_;
-  HandState published_;
   bool ever_published_ = false;
+  /// read_at of the last state told to the observer (on_state or on_fresh).
+  TimePoint published_read_at_{};
 
   Link link_;
   int consecutive_timeouts_ = 0;

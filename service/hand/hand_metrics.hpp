@@ -68,6 +68,8 @@ struct SchedulerCounters {
   std::uint64_t frames_sent = 0;
   std::uint64_t frames_received = 0;
   std::uint64_t unexpected_frames = 0;
+  /// The sums of every hand's retries and timeouts (HandMetrics), which are
+  /// the only ones counted.
   std::uint64_t retries = 0;
   std::uint64_t timeouts = 0;
   /// Sends and receives the backend refused on a live link (io_error,

@@ -8,8 +8,8 @@
 #include <prometheus/text_serializer.h>
 
 #include <charconv>
-#include <initializer_list>
 #include <exception>
+#include <initializer_list>
 #include <limits>
 
 namespace dh3::metrics {
@@ -136,14 +136,14 @@ struct BusFamilies {
 
 /// What only a backend on a CAN controller (SocketCAN) sees.
 struct ControllerFamilies {
-  MetricFamily error_frames = family("dh3_bus_error_frames_total",
-                                     "Error frames the CAN controller reported, by kind",
-                                     MetricType::Counter);
+  MetricFamily error_frames =
+      family("dh3_bus_error_frames_total", "Error frames the CAN controller reported, by kind",
+             MetricType::Counter);
   MetricFamily bus_off = family(
       "dh3_bus_off", "1 while the CAN controller is bus-off (the link is down)", MetricType::Gauge);
-  MetricFamily overflow = family("dh3_bus_rx_overflow_drops_total",
-                                 "Frames the kernel dropped because the receive queue was full",
-                                 MetricType::Counter);
+  MetricFamily overflow =
+      family("dh3_bus_rx_overflow_drops_total",
+             "Frames the kernel dropped because the receive queue was full", MetricType::Counter);
   MetricFamily ignored = family("dh3_bus_frames_ignored_total",
                                 "Frames no DH-3 hand sends that reached the service (the kernel "
                                 "filter keeps most of them out unseen)",
@@ -284,10 +284,10 @@ std::string_view result_name(std::optional<hand::CommandError> error) {
   return "FAILED";
 }
 
-std::optional<std::string> check_listen_address(std::string_view address) {
+Result<void, std::string> check_listen_address(std::string_view address) {
   auto parsed = parse_listen_address(address);
-  if (!parsed) return parsed.error();
-  return std::nullopt;
+  if (!parsed) return fail(std::move(parsed).error());
+  return {};
 }
 
 class Exporter::Impl {

@@ -42,10 +42,10 @@ using Source = std::function<std::vector<hand::BusMetrics>()>;
 /// The contract's name of a result: "OK", "TIMEOUT", ...
 [[nodiscard]] std::string_view result_name(std::optional<hand::CommandError> error);
 
-/// nullopt if `address` is a listening address the exporter takes
+/// Fine if `address` is a listening address the exporter takes
 /// ("IPv4:PORT" or "[IPv6]:PORT", port 0-65535, 0 = any free port),
-/// otherwise what is wrong with it.
-[[nodiscard]] std::optional<std::string> check_listen_address(std::string_view address);
+/// otherwise fails with what is wrong with it.
+[[nodiscard]] Result<void, std::string> check_listen_address(std::string_view address);
 
 class Exporter {
  public:

@@ -74,12 +74,12 @@ std::optional<ValueRange> write_range(Register r) {
   return info->range;
 }
 
-std::optional<RegisterError> check_write(Register r, std::int32_t value) {
+Result<void, RegisterError> check_write(Register r, std::int32_t value) {
   const RegisterInfo* info = find_info(r);
-  if (info == nullptr) return RegisterError::unknown_register;
-  if (!info->writable) return RegisterError::read_only;
-  if (info->range && !info->range->contains(value)) return RegisterError::out_of_range;
-  return std::nullopt;
+  if (info == nullptr) return fail(RegisterError::unknown_register);
+  if (!info->writable) return fail(RegisterError::read_only);
+  if (info->range && !info->range->contains(value)) return fail(RegisterError::out_of_range);
+  return {};
 }
 
 std::string_view name(Register r) {

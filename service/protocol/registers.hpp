@@ -8,6 +8,8 @@
 #include <string>
 #include <string_view>
 
+#include "common/result.hpp"
+
 namespace dh3::protocol {
 
 /// A register is a (function, sub-function) pair; `code()` is the 16-bit form
@@ -77,7 +79,7 @@ enum class RegisterError : std::uint8_t {
 /// range-checked value (0x0801, 0x0802) or cannot be written.
 [[nodiscard]] std::optional<ValueRange> write_range(Register r);
 /// Checks a write before anything is queued: known, writable, in range.
-[[nodiscard]] std::optional<RegisterError> check_write(Register r, std::int32_t value);
+[[nodiscard]] Result<void, RegisterError> check_write(Register r, std::int32_t value);
 /// Human name, e.g. "position" for 0x0602, "unknown" otherwise.
 [[nodiscard]] std::string_view name(Register r);
 

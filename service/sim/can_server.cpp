@@ -49,7 +49,9 @@ Result<std::unique_ptr<CanServer>, std::string> CanServer::open(CanServerOptions
                                                                 CanFdOpener opener,
                                                                 const Clock& clock) {
   std::unique_ptr<CanServer> server(new CanServer(std::move(options), std::move(opener), clock));
-  if (!server->host_.start()) return fail("cannot create a pipe: " + errno_text());
+  if (auto started = server->host_.start(); !started) {
+    return fail("cannot create a pipe: " + started.error());
+  }
   if (auto opened = server->open_fd(); !opened) return fail(opened.error());
   return server;
 }

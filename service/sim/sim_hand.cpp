@@ -283,7 +283,7 @@ std::optional<SimHand::Answer> SimHand::answer(const Message& request, TimePoint
   const bool write = request.access == Access::write;
   // A write the document allows with a value in its range; anything else is
   // answered with the value the register keeps (see the header).
-  const bool apply = write && !protocol::check_write(r, request.data).has_value();
+  const bool apply = write && protocol::check_write(r, request.data).ok();
 
   if (r == reg::kInitFeedback) {
     if (write) init_feedback_ = true;

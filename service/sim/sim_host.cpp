@@ -45,16 +45,12 @@ std::optional<std::uint8_t> parse_hand_id(std::string_view text) {
   return static_cast<std::uint8_t>(*id);
 }
 
-/// "none" (nullopt) or a percentage 0-100 into `place`; false if neither.
-bool parse_place(std::string_view text, std::optional<std::int32_t>& place) {
-  if (text == "none") {
-    place.reset();
-    return true;
-  }
+/// "none" (nullopt) or a percentage 0-100.
+Result<std::optional<std::int32_t>, std::string> parse_place(std::string_view text) {
+  if (text == "none") return std::optional<std::int32_t>{};
   const auto value = parse_number<std::int32_t>(text);
-  if (!value || *value < 0 || *value > 100) return false;
-  place = *value;
-  return true;
+  if (!value || *value < 0 || *value > 100) return fail("position must be 0-100 or none");
+  return std::optional<std::int32_t>{*value};
 }
 
 void write_all(int fd, std::string_view text) {
@@ -128,13 +124,10 @@ SimHost::~SimHost() {
   }
 }
 
-bool SimHost::start() {
-  if (::pipe2(wake_pipe_, O_NONBLOCK | O_CLOEXEC) != 0) {
-    spdlog::error("dh3-sim: pipe: {}", errno_text());
-    return false;
-  }
+Result<void, std::string> SimHost::start() {
+  if (::pipe2(wake_pipe_, O_NONBLOCK | O_CLOEXEC) != 0) return fail(errno_text());
   if (options_.control_in >= 0) set_nonblocking(options_.control_in);
-  return true;
+  return {};
 }
 
 void SimHost::request_stop() {
@@ -332,12 +325,12 @@ std::string SimHost::execute_for_hand(std::span<const std::string_view> words,
   } else if (verb == "state") {
     return describe_state(*hand);
   } else if (verb == "object" || verb == "obstacle") {
-    std::optional<std::int32_t> place;
-    if (!parse_place(words[2], place)) return "error position must be 0-100 or none";
+    const auto place = parse_place(words[2]);
+    if (!place) return "error " + place.error();
     if (verb == "object") {
-      hand->place_object(place);
+      hand->place_object(*place);
     } else {
-      hand->place_rotation_obstacle(place);
+      hand->place_rotation_obstacle(*place);
     }
   } else if (verb == "delay") {
     const auto ms = parse_number<int>(words[2]);

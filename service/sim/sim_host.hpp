@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "common/clock.hpp"
+#include "common/result.hpp"
 #include "protocol/codec.hpp"
 #include "sim/hand_set.hpp"
 #include "sim/interval_watch.hpp"
@@ -82,8 +83,8 @@ class SimHost {
   SimHost(const SimHost&) = delete;
   SimHost& operator=(const SimHost&) = delete;
 
-  /// Creates the wake-up pipe; false (logged) if the OS refuses.
-  [[nodiscard]] bool start();
+  /// Creates the wake-up pipe; fails with the OS's reason if it refuses.
+  [[nodiscard]] Result<void, std::string> start();
 
   /// Serves `transport`, the hands and the control channel until
   /// request_stop() or a `quit` command; then calls transport.on_stop().

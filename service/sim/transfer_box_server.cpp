@@ -43,7 +43,10 @@ TransferBoxServer::TransferBoxServer(TransferBoxServerOptions options, const Clo
 Result<std::unique_ptr<TransferBoxServer>, ServerError> TransferBoxServer::open(
     TransferBoxServerOptions options, const Clock& clock) {
   std::unique_ptr<TransferBoxServer> server(new TransferBoxServer(std::move(options), clock));
-  if (!server->host_.start()) return fail(ServerError::socket_failed);
+  if (auto started = server->host_.start(); !started) {
+    spdlog::error("dh3-sim: pipe: {}", started.error());  // the error kind has no room for why
+    return fail(ServerError::socket_failed);
+  }
   if (auto listening = server->listen(); !listening) return fail(listening.error());
   return server;
 }

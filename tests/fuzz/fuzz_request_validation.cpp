@@ -26,9 +26,11 @@ using dh3::dds::RequestAction;
 /// The service of the seeds: bus "box" with hands 1-3, bus "spare" with none.
 const dh3::dds::HandDirectory& directory() {
   static const auto* const instance = [] {
+    static const dh3::hand::HandRoster box({{1, "left"}, {2, ""}, {3, "right"}});
+    static const dh3::hand::HandRoster spare;
     auto* d = new dh3::dds::HandDirectory;
-    d->add_bus("box", {{1, "left"}, {2, ""}, {3, "right"}});
-    d->add_bus("spare", {});
+    d->add_bus("box", box);
+    d->add_bus("spare", spare);
     return d;
   }();
   return *instance;
@@ -63,7 +65,7 @@ void check_accepted(const dh3::msg::CommandRequest& request, const dh3::dds::Val
     case RequestAction::hand_command: {
       check(!is_admin(request.command()) || allow_admin);
       // What the DDS layer lets through, the hand layer queues.
-      check(!dh3::hand::validate(valid.can_id, valid.command, allow_admin));
+      check(dh3::hand::validate(valid.can_id, valid.command, allow_admin).ok());
       if (valid.command.kind == dh3::hand::CommandKind::write_register) {
         check(!dh3::protocol::check_write(valid.command.reg, valid.command.value));
         check(allow_admin || !dh3::hand::is_admin_register(valid.command.reg));

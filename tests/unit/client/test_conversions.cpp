@@ -136,35 +136,35 @@ msg::CommandRequest request(msg::CommandType command, std::int32_t value,
 }
 
 TEST(CheckRequestTest, ValuesInsideTheContractsLimitsPass) {
-  EXPECT_FALSE(check_request(request(msg::MOVE, 0)));
-  EXPECT_FALSE(check_request(request(msg::MOVE, 100)));
-  EXPECT_FALSE(check_request(request(msg::GRASP, 20)));
-  EXPECT_FALSE(check_request(request(msg::SET_BAUD_RATE, 5)));
-  EXPECT_FALSE(check_request(request(msg::ACQUIRE_LEASE, 100)));
-  EXPECT_FALSE(check_request(request(msg::INITIALIZE, -7)));  // value unused
-  EXPECT_FALSE(check_request(request(msg::SCAN, 0, 0)));      // a whole bus
+  EXPECT_TRUE(check_request(request(msg::MOVE, 0)).ok());
+  EXPECT_TRUE(check_request(request(msg::MOVE, 100)).ok());
+  EXPECT_TRUE(check_request(request(msg::GRASP, 20)).ok());
+  EXPECT_TRUE(check_request(request(msg::SET_BAUD_RATE, 5)).ok());
+  EXPECT_TRUE(check_request(request(msg::ACQUIRE_LEASE, 100)).ok());
+  EXPECT_TRUE(check_request(request(msg::INITIALIZE, -7)).ok());  // value unused
+  EXPECT_TRUE(check_request(request(msg::SCAN, 0, 0)).ok());      // a whole bus
 }
 
 TEST(CheckRequestTest, OutOfRangeValuesAreInvalidArgumentsNamingTheRange) {
   const auto move = check_request(request(msg::MOVE, 101));
-  ASSERT_TRUE(move);
-  EXPECT_EQ(move->code, Code::invalid_argument);
-  EXPECT_THAT(move->message, HasSubstr("MOVE value 101 is out of range"));
-  EXPECT_THAT(move->message, HasSubstr("(0-100)"));
-  EXPECT_THAT(check_request(request(msg::GRASP, 19))->message, HasSubstr("(20-100)"));
-  EXPECT_THAT(check_request(request(msg::SET_CAN_ID, 256))->message, HasSubstr("(1-255)"));
-  EXPECT_THAT(check_request(request(msg::SET_BAUD_RATE, 6))->message, HasSubstr("(0-5)"));
-  EXPECT_THAT(check_request(request(msg::RENEW_LEASE, 99))->message, HasSubstr("lease"));
+  ASSERT_FALSE(move.ok());
+  EXPECT_EQ(move.error().code, Code::invalid_argument);
+  EXPECT_THAT(move.error().message, HasSubstr("MOVE value 101 is out of range"));
+  EXPECT_THAT(move.error().message, HasSubstr("(0-100)"));
+  EXPECT_THAT(check_request(request(msg::GRASP, 19)).error().message, HasSubstr("(20-100)"));
+  EXPECT_THAT(check_request(request(msg::SET_CAN_ID, 256)).error().message, HasSubstr("(1-255)"));
+  EXPECT_THAT(check_request(request(msg::SET_BAUD_RATE, 6)).error().message, HasSubstr("(0-5)"));
+  EXPECT_THAT(check_request(request(msg::RENEW_LEASE, 99)).error().message, HasSubstr("lease"));
 }
 
 TEST(CheckRequestTest, AHandCommandNeedsAServiceABusAndACanId) {
-  EXPECT_THAT(check_request(request(msg::MOVE, 50, 0))->message, HasSubstr("CAN ID"));
+  EXPECT_THAT(check_request(request(msg::MOVE, 50, 0)).error().message, HasSubstr("CAN ID"));
   auto no_bus = request(msg::MOVE, 50);
   no_bus.hand().bus("");
-  EXPECT_THAT(check_request(no_bus)->message, HasSubstr("bus"));
+  EXPECT_THAT(check_request(no_bus).error().message, HasSubstr("bus"));
   auto no_service = request(msg::MOVE, 50);
   no_service.hand().service("");
-  EXPECT_THAT(check_request(no_service)->message, HasSubstr("service"));
+  EXPECT_THAT(check_request(no_service).error().message, HasSubstr("service"));
 }
 
 }  // namespace

@@ -15,8 +15,8 @@ using ::testing::HasSubstr;
 class RequestValidationTest : public ::testing::Test {
  protected:
   RequestValidationTest() {
-    directory_.add_bus("bus0", {{1, "left"}, {2, "right"}, {3, ""}});
-    directory_.add_bus("bus1", {{5, ""}});
+    directory_.add_bus("bus0", bus0_);
+    directory_.add_bus("bus1", bus1_);
   }
 
   static msg::CommandRequest request(msg::CommandType command, std::int32_t value = 0,
@@ -44,6 +44,9 @@ class RequestValidationTest : public ::testing::Test {
     EXPECT_THAT(result.error().message, HasSubstr(text));
   }
 
+  // The buses' rosters, which their schedulers own in the service.
+  hand::HandRoster bus0_{{{1, "left"}, {2, "right"}, {3, ""}}};
+  hand::HandRoster bus1_{{{5, ""}}};
   HandDirectory directory_;
 };
 
@@ -196,8 +199,8 @@ TEST_F(RequestValidationTest, UnknownBusOrHandIsUnknownHand) {
 
 TEST_F(RequestValidationTest, DiscoveredHandsBecomeKnown) {
   expect_rejected(request(msg::MOVE, 10, 7, "bus1"), msg::UNKNOWN_HAND, "no hand 7");
-  EXPECT_TRUE(directory_.add_hand(1, 7));
-  EXPECT_FALSE(directory_.add_hand(1, 7));
+  EXPECT_TRUE(bus1_.add(7));  // as bus1's scheduler does when hand 7 answers a probe
+  EXPECT_FALSE(bus1_.add(7));
   EXPECT_TRUE(check(request(msg::MOVE, 10, 7, "bus1")).ok());
 }
 
