@@ -98,6 +98,7 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   [[nodiscard]] const std::string& client_id() const { return client_id_; }
   /// No command request writer or no reply reader: commands end DENIED.
   [[nodiscard]] bool read_only() const { return !can_command_; }
+  [[nodiscard]] CommandTraffic command_traffic() const;
   [[nodiscard]] const ClientOptions& options() const { return options_; }
   [[nodiscard]] std::chrono::milliseconds effective(Timeout timeout) const {
     return timeout > Timeout::zero() ? timeout : options_.default_timeout;
@@ -227,6 +228,10 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   std::map<HandAddress, HandStatus> statuses_;
   std::vector<std::shared_ptr<SubscriptionState>> event_subs_;
   std::vector<std::shared_ptr<SubscriptionState>> status_subs_;
+
+  std::atomic<std::uint64_t> requests_written_{0};
+  std::atomic<std::uint64_t> own_replies_{0};
+  std::atomic<std::uint64_t> foreign_replies_taken_{0};  ///< got past the reply filter
 
   Dispatcher dispatcher_;
   std::thread io_thread_;

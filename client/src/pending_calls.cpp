@@ -82,6 +82,7 @@ void ClientCore::write_requests_locked(std::unique_lock<std::mutex>& lock) {
     msg::CommandRequest request = it->second.request;
     lock.unlock();
     const bool written = dds_->request_writer->write(&request);
+    if (written) requests_written_.fetch_add(1, std::memory_order_relaxed);
     lock.lock();
     if (!written) {
       if (const auto again = pending_.find(seq); again != pending_.end()) {
@@ -158,10 +159,26 @@ void ClientCore::run(Actions& actions) {
   if (actions.wake_io) io_wake_.notify_all();
 }
 
+CommandTraffic ClientCore::command_traffic() const {
+  CommandTraffic traffic;
+  traffic.requests_written = requests_written_.load(std::memory_order_relaxed);
+  traffic.own_replies = own_replies_.load(std::memory_order_relaxed);
+  traffic.foreign_replies = foreign_replies_taken_.load(std::memory_order_relaxed);
+  if (dds_ != nullptr && dds_->participant != nullptr) {
+    traffic.foreign_replies +=
+        dds_->participant->reply_filter_counts().rejected.load(std::memory_order_relaxed);
+  }
+  return traffic;
+}
+
 void ClientCore::on_reply(const msg::CommandReply& reply) {
-  // Every client reads every reply on the topic: only our own client_id and a
-  // request we are waiting for resolve anything.
-  if (reply.client_id() != client_id_) return;
+  // The reply reader's filter keeps our client_id; checked again in case
+  // Fast DDS refused the filtered topic and we read the plain one.
+  if (reply.client_id() != client_id_) {
+    foreign_replies_taken_.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  own_replies_.fetch_add(1, std::memory_order_relaxed);
   Done done;
   {
     std::lock_guard lock(mutex_);

@@ -186,6 +186,19 @@ class DH3_CLIENT_API Hand {
   HandAddress address_;
 };
 
+/// What reached this client over DDS for its commands, since it was created
+/// (diagnostics and benchmarks).
+struct CommandTraffic {
+  std::uint64_t requests_written = 0;
+  /// Replies carrying this client's id.
+  std::uint64_t own_replies = 0;
+  /// Replies to other clients that reached this client and were dropped here.
+  /// A dh3 service sends each dh3 client only its own replies, so this stays
+  /// 0, but for the replies the service still keeps from before this client
+  /// joined (at most the reply topic's history, 64), which reach it once.
+  std::uint64_t foreign_replies = 0;
+};
+
 class DH3_CLIENT_API Client {
  public:
   /// Joins the DDS domain. Never throws: check connected() and error().
@@ -208,6 +221,7 @@ class DH3_CLIENT_API Client {
   [[nodiscard]] std::string client_id() const;
   [[nodiscard]] int domain() const;
   [[nodiscard]] std::chrono::milliseconds default_timeout() const;
+  [[nodiscard]] CommandTraffic command_traffic() const;
 
   /// Every service seen on the domain, by name (ready says which are here now).
   [[nodiscard]] std::vector<ServiceInfo> services() const;
