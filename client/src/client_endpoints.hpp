@@ -78,6 +78,7 @@ struct ClientCore::Dds {
     explicit ParticipantListener(ClientCore& core) : core_(core) {}
     void on_participant_discovery(fdds::DomainParticipant* /*participant*/,
                                   frtps::ParticipantDiscoveryInfo&& info) override {
+      const OnDdsListener on_listener;
       using Status = frtps::ParticipantDiscoveryInfo;
       const std::string prefix = contract::client_id_for(info.info.m_guid.guidPrefix);
       if (info.status == Status::DISCOVERED_PARTICIPANT) {
@@ -97,6 +98,7 @@ struct ClientCore::Dds {
     explicit RequestWriterListener(ClientCore& core) : core_(core) {}
     void on_publication_matched(fdds::DataWriter* /*writer*/,
                                 const fdds::PublicationMatchedStatus& status) override {
+      const OnDdsListener on_listener;
       core_.on_request_reader_matched(prefix_of(status.last_subscription_handle),
                                       status.current_count_change > 0);
     }
@@ -112,6 +114,7 @@ struct ClientCore::Dds {
    public:
     explicit ReaderListener(ClientCore& core) : core_(core) {}
     void on_data_available(fdds::DataReader* reader) override {
+      const OnDdsListener on_listener;
       const std::string& topic = reader->get_topicdescription()->get_name();
       if (topic == own_replies_topic_ || topic == topics::COMMAND_REPLY) {
         take<msg::CommandReply>(
@@ -132,6 +135,7 @@ struct ClientCore::Dds {
     }
     void on_subscription_matched(fdds::DataReader* reader,
                                  const fdds::SubscriptionMatchedStatus& status) override {
+      const OnDdsListener on_listener;
       const std::string& topic = reader->get_topicdescription()->get_name();
       const bool matched = status.current_count_change > 0;
       if (topic == own_replies_topic_ || topic == topics::COMMAND_REPLY) {

@@ -20,6 +20,12 @@
 // order samples arrived; they may call into the client (even blocking calls,
 // which only delay later callbacks).
 //
+// When the reply to a command that changed the hand's state (a force, a
+// position reached, a lease) arrives, this client's cached status of that hand
+// (Hand::status(), Client::status()) already shows the change: the service
+// publishes the status before it replies, and the client takes both in the
+// order they arrived.
+//
 // When a service leaves the domain (stopped, killed, network lost) its pending
 // calls end with SERVICE_LOST and its hands are reported offline; calls made
 // while it is away wait (within their timeout) for it to return. When it comes

@@ -249,6 +249,19 @@ TEST_F(ClientLibraryTest, EachClientReceivesOnlyTheRepliesToItsOwnRequests) {
       << plain.replies_to(other.client_id());
 }
 
+TEST_F(ClientLibraryTest, WhenAStateChangingReplyArrivesTheCachedStatusAlreadyShowsIt) {
+  // The guarantee client.hpp states: no wait_until() needed after the reply.
+  Hand mine = hand(1);
+  ASSERT_TRUE(mine.initialize());
+  for (int i = 0; i < 30; ++i) {
+    const std::int32_t force = i % 2 == 0 ? 50 : 60;
+    ASSERT_TRUE(mine.set_force(force));
+    const auto status = mine.status();
+    ASSERT_TRUE(status.has_value());
+    EXPECT_EQ(status->closing_force, force) << "after set_force number " << i;
+  }
+}
+
 TEST_F(ClientLibraryTest, ALeaseHolderKeepsOtherClientsOut) {
   Client other(client_options());
   ASSERT_TRUE(other.wait_for_service(test_service_name(), kClientDeadline));
