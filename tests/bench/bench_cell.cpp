@@ -11,7 +11,8 @@
 //     delivered and the client dropped: Client::command_traffic()), divided by
 //     the requests it wrote during the timed phase; the lowest and highest over
 //     the clients (the goal is exactly 1),
-//   - the service's CPU time (user + system, /proc/PID/stat) per command,
+//   - the service's CPU time (user + system, /proc/PID/stat) per command, and a
+//     client process's per command it sent,
 //   - p50, p90, p99 and max round trip over every client's commands.
 //
 //   bench_cell [--count N] [--clients 1,4,16] [--udp-only] [--service-binary PATH] [--json FILE]
@@ -58,7 +59,8 @@ std::string service_config() {
 
 /// One client process: warms up, says "ready", waits for stdin to close, then
 /// times `count` reads of its hand; writes the round trips (microseconds, one
-/// a line) to `out` and prints "result WRITTEN OWN FOREIGN FAILED".
+/// a line) to `out` and prints "result WRITTEN OWN FOREIGN FAILED CPU_US" (its
+/// own CPU time over the timed phase).
 int run_client(int domain, const std::string& service, int hand_id, int count, bool udp_only,
                const std::string& out) {
   ClientOptions options;
@@ -77,6 +79,7 @@ int run_client(int domain, const std::string& service, int hand_id, int count, b
   for (std::string line; std::getline(std::cin, line);) {
   }
   const CommandTraffic before = client.command_traffic();
+  const double cpu_before = bench::cpu_seconds_of(::getpid());
   std::vector<double> micros;
   micros.reserve(static_cast<std::size_t>(count));
   int failed = 0;
@@ -93,14 +96,15 @@ int run_client(int domain, const std::string& service, int hand_id, int count, b
   // Replies to other clients' last commands may still be on their way here.
   std::this_thread::sleep_for(200ms);
   const CommandTraffic after = client.command_traffic();
+  const double cpu_us = 1e6 * (bench::cpu_seconds_of(::getpid()) - cpu_before);
   {
     std::ofstream file(out);
     for (const double m : micros) file << m << '\n';
   }
-  std::printf("result %" PRIu64 " %" PRIu64 " %" PRIu64 " %d\n",
+  std::printf("result %" PRIu64 " %" PRIu64 " %" PRIu64 " %d %.0f\n",
               after.requests_written - before.requests_written,
               after.own_replies - before.own_replies,
-              after.foreign_replies - before.foreign_replies, failed);
+              after.foreign_replies - before.foreign_replies, failed, cpu_us);
   return 0;
 }
 
@@ -109,6 +113,7 @@ struct ClientResult {
   std::uint64_t own = 0;
   std::uint64_t foreign = 0;
   int failed = 0;
+  double cpu_us = 0;
   [[nodiscard]] double replies_per_command() const {
     return written == 0 ? 0 : static_cast<double>(own + foreign) / static_cast<double>(written);
   }
@@ -122,6 +127,7 @@ struct CellRow {
   std::uint64_t foreign = 0;
   int failed = 0;
   double service_cpu_us = 0;  ///< per command
+  double client_cpu_us = 0;   ///< per command, over all clients
   bench::Percentiles latency;
   bool complete = false;
 };
@@ -161,7 +167,7 @@ CellRow run_cell(int domain, int clients, int count, bool udp_only,
     }
     ClientResult result;
     std::istringstream fields(line->substr(7));
-    fields >> result.written >> result.own >> result.foreign >> result.failed;
+    fields >> result.written >> result.own >> result.foreign >> result.failed >> result.cpu_us;
     results.push_back(result);
   }
   const double cpu_after = bench::cpu_seconds_of(service.pid());
@@ -173,7 +179,9 @@ CellRow run_cell(int domain, int clients, int count, bool udp_only,
     std::remove(out.c_str());
   }
   row.replies_min = 1e9;
+  double client_cpu_us = 0;
   for (const ClientResult& r : results) {
+    client_cpu_us += r.cpu_us;
     row.commands += r.written;
     row.foreign += r.foreign;
     row.failed += r.failed;
@@ -182,6 +190,7 @@ CellRow run_cell(int domain, int clients, int count, bool udp_only,
   }
   row.service_cpu_us =
       row.commands == 0 ? 0 : 1e6 * (cpu_after - cpu_before) / static_cast<double>(row.commands);
+  row.client_cpu_us = row.commands == 0 ? 0 : client_cpu_us / static_cast<double>(row.commands);
   row.latency = bench::percentiles(micros);
   row.complete = true;
   return row;
@@ -218,23 +227,24 @@ int run_benchmark(int count, const std::string& client_counts, bool udp_only,
       "Cell: N client processes commanding one dh3-service at once (%s), %d reads each, one in "
       "flight per client; load average %.2f\n",
       udp_only ? "udp" : "shm", count, load_average());
-  std::printf("%7s %8s %11s %11s %8s %7s %10s %9s %9s %9s %9s\n", "clients", "commands",
-              "replies/cmd", "(max)", "foreign", "failed", "svc cpu/cmd", "p50", "p90", "p99",
-              "max");
+  std::printf("%7s %8s %11s %11s %8s %7s %10s %11s %9s %9s %9s %9s\n", "clients", "commands",
+              "replies/cmd", "(max)", "foreign", "failed", "svc cpu/cmd", "cli cpu/cmd", "p50",
+              "p90", "p99", "max");
   for (const CellRow& r : rows) {
     if (!r.complete) {
       std::printf("%7d  (did not complete)\n", r.clients);
       continue;
     }
-    std::printf("%7d %8" PRIu64 " %11.3f %11.3f %8" PRIu64 " %7d %10.1f %9.1f %9.1f %9.1f %9.1f\n",
-                r.clients, r.commands, r.replies_min, r.replies_max, r.foreign, r.failed,
-                r.service_cpu_us, r.latency.p50, r.latency.p90, r.latency.p99, r.latency.max);
+    std::printf(
+        "%7d %8" PRIu64 " %11.3f %11.3f %8" PRIu64 " %7d %10.1f %11.1f %9.1f %9.1f %9.1f %9.1f\n",
+        r.clients, r.commands, r.replies_min, r.replies_max, r.foreign, r.failed, r.service_cpu_us,
+        r.client_cpu_us, r.latency.p50, r.latency.p90, r.latency.p99, r.latency.max);
   }
   std::printf(
       "(replies/cmd: replies that reached a client per request it wrote, lowest and highest over "
       "the clients; foreign: other clients' replies that reached them; svc cpu/cmd: dh3-service's "
-      "user + system CPU microseconds per command; round trips in microseconds over all "
-      "clients)\n");
+      "user + system CPU microseconds per command; cli cpu/cmd: a client process's, per command it "
+      "sent; round trips in microseconds over all clients)\n");
   if (rows.size() > 1 && rows.front().complete && rows.back().complete &&
       rows.front().service_cpu_us > 0) {
     std::printf("service CPU per command, %d clients / %d client%s: %.2f (goal: at most 1.2)\n",
@@ -255,10 +265,11 @@ int run_benchmark(int count, const std::string& client_counts, bool udp_only,
                    "%s{\"clients\":%d,\"complete\":%s,\"commands\":%" PRIu64
                    ",\"replies_per_command_min\":%.4f,\"replies_per_command_max\":%.4f,"
                    "\"foreign_replies\":%" PRIu64
-                   ",\"failed\":%d,\"service_cpu_us_per_command\":%.2f,\"latency\":%s}",
+                   ",\"failed\":%d,\"service_cpu_us_per_command\":%.2f,\"client_cpu_us_per_"
+                   "command\":%.2f,\"latency\":%s}",
                    i == 0 ? "" : ",", r.clients, r.complete ? "true" : "false", r.commands,
                    r.replies_min, r.replies_max, r.foreign, r.failed, r.service_cpu_us,
-                   bench::to_json(r.latency).c_str());
+                   r.client_cpu_us, bench::to_json(r.latency).c_str());
     }
     std::fprintf(f, "],\"load_average\":%.2f}\n", load_average());
     std::fclose(f);
