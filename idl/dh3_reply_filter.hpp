@@ -8,7 +8,10 @@
 // default), the reader is not reached by data-sharing (never for dh3's types:
 // their strings are unbounded) and the reader announced no multicast locator).
 // A reader on the plain topic, e.g. a participant of another vendor, still
-// gets every reply and keeps its own.
+// gets every reply and keeps its own. Where the writer does not filter (more
+// than 32 filtered readers, or, as seen in tests/unit/contract/
+// test_reply_filter.cpp, a reader in the writer's own process) the reader
+// applies the same filter to what it receives.
 //
 // The filter is dh3's own filter class rather than DDSSQL: Fast DDS's DDSSQL
 // filter needs the types' TypeObjects and deserializes each sample into a
