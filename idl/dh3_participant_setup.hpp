@@ -20,6 +20,7 @@
 #include "dh3_discovery.hpp"
 #include "dh3_participant.hpp"
 #include "dh3_participant_options.hpp"
+#include "dh3_reply_filter.hpp"
 #include "dh3_security.hpp"
 #include "dh3_type_support.hpp"
 
@@ -35,7 +36,7 @@ namespace dh3::contract {
 
 struct ParticipantQos {
   eprosima::fastdds::dds::DomainParticipantQos qos;
-  std::string error;               ///< empty when qos is usable
+  std::string error;                  ///< empty when qos is usable
   std::vector<std::string> notes;     ///< worth an info line: the discovery servers used
   std::vector<std::string> warnings;  ///< worth a warning: options that are ignored
   [[nodiscard]] bool ok() const { return error.empty(); }
@@ -150,6 +151,13 @@ class Participant {
       }
       return;
     }
+    // Before any reader is discovered: a service's reply writer looks the
+    // class up when a client's filtered reply reader matches it.
+    if (participant_->register_content_filter_factory(kReplyFilterClass, &reply_filters_) !=
+        eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+      error_ = "cannot register the reply content filter";
+      return;
+    }
     topics_ = create_topics(*participant_);
     const std::pair<fdds::Topic*, const std::string&> topics[] = {
         {topics_.status, dh3::topics::HAND_STATUS},
@@ -198,12 +206,19 @@ class Participant {
   [[nodiscard]] const Topics& topics() const { return topics_; }
   [[nodiscard]] eprosima::fastdds::dds::Publisher& publisher() { return *publisher_; }
   [[nodiscard]] eprosima::fastdds::dds::Subscriber& subscriber() { return *subscriber_; }
+  /// What this participant's reply filters decided: on a service, its reply
+  /// writer's (writer-side filtering); on a client, its reply reader's.
+  [[nodiscard]] const ReplyFilterCounts& reply_filter_counts() const {
+    return reply_filters_.counts();
+  }
   /// The client_id this participant puts in its CommandRequests.
   [[nodiscard]] std::string client_id() const {
     return client_id_for(participant_->guid().guidPrefix);
   }
 
  private:
+  /// Outlives participant_ (members are destroyed after ~Participant's body).
+  ReplyFilterFactory reply_filters_;
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
   Topics topics_;
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;

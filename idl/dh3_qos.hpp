@@ -49,7 +49,8 @@ inline Qos qos_for(TopicRole role) {
       // the service, before the service's reply writer has discovered the
       // client's reply reader; a volatile reply written in that window would
       // be lost. Kept replies reach the reader when it matches; clients take
-      // only replies carrying their own client_id.
+      // only replies carrying their own client_id, which the writer filters
+      // for them (dh3_reply_filter.hpp).
       qos.durability().kind = dds::TRANSIENT_LOCAL_DURABILITY_QOS;
       qos.history().depth = kStreamDepth;
       break;

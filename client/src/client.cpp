@@ -216,6 +216,10 @@ bool Client::read_only() const {
 std::string Client::client_id() const {
   return core_->client_id();
 }
+CommandTraffic Client::command_traffic() const {
+  return core_->command_traffic();
+}
+
 int Client::domain() const {
   return core_->options().domain;
 }

@@ -49,6 +49,11 @@ void ClientCore::close() {
   // The io thread is the only writer: once it is gone no write can race the
   // deletion below.
   if (io_thread_.joinable()) io_thread_.join();
+  {
+    // Callers writing their own requests finish before the writer goes.
+    std::unique_lock lock(mutex_);
+    writes_done_.wait(lock, [this] { return writes_in_flight_ == 0; });
+  }
   run(out);
   dds_.reset();  // waits for listener callbacks in progress
   dispatcher_.stop();

@@ -5,9 +5,13 @@
 // Threads and who does what:
 //   - Fast DDS listener threads deliver samples, matches and participant
 //     changes; they update the state under `mutex_` and never write to DDS.
-//   - One internal "io" thread writes every request and ends calls whose
-//     deadline passed. Only it writes, so closing the client never races a
-//     write (it is joined before the DDS entities are deleted).
+//   - The calling thread writes its request itself when the service is ready
+//     and no other request is queued or being written (so the requests of one
+//     thread keep their order); otherwise, and for calls made on a DDS
+//     listener thread (a call chained from a reply), the internal "io" thread
+//     writes it. close() waits for writes in progress before it deletes the
+//     DDS entities. The io thread also ends calls whose deadline passed; a call
+//     wakes it only when its deadline comes before the io thread's next wake.
 //   - One dispatcher thread runs user callbacks (events, statuses), in order.
 //     User code never runs on a DDS thread, so a callback that makes a
 //     blocking call cannot hold up the very reply it waits for.
@@ -62,6 +66,22 @@
 
 namespace dh3::detail {
 
+/// True on a thread that runs a Fast DDS listener of this library
+/// (client_endpoints.hpp sets it): such a thread does not write requests.
+inline thread_local bool t_on_dds_listener = false;
+
+/// Marks the current thread as a DDS listener's while it lives.
+class OnDdsListener {
+ public:
+  OnDdsListener() : was_(t_on_dds_listener) { t_on_dds_listener = true; }
+  ~OnDdsListener() { t_on_dds_listener = was_; }
+  OnDdsListener(const OnDdsListener&) = delete;
+  OnDdsListener& operator=(const OnDdsListener&) = delete;
+
+ private:
+  bool was_;
+};
+
 inline Reply make_reply(Code code, std::string message) {
   Reply reply;
   reply.code = code;
@@ -99,6 +119,7 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   [[nodiscard]] const std::string& client_id() const { return client_id_; }
   /// No command request writer or no reply reader: commands end DENIED.
   [[nodiscard]] bool read_only() const { return !can_command_; }
+  [[nodiscard]] CommandTraffic command_traffic() const;
   [[nodiscard]] const ClientOptions& options() const { return options_; }
   [[nodiscard]] std::chrono::milliseconds effective(Timeout timeout) const {
     return timeout > Timeout::zero() ? timeout : options_.default_timeout;
@@ -181,6 +202,9 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   // Pending calls (pending_calls.cpp).
   void io_loop();
   void write_requests_locked(std::unique_lock<std::mutex>& lock);
+  /// Writes one pending request (`mutex_` not held; writes_in_flight_ counts
+  /// it); ends the call if the write fails.
+  void write_request(std::uint64_t seq, const msg::CommandRequest& request);
   void run(Actions& actions);
   [[nodiscard]] Reply expired_locked(const Pending& pending) const;
   // Following services (service_tracker.cpp).
@@ -217,6 +241,11 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   std::condition_variable io_wake_;  ///< new request to write, new deadline, closing
   bool closed_ = false;
   bool io_kick_ = false;  ///< a new deadline for the io thread to see
+  /// When the io thread will wake next on its own (max: only when kicked).
+  Clock::time_point io_wake_at_ = Clock::time_point::max();
+  /// Requests being written now, by callers or the io thread.
+  int writes_in_flight_ = 0;
+  std::condition_variable writes_done_;
   std::uint64_t last_seq_ = 0;
   std::map<std::uint64_t, Pending> pending_;
   std::deque<std::uint64_t> to_write_;               ///< request_seqs for the io thread
@@ -228,6 +257,10 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   std::map<HandAddress, HandStatus> statuses_;
   std::vector<std::shared_ptr<SubscriptionState>> event_subs_;
   std::vector<std::shared_ptr<SubscriptionState>> status_subs_;
+
+  std::atomic<std::uint64_t> requests_written_{0};
+  std::atomic<std::uint64_t> own_replies_{0};
+  std::atomic<std::uint64_t> foreign_replies_taken_{0};  ///< got past the reply filter
 
   Dispatcher dispatcher_;
   std::thread io_thread_;

@@ -31,7 +31,8 @@ fdds::StatusMask data_and_matches() {
 
 }  // namespace
 
-void ClientCore::Dds::create_command_endpoints(const EndpointCreator& creator) {
+void ClientCore::Dds::create_command_endpoints(const EndpointCreator& creator,
+                                               const std::string& client_id) {
   using contract::TopicRole;
   const contract::Topics& topics = participant->topics();
   // The command endpoints first, each right after the other: the service
@@ -42,8 +43,15 @@ void ClientCore::Dds::create_command_endpoints(const EndpointCreator& creator) {
       creator.create_writer(ClientEndpoint::request_writer, participant->publisher(),
                             topics.request, contract::writer_qos(TopicRole::request),
                             &request_listener, fdds::StatusMask::publication_matched());
+  // Only our replies: the service's writer sends each client its own (see
+  // dh3_reply_filter.hpp), instead of every client taking every reply.
+  // Should Fast DDS refuse the filtered topic, the plain one still works:
+  // on_reply() keeps only our client_id.
+  fdds::TopicDescription* own_replies =
+      contract::create_own_replies_topic(participant->participant(), topics.reply, client_id);
+  if (own_replies == nullptr) own_replies = topics.reply;
   reply_reader = creator.create_reader(ClientEndpoint::reply_reader, participant->subscriber(),
-                                       topics.reply, contract::reader_qos(TopicRole::reply),
+                                       own_replies, contract::reader_qos(TopicRole::reply),
                                        &reader_listener, data_and_matches());
 }
 
@@ -74,7 +82,7 @@ Result<void, std::string> ClientCore::set_up_dds(const EndpointCreator& creator)
   // client, not a failure.
   const bool access_control = creator.access_control(*dds_->participant);
   client_id_ = dds_->participant->client_id();
-  dds_->create_command_endpoints(creator);
+  dds_->create_command_endpoints(creator, client_id_);
   // Every identity must read statuses and events; a refused command endpoint
   // above is a read-only client (below).
   dds_->create_watch_endpoints(creator);

@@ -59,7 +59,7 @@ class EndpointCreator {
   }
   [[nodiscard]] virtual fdds::DataReader* create_reader(ClientEndpoint /*which*/,
                                                         fdds::Subscriber& subscriber,
-                                                        fdds::Topic* topic,
+                                                        fdds::TopicDescription* topic,
                                                         const fdds::DataReaderQos& qos,
                                                         fdds::DataReaderListener* listener,
                                                         const fdds::StatusMask& mask) const {
@@ -78,6 +78,7 @@ struct ClientCore::Dds {
     explicit ParticipantListener(ClientCore& core) : core_(core) {}
     void on_participant_discovery(fdds::DomainParticipant* /*participant*/,
                                   frtps::ParticipantDiscoveryInfo&& info) override {
+      const OnDdsListener on_listener;
       using Status = frtps::ParticipantDiscoveryInfo;
       const std::string prefix = contract::client_id_for(info.info.m_guid.guidPrefix);
       if (info.status == Status::DISCOVERED_PARTICIPANT) {
@@ -97,6 +98,7 @@ struct ClientCore::Dds {
     explicit RequestWriterListener(ClientCore& core) : core_(core) {}
     void on_publication_matched(fdds::DataWriter* /*writer*/,
                                 const fdds::PublicationMatchedStatus& status) override {
+      const OnDdsListener on_listener;
       core_.on_request_reader_matched(prefix_of(status.last_subscription_handle),
                                       status.current_count_change > 0);
     }
@@ -112,8 +114,9 @@ struct ClientCore::Dds {
    public:
     explicit ReaderListener(ClientCore& core) : core_(core) {}
     void on_data_available(fdds::DataReader* reader) override {
+      const OnDdsListener on_listener;
       const std::string& topic = reader->get_topicdescription()->get_name();
-      if (topic == topics::COMMAND_REPLY) {
+      if (topic == own_replies_topic_ || topic == topics::COMMAND_REPLY) {
         take<msg::CommandReply>(
             reader, [this](const msg::CommandReply& r, const std::string&) { core_.on_reply(r); });
       } else if (topic == topics::HAND_STATUS) {
@@ -132,9 +135,10 @@ struct ClientCore::Dds {
     }
     void on_subscription_matched(fdds::DataReader* reader,
                                  const fdds::SubscriptionMatchedStatus& status) override {
+      const OnDdsListener on_listener;
       const std::string& topic = reader->get_topicdescription()->get_name();
       const bool matched = status.current_count_change > 0;
-      if (topic == topics::COMMAND_REPLY) {
+      if (topic == own_replies_topic_ || topic == topics::COMMAND_REPLY) {
         core_.on_reply_writer_matched(prefix_of(status.last_publication_handle), matched);
       } else if (topic == topics::HAND_EVENT) {
         core_.on_event_writer_matched(prefix_of(status.last_publication_handle), matched);
@@ -152,6 +156,7 @@ struct ClientCore::Dds {
       }
     }
     ClientCore& core_;
+    const std::string own_replies_topic_ = contract::own_replies_topic_name();
   };
 
   explicit Dds(ClientCore& core)
@@ -160,8 +165,9 @@ struct ClientCore::Dds {
   Dds(const Dds&) = delete;
   Dds& operator=(const Dds&) = delete;
 
-  /// The request writer and reply reader; nullptr where refused.
-  void create_command_endpoints(const EndpointCreator& creator);
+  /// The request writer and the reply reader (on the reply topic filtered to
+  /// `client_id`'s replies); nullptr where refused.
+  void create_command_endpoints(const EndpointCreator& creator, const std::string& client_id);
   /// The status, event and service info readers; nullptr where refused.
   void create_watch_endpoints(const EndpointCreator& creator);
 

@@ -30,6 +30,10 @@ void ClientCore::call(const HandAddress& hand, msg::CommandType command, std::in
     done(std::move(checked).error());
     return;
   }
+  std::uint64_t seq = 0;
+  bool write_now = false;
+  bool kick = false;
+  msg::CommandRequest to_send;
   {
     std::unique_lock lock(mutex_);
     if (closed_) {
@@ -42,7 +46,7 @@ void ClientCore::call(const HandAddress& hand, msg::CommandType command, std::in
       done(make_reply(Code::denied, denied_message_));
       return;
     }
-    const std::uint64_t seq = ++last_seq_;
+    seq = ++last_seq_;
     request.client_id(client_id_);
     request.request_seq(seq);
     Pending pending;
@@ -53,12 +57,43 @@ void ClientCore::call(const HandAddress& hand, msg::CommandType command, std::in
     pending.done = std::move(done);
     if (ready_locked(hand.service)) {
       pending.sent_to = services_.find(hand.service)->second.incarnation;
-      to_write_.push_back(seq);
+      // Written here, without waking the io thread, unless that could let it
+      // overtake a request written or queued before it.
+      if (to_write_.empty() && writes_in_flight_ == 0 && !t_on_dds_listener) {
+        write_now = true;
+        ++writes_in_flight_;
+        to_send = pending.request;
+      } else {
+        to_write_.push_back(seq);
+        kick = true;
+      }
     }
+    // The io thread must see this deadline if it comes before its next wake.
+    if (pending.deadline < io_wake_at_) kick = true;
+    if (kick) io_kick_ = true;
     pending_.emplace(seq, std::move(pending));
-    io_kick_ = true;  // its deadline may be the earliest now
   }
-  io_wake_.notify_all();
+  if (kick) io_wake_.notify_all();
+  if (write_now) write_request(seq, to_send);
+}
+
+void ClientCore::write_request(std::uint64_t seq, const msg::CommandRequest& request) {
+  // DataWriter::write takes a non-const sample.
+  msg::CommandRequest sample = request;
+  const bool written = dds_->request_writer->write(&sample);
+  Done failed;
+  {
+    std::lock_guard lock(mutex_);
+    --writes_in_flight_;
+    if (written) {
+      requests_written_.fetch_add(1, std::memory_order_relaxed);
+    } else if (const auto it = pending_.find(seq); it != pending_.end()) {
+      failed = std::move(it->second.done);
+      pending_.erase(it);
+    }
+  }
+  writes_done_.notify_all();
+  if (failed) failed(make_reply(Code::not_connected, "could not publish the request"));
 }
 
 std::future<Reply> ClientCore::call(const HandAddress& hand, msg::CommandType command,
@@ -79,19 +114,11 @@ void ClientCore::write_requests_locked(std::unique_lock<std::mutex>& lock) {
     // Ended meanwhile (service lost, reply, deadline): never send it, so a
     // command the caller was told failed does not run after all.
     if (it == pending_.end()) continue;
-    msg::CommandRequest request = it->second.request;
+    const msg::CommandRequest request = it->second.request;
+    ++writes_in_flight_;
     lock.unlock();
-    const bool written = dds_->request_writer->write(&request);
+    write_request(seq, request);
     lock.lock();
-    if (!written) {
-      if (const auto again = pending_.find(seq); again != pending_.end()) {
-        auto done = std::move(again->second.done);
-        pending_.erase(again);
-        lock.unlock();
-        done(make_reply(Code::not_connected, "could not publish the request"));
-        lock.lock();
-      }
-    }
   }
 }
 
@@ -122,6 +149,7 @@ void ClientCore::io_loop() {
       continue;  // state may have changed while unlocked
     }
     io_kick_ = false;
+    io_wake_at_ = next;
     const auto wake = [this] { return closed_ || io_kick_ || !to_write_.empty(); };
     if (next == Clock::time_point::max()) {
       io_wake_.wait(lock, wake);
@@ -158,10 +186,26 @@ void ClientCore::run(Actions& actions) {
   if (actions.wake_io) io_wake_.notify_all();
 }
 
+CommandTraffic ClientCore::command_traffic() const {
+  CommandTraffic traffic;
+  traffic.requests_written = requests_written_.load(std::memory_order_relaxed);
+  traffic.own_replies = own_replies_.load(std::memory_order_relaxed);
+  traffic.foreign_replies = foreign_replies_taken_.load(std::memory_order_relaxed);
+  if (dds_ != nullptr && dds_->participant != nullptr) {
+    traffic.foreign_replies +=
+        dds_->participant->reply_filter_counts().rejected.load(std::memory_order_relaxed);
+  }
+  return traffic;
+}
+
 void ClientCore::on_reply(const msg::CommandReply& reply) {
-  // Every client reads every reply on the topic: only our own client_id and a
-  // request we are waiting for resolve anything.
-  if (reply.client_id() != client_id_) return;
+  // The reply reader's filter keeps our client_id; checked again in case
+  // Fast DDS refused the filtered topic and we read the plain one.
+  if (reply.client_id() != client_id_) {
+    foreign_replies_taken_.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  own_replies_.fetch_add(1, std::memory_order_relaxed);
   Done done;
   {
     std::lock_guard lock(mutex_);

@@ -23,13 +23,18 @@
 // sample's take to its frame on the bus, and from the echo's arrival to the
 // reply's write() call and return.
 //
-//   bench_round_trip [--count N] [--json FILE]
+//   bench_round_trip [--count N] [--runs R] [--json FILE]
+// With --runs, the round trips are measured R times (the service overhead
+// once): each run's table and ratios, then per row the median ratio over the
+// runs and how many runs met the goal (p50 at most 1.25 and p99 at most 1.5
+// times raw's).
 //   bench_round_trip --role responder --domain D [--udp-only] [--hop]  (internal)
 //   bench_round_trip --role client --domain D --service NAME --count N --command read|write
 //                                                                      (internal)
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <condition_variable>
 #include <cstdio>
 #include <cstring>
@@ -44,6 +49,7 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -563,8 +569,20 @@ void print_percentiles(const char* name, const Percentiles& p) {
   std::printf("%-36s %9.1f %9.1f %9.1f %9.1f\n", name, p.p50, p.p90, p.p99, p.max);
 }
 
-int run_benchmark(int count, const std::string& json_path) {
-  const int domain = bench::bench_domain();
+/// The goal of issue 15: dh3's round trip at most this many times raw's.
+constexpr double kGoalP50 = 1.25;
+constexpr double kGoalP99 = 1.5;
+
+struct Ratio {
+  std::string transport;
+  std::string path;
+  double p50 = 0;
+  double p99 = 0;
+  [[nodiscard]] bool met() const { return p50 <= kGoalP50 && p99 <= kGoalP99; }
+};
+
+/// One run: dh3 read and write, raw and raw+hop, on shm and UDP.
+std::vector<Row> measure_rows(int domain, int count) {
   std::vector<Row> rows;
   for (const bool udp_only : {false, true}) {
     const std::string transport = udp_only ? "udp" : "shm";
@@ -579,15 +597,32 @@ int run_benchmark(int count, const std::string& json_path) {
     rows.push_back(make_row(transport, "raw", raw_round_trips(domain, udp_only, count, false)));
     rows.push_back(make_row(transport, "raw+hop", raw_round_trips(domain, udp_only, count, true)));
   }
-  std::vector<Overhead> overheads;
-  for (const Command command : {Command::read, Command::write}) {
-    if (auto overhead = service_overhead(domain, count, command)) overheads.push_back(*overhead);
-  }
+  return rows;
+}
 
-  std::printf(
-      "Command round trip: client -> dh3-service -> sim hand answering at once -> client, "
-      "vs raw Fast DDS ping-pong; %d commands each, microseconds\n",
-      count);
+/// Every row but raw against the raw row of its transport.
+std::vector<Ratio> ratios_of(const std::vector<Row>& rows) {
+  std::vector<Ratio> ratios;
+  for (const Row& r : rows) {
+    if (r.path == "raw") continue;  // raw+hop shows what one thread hand-off adds
+    const auto raw = std::find_if(rows.begin(), rows.end(), [&](const Row& other) {
+      return other.transport == r.transport && other.path == "raw";
+    });
+    if (raw == rows.end() || raw->latency.p50 <= 0 || raw->latency.p99 <= 0) continue;
+    ratios.push_back(Ratio{r.transport, r.path, r.latency.p50 / raw->latency.p50,
+                           r.latency.p99 / raw->latency.p99});
+  }
+  return ratios;
+}
+
+double load_average() {
+  std::ifstream in("/proc/loadavg");
+  double one_minute = 0;
+  in >> one_minute;
+  return one_minute;
+}
+
+void print_rows(const std::vector<Row>& rows) {
   std::printf("%-5s %-9s %8s %9s %9s %9s %9s %7s %7s %7s %7s %7s\n", "trans", "path", "count",
               "p50", "p90", "p99", "max", "failed", "cs/req", "cs/rsp", "cpu/req", "cpu/rsp");
   for (const Row& r : rows) {
@@ -596,26 +631,90 @@ int run_benchmark(int count, const std::string& json_path) {
                 r.latency.p99, r.latency.max, r.failed, r.requester_switches, r.responder_switches,
                 r.requester_cpu_us, r.responder_cpu_us);
   }
-  std::printf(
-      "(per command, of the requesting process and of the responding one, dh3-service or the raw\n"
-      " echo: cs = context switches of all their threads, cpu = user + system CPU microseconds)\n");
-  std::printf("%-5s %-9s %12s %12s %8s\n", "trans", "path", "/raw p50", "/raw p99", "target <1.5");
+}
+
+void print_ratios(const std::vector<Ratio>& ratios) {
+  std::printf("%-5s %-9s %12s %12s   goal p50<=%.2f p99<=%.2f\n", "trans", "path", "/raw p50",
+              "/raw p99", kGoalP50, kGoalP99);
+  for (const Ratio& r : ratios) {
+    std::printf("%-5s %-9s %12.2f %12.2f   %s\n", r.transport.c_str(), r.path.c_str(), r.p50, r.p99,
+                r.met() ? "met" : "not met");
+  }
+}
+
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  if (n == 0) return 0;
+  return n % 2 == 1 ? values[n / 2] : (values[n / 2 - 1] + values[n / 2]) / 2;
+}
+
+int run_benchmark(int count, int runs, const std::string& json_path) {
+  const int domain = bench::bench_domain();
+  std::vector<std::vector<Row>> all_rows;
+  std::vector<std::vector<Ratio>> all_ratios;
+  std::vector<double> loads;
+  for (int run = 1; run <= runs; ++run) {
+    all_rows.push_back(measure_rows(domain, count));
+    all_ratios.push_back(ratios_of(all_rows.back()));
+    loads.push_back(load_average());
+    std::printf(
+        "Run %d of %d. Command round trip: client -> dh3-service -> sim hand answering at once -> "
+        "client, vs raw Fast DDS ping-pong; %d commands each, microseconds; load average %.2f\n",
+        run, runs, count, loads.back());
+    print_rows(all_rows.back());
+    std::printf(
+        "(per command, of the requesting process and of the responding one, dh3-service or the "
+        "raw\n echo: cs = context switches of all their threads, cpu = user + system CPU "
+        "microseconds)\n");
+    print_ratios(all_ratios.back());
+    std::printf("\n");
+    std::fflush(stdout);
+  }
+  // The verdict: per row, the median of the runs' ratios, and how many runs met the goal.
+  std::vector<Ratio> medians;
+  std::vector<int> met_runs;
+  for (std::size_t i = 0; i < all_ratios.front().size(); ++i) {
+    std::vector<double> p50s, p99s;
+    int met = 0;
+    for (const auto& ratios : all_ratios) {
+      if (i >= ratios.size()) continue;
+      p50s.push_back(ratios[i].p50);
+      p99s.push_back(ratios[i].p99);
+      met += ratios[i].met() ? 1 : 0;
+    }
+    const Ratio& first = all_ratios.front()[i];
+    medians.push_back(Ratio{first.transport, first.path, median(p50s), median(p99s)});
+    met_runs.push_back(met);
+  }
+  if (runs > 1) {
+    std::printf("Median of %d runs (load average %.2f-%.2f)\n", runs,
+                *std::min_element(loads.begin(), loads.end()),
+                *std::max_element(loads.begin(), loads.end()));
+    std::printf("%-5s %-9s %12s %12s %9s   goal p50<=%.2f p99<=%.2f\n", "trans", "path",
+                "median p50", "median p99", "runs met", kGoalP50, kGoalP99);
+    for (std::size_t i = 0; i < medians.size(); ++i) {
+      std::printf("%-5s %-9s %12.2f %12.2f %5d/%-3d   %s\n", medians[i].transport.c_str(),
+                  medians[i].path.c_str(), medians[i].p50, medians[i].p99, met_runs[i], runs,
+                  medians[i].met() ? "met" : "not met");
+    }
+  }
+  const std::vector<Row>& rows = all_rows.back();
   std::string ratios_json;
-  for (const Row& r : rows) {
-    if (r.path == "raw") continue;  // raw+hop shows what one thread hand-off adds
-    const auto raw = std::find_if(rows.begin(), rows.end(), [&](const Row& other) {
-      return other.transport == r.transport && other.path == "raw";
-    });
-    const double p50 = r.latency.p50 / raw->latency.p50;
-    const double p99 = r.latency.p99 / raw->latency.p99;
-    std::printf("%-5s %-9s %12.2f %12.2f %8s\n", r.transport.c_str(), r.path.c_str(), p50, p99,
-                p50 < 1.5 && p99 < 1.5 ? "met" : "not met");
-    char text[200];
+  for (std::size_t i = 0; i < medians.size(); ++i) {
+    char text[240];
     std::snprintf(text, sizeof text,
-                  "%s{\"transport\":\"%s\",\"path\":\"%s\",\"p50\":%.3f,\"p99\":%.3f}",
-                  ratios_json.empty() ? "" : ",", r.transport.c_str(), r.path.c_str(), p50, p99);
+                  "%s{\"transport\":\"%s\",\"path\":\"%s\",\"median_p50\":%.3f,"
+                  "\"median_p99\":%.3f,\"runs_met\":%d}",
+                  ratios_json.empty() ? "" : ",", medians[i].transport.c_str(),
+                  medians[i].path.c_str(), medians[i].p50, medians[i].p99, met_runs[i]);
     ratios_json += text;
   }
+  std::vector<Overhead> overheads;
+  for (const Command command : {Command::read, Command::write}) {
+    if (auto overhead = service_overhead(domain, count, command)) overheads.push_back(*overhead);
+  }
+
   for (const Overhead& o : overheads) {
     std::printf(
         "\nService overhead, dh3 %s (in-process timestamps, shm, %zu commands), microseconds\n",
@@ -633,7 +732,8 @@ int run_benchmark(int count, const std::string& json_path) {
       std::perror(json_path.c_str());
       return 1;
     }
-    std::fprintf(f, "{\"benchmark\":\"round_trip\",\"count\":%d,\"rows\":[", count);
+    std::fprintf(f, "{\"benchmark\":\"round_trip\",\"count\":%d,\"runs\":%d,\"rows\":[", count,
+                 runs);
     for (std::size_t i = 0; i < rows.size(); ++i) {
       std::fprintf(f,
                    "%s{\"transport\":\"%s\",\"path\":\"%s\",\"failed\":%d,\"requester_switches\":"
@@ -672,10 +772,14 @@ int main(int argc, char** argv) {
   bench::CommonOptions common;
   bench::add_common_options(app, common);
   int count = 10'000;
+  int runs = 1;
   bool udp_only = false;
   bool hop = false;
   Command command = Command::read;
   app.add_option("--count", count, "Timed commands per row")->capture_default_str();
+  app.add_option("--runs", runs, "Repeat the round trips; print each run and the median ratios")
+      ->check(CLI::Range(1, 100))
+      ->capture_default_str();
   app.add_option("--command", command, "(client role) read or write")
       ->transform(CLI::CheckedTransformer(
           std::map<std::string, Command>{{"read", Command::read}, {"write", Command::write}}));
@@ -690,5 +794,5 @@ int main(int argc, char** argv) {
     std::printf("done %zu ok, %d failed\n", measured.micros.size(), measured.failed);
     return 0;
   }
-  return run_benchmark(count, json_path);
+  return run_benchmark(count, runs, json_path);
 }

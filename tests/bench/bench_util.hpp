@@ -169,9 +169,11 @@ inline std::string hand_ids(int count) {
 /// `domain` under `name`; stopped with SIGTERM when this object goes away.
 class ServiceChild {
  public:
-  ServiceChild(const std::string& config_yaml, int domain, const std::string& name, bool udp_only)
+  /// `binary`: another dh3-service build to run (e.g. an older one, to compare).
+  ServiceChild(const std::string& config_yaml, int domain, const std::string& name, bool udp_only,
+               const std::string& binary = DH3_SERVICE_PATH)
       : config_(config_yaml),
-        process_(DH3_SERVICE_PATH, args(domain, name, udp_only), test::Process::Stdin::dev_null) {}
+        process_(binary, args(domain, name, udp_only), test::Process::Stdin::dev_null) {}
   ~ServiceChild() { stop(); }
   ServiceChild(const ServiceChild&) = delete;
   ServiceChild& operator=(const ServiceChild&) = delete;

@@ -10,11 +10,12 @@ out=${BENCH_OUT:-$build/bench}
 deploy/install-deps.sh
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 cmake --build "$build" -j "${JOBS:-2}" --target bench_bus_efficiency bench_round_trip \
-  bench_status_fanout bench_footprint bench_event_latency
+  bench_status_fanout bench_footprint bench_event_latency bench_cell
 mkdir -p "$out"
 bench="$build/tests/bench"
-# 1 and 2: round trip vs raw Fast DDS (shm and UDP), service overhead (~1.5 min).
-"$bench/bench_round_trip" --count 10000 --json "$out/round_trip.json"
+# 1 and 2: round trip vs raw Fast DDS (shm and UDP), five runs and their median
+# ratios, service overhead (~4 min).
+"$bench/bench_round_trip" --count 5000 --runs 5 --json "$out/round_trip.json"
 echo
 # 3: bus efficiency (simulated time, ~30 s).
 "$bench/bench_bus_efficiency" --seconds 5 --json "$out/bus_efficiency.json"
@@ -25,6 +26,9 @@ echo
 # 5: footprint with 1, 32 and 255 hands (~50 s; CPU time has 10 ms ticks).
 "$bench/bench_footprint" --warmup 3 --seconds 10 --json "$out/footprint.json"
 echo
-# 6: event latency, simulated change to the event at a client process (~2 min).
+# 7: event latency, simulated change to the event at a client process (~2 min).
 "$bench/bench_event_latency" --cycles 20 --many-cycles 40 --json "$out/event_latency.json"
+echo
+# 8: a cell of 1, 4 and 16 client processes commanding at once (~1 min).
+"$bench/bench_cell" --count 1000 --json "$out/cell.json"
 echo "JSON written to $out/"

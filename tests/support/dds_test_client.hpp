@@ -49,7 +49,14 @@ class DdsTestClient {
  public:
   using HandKey = std::tuple<std::string, std::string, std::uint16_t>;
 
-  explicit DdsTestClient(int domain, const std::string& name = "dh3-test") {
+  /// Which replies a client's reply reader asks for.
+  enum class Replies {
+    all,  ///< the plain reply topic, as a participant of another vendor reads it
+    own,  ///< the reply topic filtered to this client_id, as the client library reads it
+  };
+
+  explicit DdsTestClient(int domain, const std::string& name = "dh3-test",
+                         Replies replies = Replies::all) {
     namespace fdds = eprosima::fastdds::dds;
     contract::ParticipantOptions options;
     options.name = name;
@@ -64,12 +71,19 @@ class DdsTestClient {
     request_writer_ = publisher.create_datawriter(contract_topics.request,
                                                   contract::writer_qos(TopicRole::request));
     const auto mask = fdds::StatusMask::data_available();
-    subscriber.create_datareader(contract_topics.reply, contract::reader_qos(TopicRole::reply),
-                                 &listener_, mask);
+    fdds::TopicDescription* reply_topic = contract_topics.reply;
+    if (replies == Replies::own) {
+      reply_topic = contract::create_own_replies_topic(participant_->participant(),
+                                                       contract_topics.reply, client_id_);
+    }
+    if (reply_topic != nullptr) {
+      subscriber.create_datareader(reply_topic, contract::reader_qos(TopicRole::reply), &listener_,
+                                   mask);
+    }
     subscriber.create_datareader(contract_topics.status,
                                  contract::reader_qos(TopicRole::hand_status), &listener_, mask);
-    subscriber.create_datareader(contract_topics.event,
-                                 contract::reader_qos(TopicRole::hand_event), &listener_, mask);
+    subscriber.create_datareader(contract_topics.event, contract::reader_qos(TopicRole::hand_event),
+                                 &listener_, mask);
     subscriber.create_datareader(contract_topics.info,
                                  contract::reader_qos(TopicRole::service_info), &listener_, mask);
   }
@@ -148,6 +162,46 @@ class DdsTestClient {
     std::lock_guard lock(mutex_);
     const auto it = replies_.find({client_id ? *client_id : client_id_, seq});
     return it == replies_.end() ? 0 : it->second.size();
+  }
+
+  /// How many replies arrived carrying `client_id` (any request).
+  std::size_t replies_to(const std::string& client_id) {
+    std::lock_guard lock(mutex_);
+    std::size_t count = 0;
+    for (const auto& [key, replies] : replies_) {
+      if (key.first == client_id) count += replies.size();
+    }
+    return count;
+  }
+
+  /// Waits until `count` replies carrying `client_id` arrived.
+  bool wait_replies_to(const std::string& client_id, std::size_t count,
+                       std::chrono::milliseconds timeout = kDdsDeadline) {
+    return wait_until(
+        [&] {
+          std::size_t seen = 0;
+          for (const auto& [key, replies] : replies_) {
+            if (key.first == client_id) seen += replies.size();
+          }
+          return seen >= count;
+        },
+        timeout);
+  }
+
+  /// Replies that arrived carrying another client_id than this client's.
+  std::size_t foreign_replies() {
+    std::lock_guard lock(mutex_);
+    std::size_t count = 0;
+    for (const auto& [key, replies] : replies_) {
+      if (key.first != client_id_) count += replies.size();
+    }
+    return count;
+  }
+
+  /// What this participant's reply filters decided (Replies::own): a rejected
+  /// reply reached this process although it was another client's.
+  [[nodiscard]] const contract::ReplyFilterCounts& reply_filter_counts() const {
+    return participant_->reply_filter_counts();
   }
 
   /// Every reply that arrived for a request, in arrival order.

@@ -20,6 +20,12 @@
 // order samples arrived; they may call into the client (even blocking calls,
 // which only delay later callbacks).
 //
+// When the reply to a command that changed the hand's state (a force, a
+// position reached, a lease) arrives, this client's cached status of that hand
+// (Hand::status(), Client::status()) already shows the change: the service
+// publishes the status before it replies, and the client takes both in the
+// order they arrived.
+//
 // When a service leaves the domain (stopped, killed, network lost) its pending
 // calls end with SERVICE_LOST and its hands are reported offline; calls made
 // while it is away wait (within their timeout) for it to return. When it comes
@@ -186,6 +192,19 @@ class DH3_CLIENT_API Hand {
   HandAddress address_;
 };
 
+/// What reached this client over DDS for its commands, since it was created
+/// (diagnostics and benchmarks).
+struct CommandTraffic {
+  std::uint64_t requests_written = 0;
+  /// Replies carrying this client's id.
+  std::uint64_t own_replies = 0;
+  /// Replies to other clients that reached this client and were dropped here.
+  /// A dh3 service sends each dh3 client only its own replies, so this stays
+  /// 0, but for the replies the service still keeps from before this client
+  /// joined (at most the reply topic's history, 64), which reach it once.
+  std::uint64_t foreign_replies = 0;
+};
+
 class DH3_CLIENT_API Client {
  public:
   /// Joins the DDS domain. Never throws: check connected() and error().
@@ -208,6 +227,7 @@ class DH3_CLIENT_API Client {
   [[nodiscard]] std::string client_id() const;
   [[nodiscard]] int domain() const;
   [[nodiscard]] std::chrono::milliseconds default_timeout() const;
+  [[nodiscard]] CommandTraffic command_traffic() const;
 
   /// Every service seen on the domain, by name (ready says which are here now).
   [[nodiscard]] std::vector<ServiceInfo> services() const;

@@ -208,8 +208,8 @@ TEST_F(ClientLibraryTest, TwoThreadsDriveTwoHandsAtOnce) {
 }
 
 TEST_F(ClientLibraryTest, OneClientsRepliesNeverResolveAnothersCalls) {
-  // Two clients number their requests alike, and every reply goes to every
-  // client: each must get only its own answers.
+  // Two clients number their requests alike: each must get only its own
+  // answers.
   Client other(client_options());
   ASSERT_TRUE(other.wait_for_service(test_service_name(), kClientDeadline));
   Hand mine = hand(1);
@@ -229,6 +229,53 @@ TEST_F(ClientLibraryTest, OneClientsRepliesNeverResolveAnothersCalls) {
   }
   reader.join();
   EXPECT_EQ(wrong, 0);
+}
+
+TEST_F(ClientLibraryTest, EachClientReceivesOnlyTheRepliesToItsOwnRequests) {
+  // With N clients commanding, a client that received every reply would take
+  // N times the replies it needs. The service sends each client its own; a
+  // reader of the plain topic (another vendor's participant) still gets all.
+  Client other(client_options());
+  ASSERT_TRUE(other.wait_for_service(test_service_name(), kClientDeadline));
+  DdsTestClient plain(test_domain(), "dh3-plain-reader");
+  ASSERT_TRUE(plain.ok());
+  ASSERT_TRUE(plain.wait_for_service(test_service_name()));
+  const auto before_mine = client_.command_traffic();
+  const auto before_theirs = other.command_traffic();
+  Hand mine = hand(1);
+  Hand theirs = other.hand(hand_address(2));
+  constexpr int kCommands = 20;
+  std::thread reader([&] {
+    for (int i = 0; i < kCommands; ++i) EXPECT_TRUE(theirs.read(reg::closing_force));
+  });
+  for (int i = 0; i < kCommands; ++i) EXPECT_TRUE(mine.read(reg::closing_force));
+  reader.join();
+  const auto after_mine = client_.command_traffic();
+  const auto after_theirs = other.command_traffic();
+  EXPECT_EQ(after_mine.requests_written - before_mine.requests_written, kCommands);
+  EXPECT_EQ(after_mine.own_replies - before_mine.own_replies, kCommands);
+  EXPECT_EQ(after_mine.foreign_replies - before_mine.foreign_replies, 0U);
+  EXPECT_EQ(after_theirs.own_replies - before_theirs.own_replies, kCommands);
+  EXPECT_EQ(after_theirs.foreign_replies - before_theirs.foreign_replies, 0U);
+  // The plain reader gets both clients' replies (the last ones may still be
+  // on their way to it).
+  EXPECT_TRUE(plain.wait_replies_to(client_.client_id(), kCommands))
+      << plain.replies_to(client_.client_id());
+  EXPECT_TRUE(plain.wait_replies_to(other.client_id(), kCommands))
+      << plain.replies_to(other.client_id());
+}
+
+TEST_F(ClientLibraryTest, WhenAStateChangingReplyArrivesTheCachedStatusAlreadyShowsIt) {
+  // The guarantee client.hpp states: no wait_until() needed after the reply.
+  Hand mine = hand(1);
+  ASSERT_TRUE(mine.initialize());
+  for (int i = 0; i < 30; ++i) {
+    const std::int32_t force = i % 2 == 0 ? 50 : 60;
+    ASSERT_TRUE(mine.set_force(force));
+    const auto status = mine.status();
+    ASSERT_TRUE(status.has_value());
+    EXPECT_EQ(status->closing_force, force) << "after set_force number " << i;
+  }
 }
 
 TEST_F(ClientLibraryTest, ALeaseHolderKeepsOtherClientsOut) {

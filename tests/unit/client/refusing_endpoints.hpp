@@ -28,7 +28,7 @@ class RefusingEndpoints final : public detail::EndpointCreator {
   }
   [[nodiscard]] detail::fdds::DataReader* create_reader(
       detail::ClientEndpoint which, detail::fdds::Subscriber& subscriber,
-      detail::fdds::Topic* topic, const detail::fdds::DataReaderQos& qos,
+      detail::fdds::TopicDescription* topic, const detail::fdds::DataReaderQos& qos,
       detail::fdds::DataReaderListener* listener,
       const detail::fdds::StatusMask& mask) const override {
     if (refused_.count(which) > 0) return nullptr;
