@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "common/result.hpp"
 #include "dh3_idl/dh3.h"
 #include "dh3_names.hpp"
 
@@ -46,16 +47,14 @@ inline std::optional<ValueRange> value_range(msg::CommandType command) {
   }
 }
 
-/// "MOVE value 150 is out of range for position (...) (0-100)", or nullopt
-/// when the request's value is in range or ignored.
-inline std::optional<std::string> value_out_of_range(const msg::CommandRequest& request) {
+/// The request's value is in range or ignored; otherwise "MOVE value 150 is
+/// out of range for position (...) (0-100)".
+inline Result<void, std::string> check_value_range(const msg::CommandRequest& request) {
   const auto range = value_range(request.command());
-  if (!range || (request.value() >= range->min && request.value() <= range->max)) {
-    return std::nullopt;
-  }
-  return command_name(request.command()) + " value " + std::to_string(request.value()) +
-         " is out of range for " + range->what + " (" + std::to_string(range->min) + "-" +
-         std::to_string(range->max) + ")";
+  if (!range || (request.value() >= range->min && request.value() <= range->max)) return {};
+  return dh3::fail(command_name(request.command()) + " value " + std::to_string(request.value()) +
+                   " is out of range for " + range->what + " (" + std::to_string(range->min) + "-" +
+                   std::to_string(range->max) + ")");
 }
 
 }  // namespace dh3::contract

@@ -216,8 +216,8 @@ Result<void, Reply> check_request(const msg::CommandRequest& request) {
     return invalid(name + " needs a hand's CAN ID (" + std::to_string(limits::CAN_ID_MIN) + "-" +
                    std::to_string(limits::CAN_ID_MAX) + "), not " + std::to_string(hand.can_id()));
   }
-  if (auto out_of_range = contract::value_out_of_range(request)) {
-    return invalid(std::move(*out_of_range));
+  if (auto in_range = contract::check_value_range(request); !in_range) {
+    return invalid(std::move(in_range).error());
   }
   return {};
 }

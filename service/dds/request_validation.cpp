@@ -152,8 +152,8 @@ Checked check_request_values(const msg::CommandRequest& request) {
                         command_name(command) + " needs a hand's CAN ID (1-255)");
     }
   }
-  if (auto out_of_range = contract::value_out_of_range(request)) {
-    return reject(msg::INVALID_ARGUMENT, std::move(*out_of_range));
+  if (auto in_range = contract::check_value_range(request); !in_range) {
+    return reject(msg::INVALID_ARGUMENT, std::move(in_range).error());
   }
   if (command == msg::READ_REGISTER &&
       !protocol::is_known(protocol::Register::from_code(request.register_code()))) {
