@@ -101,8 +101,8 @@ struct ParticipantQos {
       return failed("DDS Security: no identity given for the security directory");
     }
     const auto files = security_files_in(options.security_dir, options.security_identity);
-    if (auto bad = check_security_files(files); !bad.empty()) {
-      return failed(bad + " (identity '" + options.security_identity + "' in '" +
+    if (auto readable = check_security_files(files); !readable) {
+      return failed(readable.error() + " (identity '" + options.security_identity + "' in '" +
                     options.security_dir + "')");
     }
     enable_security(qos, files);

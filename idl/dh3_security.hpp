@@ -3,7 +3,9 @@
 // dh3_security_files.hpp added to its QoS.
 //
 //   const auto files = dh3::contract::security_files_in(dir, "service");
-//   if (auto bad = dh3::contract::check_security_files(files); !bad.empty()) return fail(bad);
+//   if (auto readable = dh3::contract::check_security_files(files); !readable) {
+//     return fail(readable.error());
+//   }
 //   auto qos = dh3::contract::participant_qos(name, transport);
 //   dh3::contract::enable_security(qos, files);
 

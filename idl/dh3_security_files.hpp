@@ -27,6 +27,8 @@
 #include <utility>
 #include <vector>
 
+#include "common/result.hpp"
+
 namespace dh3::contract {
 
 struct SecurityFiles {
@@ -55,9 +57,9 @@ struct SecurityFiles {
                        (base / "governance.p7s").string(),  (own / "permissions.p7s").string()};
 }
 
-/// Empty when every file is named and readable; otherwise a message naming the
-/// first that is not (for a start-up error).
-[[nodiscard]] inline std::string check_security_files(const SecurityFiles& files) {
+/// Every file is named and readable; otherwise a message naming the first
+/// that is not (for a start-up error).
+[[nodiscard]] inline Result<void, std::string> check_security_files(const SecurityFiles& files) {
   const std::pair<const char*, const std::string*> all[] = {
       {"identity CA certificate", &files.identity_ca},
       {"identity certificate", &files.identity_certificate},
@@ -67,9 +69,9 @@ struct SecurityFiles {
       {"permissions document", &files.permissions},
   };
   for (const auto& [what, path] : all) {
-    if (path->empty()) return std::string("DDS Security: no ") + what + " given";
+    if (path->empty()) return dh3::fail(std::string("DDS Security: no ") + what + " given");
     if (::access(path->c_str(), R_OK) != 0) {
-      return std::string("DDS Security: cannot read the ") + what + " '" + *path + "'";
+      return dh3::fail(std::string("DDS Security: cannot read the ") + what + " '" + *path + "'");
     }
   }
   return {};

@@ -94,8 +94,8 @@ Checked check_identity(std::string_view identity) {
 Checked check_security(const std::string& dir, const std::string& identity) {
   if (dir.empty()) return fail(std::string("the security directory is empty"));
   if (auto checked = check_identity(identity); !checked) return checked;
-  auto bad = contract::check_security_files(contract::security_files_in(dir, identity));
-  if (!bad.empty()) return fail(bad + " (identity '" + identity + "' in '" + dir + "')");
+  auto readable = contract::check_security_files(contract::security_files_in(dir, identity));
+  if (!readable) return fail(readable.error() + " (identity '" + identity + "' in '" + dir + "')");
   return {};
 }
 

@@ -54,20 +54,24 @@ TEST_F(ContractSecurity, TheScriptsLayoutIsWhatTheHelperNames) {
   for (const std::string identity : {"service", "operator", "monitor"}) {
     const auto files = dh3::contract::security_files_in(dir_, identity);
     EXPECT_TRUE(files.wanted());
-    EXPECT_EQ(dh3::contract::check_security_files(files), "") << identity;
+    const auto readable = dh3::contract::check_security_files(files);
+    EXPECT_TRUE(readable.ok()) << identity << ": " << readable.error();
   }
 }
 
 TEST_F(ContractSecurity, AMissingFileIsNamed) {
   auto files = dh3::contract::security_files_in(dir_, "nobody");
-  const auto message = dh3::contract::check_security_files(files);
+  const auto missing = dh3::contract::check_security_files(files);
+  ASSERT_FALSE(missing.ok());
+  const auto& message = missing.error();
   EXPECT_NE(message.find("identity certificate"), std::string::npos) << message;
   EXPECT_NE(message.find("nobody/cert.pem"), std::string::npos) << message;
 
   files = dh3::contract::security_files_in(dir_, "service");
   files.governance.clear();
-  EXPECT_EQ(dh3::contract::check_security_files(files),
-            "DDS Security: no governance document given");
+  const auto no_governance = dh3::contract::check_security_files(files);
+  ASSERT_FALSE(no_governance.ok());
+  EXPECT_EQ(no_governance.error(), "DDS Security: no governance document given");
   EXPECT_FALSE(dh3::contract::SecurityFiles{}.wanted());
 }
 
