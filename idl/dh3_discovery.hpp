@@ -4,9 +4,9 @@
 // participant's QoS: it becomes a discovery CLIENT of each.
 //
 //   auto servers = dh3::contract::choose_discovery_servers(config.discovery_servers);
-//   if (!servers.ok()) return fail(servers.error);
+//   if (!servers) return fail(servers.error());
 //   auto qos = dh3::contract::participant_qos(name, transport);
-//   dh3::contract::use_discovery_servers(qos, servers.servers);
+//   dh3::contract::use_discovery_servers(qos, *servers);
 
 #include <fastdds/rtps/attributes/ServerAttributes.h>
 #include <fastdds/rtps/common/Locator.h>

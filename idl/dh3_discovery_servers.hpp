@@ -36,6 +36,8 @@
 #include <utility>
 #include <vector>
 
+#include "common/result.hpp"
+
 namespace dh3::contract {
 
 /// The port `fastdds discovery` listens on unless told otherwise.
@@ -54,14 +56,6 @@ struct DiscoveryServer {
     return address + ":" + std::to_string(port) + " (id " + std::to_string(id) + ")";
   }
   friend bool operator==(const DiscoveryServer&, const DiscoveryServer&) = default;
-};
-
-/// Servers, or what is wrong with the text they came from.
-struct DiscoveryServerList {
-  std::vector<DiscoveryServer> servers;
-  std::string error;  ///< empty when the list is usable; names the bad entry otherwise
-
-  [[nodiscard]] bool ok() const { return error.empty(); }
 };
 
 namespace detail {
@@ -98,17 +92,15 @@ inline bool is_host_name(std::string_view name) {
          std::string_view::npos;
 }
 
-/// One "HOST[:PORT]" entry for server `id`; false with `error` set if malformed.
-inline bool parse_server_entry(std::string_view entry, int id, DiscoveryServer& out,
-                               std::string& error) {
+/// One "HOST[:PORT]" entry for server `id`, or what is wrong with it.
+inline Result<DiscoveryServer, std::string> parse_server_entry(std::string_view entry, int id) {
   const std::string text(entry);
-  const auto fail = [&](const std::string& why) {
-    error = "discovery server '" + text + "': " + why;
-    return false;
+  const auto malformed = [&](const std::string& why) {
+    return dh3::fail("discovery server '" + text + "': " + why);
   };
   if (id > kMaxDiscoveryServerId) {
-    return fail("more than " + std::to_string(kMaxDiscoveryServerId + 1) +
-                " server positions (ids 0-" + std::to_string(kMaxDiscoveryServerId) + ")");
+    return malformed("more than " + std::to_string(kMaxDiscoveryServerId + 1) +
+                     " server positions (ids 0-" + std::to_string(kMaxDiscoveryServerId) + ")");
   }
   std::string_view address = entry;
   std::uint16_t port = kDefaultDiscoveryServerPort;
@@ -117,10 +109,10 @@ inline bool parse_server_entry(std::string_view entry, int id, DiscoveryServer& 
     const auto digits = entry.substr(colon + 1);
     if (digits.empty() || digits.size() > 5 ||
         digits.find_first_not_of("0123456789") != std::string_view::npos) {
-      return fail("the port must be a number, 1-65535");
+      return malformed("the port must be a number, 1-65535");
     }
     const long value = std::strtol(std::string(digits).c_str(), nullptr, 10);
-    if (value < 1 || value > 65535) return fail("the port must be a number, 1-65535");
+    if (value < 1 || value > 65535) return malformed("the port must be a number, 1-65535");
     port = static_cast<std::uint16_t>(value);
   }
   std::string ipv4(address);
@@ -129,33 +121,32 @@ inline bool parse_server_entry(std::string_view entry, int id, DiscoveryServer& 
     // Dotted digits that are no address are a typo, not a host name.
     if (!is_host_name(address) ||
         address.find_first_not_of("0123456789.") == std::string_view::npos) {
-      return fail("expected IPV4[:PORT] or HOST[:PORT], e.g. 192.168.1.10:11811");
+      return malformed("expected IPV4[:PORT] or HOST[:PORT], e.g. 192.168.1.10:11811");
     }
     ipv4 = resolve_ipv4(std::string(address));
-    if (ipv4.empty()) return fail("the host name has no IPv4 address");
+    if (ipv4.empty()) return malformed("the host name has no IPv4 address");
   }
-  out = DiscoveryServer{id, ipv4, port};
-  return true;
+  return DiscoveryServer{id, ipv4, port};
 }
 
 }  // namespace detail
+
+/// Servers, or what is wrong with the text they came from (naming the bad entry).
+using DiscoveryServerList = Result<std::vector<DiscoveryServer>, std::string>;
 
 /// Entries as a configuration or command line gives them: each "HOST[:PORT]",
 /// the n-th is server id n; an empty entry skips that id.
 [[nodiscard]] inline DiscoveryServerList discovery_servers_from_entries(
     const std::vector<std::string>& entries) {
-  DiscoveryServerList list;
+  std::vector<DiscoveryServer> servers;
   for (std::size_t i = 0; i < entries.size(); ++i) {
     const auto entry = detail::trim(entries[i]);
     if (entry.empty()) continue;
-    DiscoveryServer server;
-    if (!detail::parse_server_entry(entry, static_cast<int>(i), server, list.error)) {
-      list.servers.clear();
-      return list;
-    }
-    list.servers.push_back(std::move(server));
+    auto server = detail::parse_server_entry(entry, static_cast<int>(i));
+    if (!server) return dh3::fail(std::move(server).error());
+    servers.push_back(std::move(server).value());
   }
-  return list;
+  return servers;
 }
 
 /// ROS_DISCOVERY_SERVER syntax: entries separated by ';'.
@@ -174,9 +165,9 @@ inline bool parse_server_entry(std::string_view entry, int id, DiscoveryServer& 
 /// The servers ROS_DISCOVERY_SERVER names; an empty list when it is unset or blank.
 [[nodiscard]] inline DiscoveryServerList discovery_servers_from_environment() {
   const char* value = std::getenv(kDiscoveryServerEnv);
-  if (value == nullptr) return {};
+  if (value == nullptr) return std::vector<DiscoveryServer>{};
   auto list = parse_discovery_server_list(value);
-  if (!list.ok()) list.error = std::string(kDiscoveryServerEnv) + ": " + list.error;
+  if (!list) return dh3::fail(std::string(kDiscoveryServerEnv) + ": " + list.error());
   return list;
 }
 

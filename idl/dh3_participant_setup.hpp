@@ -84,11 +84,11 @@ struct ParticipantQos {
   const auto servers = options.xml_profile_file.empty()
                            ? choose_discovery_servers(options.discovery_servers)
                            : discovery_servers_from_entries(options.discovery_servers);
-  if (!servers.ok()) return failed(servers.error);
-  if (!use_discovery_servers(qos, servers.servers)) {
+  if (!servers) return failed(servers.error());
+  if (!use_discovery_servers(qos, *servers)) {
     return failed("cannot use the discovery servers given");
   }
-  for (const auto& server : servers.servers) {
+  for (const auto& server : *servers) {
     out.notes.push_back("discovery server " + server.to_string());
   }
   if (!options.security_dir.empty()) {

@@ -64,8 +64,8 @@ Checked check_interface(std::string_view address) {
 Checked check_discovery_server(std::string_view entry) {
   // One entry on its own: its position (the server id) cannot be wrong here,
   // only its text; empty entries are allowed (they skip an id).
-  const auto list = contract::discovery_servers_from_entries({std::string(entry)});
-  if (!list.ok()) return fail(list.error);
+  auto list = contract::discovery_servers_from_entries({std::string(entry)});
+  if (!list) return fail(std::move(list).error());
   return {};
 }
 
