@@ -30,6 +30,7 @@ import enum as _enum
 from ._dh3 import (
     BusInfo,
     Client,
+    CommandTraffic,
     Hand,
     HandAddress,
     HandEvent,
@@ -47,7 +48,7 @@ from ._dh3 import (
 from . import _dh3
 
 __all__ = [
-    "BusInfo", "Client", "Code", "Error", "EventKind", "GraspOutcome", "GripState", "Hand",
+    "BusInfo", "Client", "Code", "CommandTraffic", "Error", "EventKind", "GraspOutcome", "GripState", "Hand",
     "HandAddress", "HandEvent", "HandInfo", "HandStatus", "Reply", "RotationState",
     "ServiceInfo", "Subscription", "firmware_version_text", "parse_hand_address",
     "parse_register", "reg", "register_name",

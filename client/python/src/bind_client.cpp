@@ -105,6 +105,8 @@ void def_queries(py::class_<PyClient>& cls) {
   cls.def("read_only", without_gil(&dh3::Client::read_only),
           "True when DDS Security refused this client commands: every command ends DENIED.")
       .def("client_id", without_gil(&dh3::Client::client_id))
+      .def("command_traffic", without_gil(&dh3::Client::command_traffic),
+           "What reached this client over DDS for its commands, since it was created.")
       .def("domain", [](PyClient& c) { return c.client()->domain(); })
       .def(
           "default_timeout",

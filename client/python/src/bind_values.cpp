@@ -142,6 +142,13 @@ void bind_service_info(py::module_& m) {
       .def_readonly("spec", &dh3::BusInfo::spec, "E.g. \"tcp:127.0.0.1:9000\", \"sim:1,2,3\".")
       .def_readonly("link_up", &dh3::BusInfo::link_up)
       .def_readonly("hands", &dh3::BusInfo::hands);
+  py::class_<dh3::CommandTraffic>(m, "CommandTraffic",
+                                  "What reached this client over DDS for its commands.")
+      .def_readonly("requests_written", &dh3::CommandTraffic::requests_written)
+      .def_readonly("own_replies", &dh3::CommandTraffic::own_replies,
+                    "Replies carrying this client's id.")
+      .def_readonly("foreign_replies", &dh3::CommandTraffic::foreign_replies,
+                    "Replies to other clients that reached this client and were dropped.");
   py::class_<dh3::ServiceInfo>(m, "ServiceInfo")
       .def_readonly("name", &dh3::ServiceInfo::name)
       .def_readonly("version", &dh3::ServiceInfo::version)

@@ -37,6 +37,15 @@ def test_status_says_when_its_values_were_read(client):
     assert later is not None and later.position == first.position
 
 
+def test_command_traffic_counts_this_clients_requests_and_replies(client):
+    hand = client.wait_for_hand(spec(3), timeout=DEADLINE)
+    before = client.command_traffic()
+    assert hand.read(dh3.reg.position).ok
+    after = client.command_traffic()
+    assert after.requests_written == before.requests_written + 1
+    assert after.own_replies == before.own_replies + 1
+
+
 def test_initialize_move_grasp_release(client):
     one = client.wait_for_hand(spec(1), timeout=DEADLINE)
     reply = one.initialize()
