@@ -67,7 +67,7 @@ void check_accepted(const dh3::msg::CommandRequest& request, const dh3::dds::Val
       // What the DDS layer lets through, the hand layer queues.
       check(dh3::hand::validate(valid.can_id, valid.command, allow_admin).ok());
       if (valid.command.kind == dh3::hand::CommandKind::write_register) {
-        check(!dh3::protocol::check_write(valid.command.reg, valid.command.value));
+        check(dh3::protocol::check_write(valid.command.reg, valid.command.value).ok());
         check(allow_admin || !dh3::hand::is_admin_register(valid.command.reg));
       }
       break;
