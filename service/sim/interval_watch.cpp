@@ -2,10 +2,12 @@
 
 #include <spdlog/spdlog.h>
 
+#include "protocol/registers.hpp"
+
 namespace dh3::sim {
 
 bool IntervalWatch::note(std::uint8_t hand_id, Duration at, const protocol::Message& frame) {
-  if (!enabled()) return false;
+  if (!enabled() || !protocol::is_known(frame.reg) || frame.reserve != 0) return false;
   std::optional<Duration>& last = last_[hand_id];
   const std::optional<Duration> previous = last;
   last = at;

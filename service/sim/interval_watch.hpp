@@ -7,7 +7,10 @@
 // previous frame to the same hand is a violation, logged (one warning each) and
 // counted. A frame to ID 0 reaches every hand on the line (each hand's
 // controller accepts its own ID and 0, docs/protocol-notes.md reading 10), so it counts for
-// every hand present. Frames to IDs without a hand count for nobody.
+// every hand present. Frames to IDs without a hand count for nobody, and so do
+// frames no hand takes as a command (a register the document does not have, or
+// a reserve byte other than 00): another node's traffic on a shared CAN line is
+// not the service's to pace, and a hand does not act on it.
 //
 // Times are durations since an epoch the caller keeps fixed: the kernel's
 // receive timestamp on CAN (CLOCK_REALTIME), the steady clock's read time on

@@ -29,6 +29,22 @@ TEST(IntervalWatch, EachHandHasItsOwnInterval) {
   EXPECT_EQ(watch.violations(), 0u);
 }
 
+TEST(IntervalWatch, FramesNoHandTakesAsACommandAreNotCounted) {
+  // Another node's frames on the line (kernel.service_faults floods it with
+  // cangen): an unknown register, or a reserve byte other than 00.
+  protocol::Message unknown_register = kRead;
+  unknown_register.reg = protocol::Register{0x1F, 0x93};
+  protocol::Message nonzero_reserve = kRead;
+  nonzero_reserve.reserve = 0x26;
+  IntervalWatch watch(20ms);
+  EXPECT_FALSE(watch.note(1, 1000ms, kRead));
+  EXPECT_FALSE(watch.note(1, 1005ms, unknown_register));
+  EXPECT_FALSE(watch.note(1, 1010ms, nonzero_reserve));
+  EXPECT_FALSE(watch.note(1, 1020ms, kRead)) << "measured from the last command";
+  EXPECT_TRUE(watch.note(1, 1030ms, kRead));
+  EXPECT_EQ(watch.violations(), 1u);
+}
+
 TEST(IntervalWatch, ATimeBeforeThePreviousOneRestartsTheMeasurement) {
   IntervalWatch watch(20ms);
   EXPECT_FALSE(watch.note(1, 1000ms, kRead));
