@@ -21,6 +21,7 @@ using dh3::contract::Participant;
 using dh3::contract::ParticipantOptions;
 using dh3::contract::SetupReport;
 using dh3::contract::TopicRole;
+using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 
 ParticipantOptions on_test_domain(const std::string& name) {
@@ -112,6 +113,23 @@ TEST(ParticipantSetup, TheDiscoveryServersUsedAreNoted) {
   ASSERT_TRUE(qos.has_value()) << qos.error();
   ASSERT_EQ(report.notes.size(), 1u);
   EXPECT_THAT(report.notes.front(), HasSubstr("127.0.0.1:11811"));
+}
+
+// dh3-service logs the warnings before the failure: an option the profile
+// overrides may be why the set-up failed, so the warning must not go with it.
+TEST(ParticipantSetup, AWarningSurvivesALaterFailure) {
+  ParticipantOptions options = on_test_domain("setup");
+  options.xml_profile_file = DH3_UDP_ONLY_PROFILE;
+  options.xml_profile = "dh3_udp_only";
+  options.udp_only = true;  // ignored: the profile decides the transports
+  options.discovery_servers = {"127.0.0.1:99999"};
+  SetupReport report;
+  const auto participant = Participant::create(options, report);
+  ASSERT_FALSE(participant.has_value());
+  EXPECT_THAT(participant.error(), HasSubstr("127.0.0.1:99999"));
+  EXPECT_THAT(report.warnings,
+              ElementsAre(HasSubstr("the XML profile decides the transports: interfaces and "
+                                    "udp_only are ignored")));
 }
 
 }  // namespace
