@@ -13,10 +13,12 @@
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "common/result.hpp"
 #include "dh3_discovery.hpp"
 #include "dh3_participant.hpp"
 #include "dh3_participant_options.hpp"
@@ -34,45 +36,41 @@ namespace dh3::contract {
                      [&](const auto& property) { return property.name() == name; });
 }
 
-struct ParticipantQos {
-  eprosima::fastdds::dds::DomainParticipantQos qos;
-  std::string error;                  ///< empty when qos is usable
+/// What setting a participant up has to say besides its outcome. Kept apart
+/// from the Result so that a failure does not lose it: a warning about an
+/// ignored option often explains the failure that follows.
+struct SetupReport {
   std::vector<std::string> notes;     ///< worth an info line: the discovery servers used
   std::vector<std::string> warnings;  ///< worth a warning: options that are ignored
-  [[nodiscard]] bool ok() const { return error.empty(); }
 };
 
 /// The participant's QoS from the options: the XML profile or the project's
-/// transport default, then discovery servers, then DDS Security.
-[[nodiscard]] inline ParticipantQos make_participant_qos(const ParticipantOptions& options) {
+/// transport default, then discovery servers, then DDS Security. Notes and
+/// warnings go to `report`, whether or not it succeeds.
+[[nodiscard]] inline Result<eprosima::fastdds::dds::DomainParticipantQos, std::string>
+make_participant_qos(const ParticipantOptions& options, SetupReport& report) {
   using eprosima::fastrtps::types::ReturnCode_t;
   auto* factory = eprosima::fastdds::dds::DomainParticipantFactory::get_instance();
-  ParticipantQos out;
-  auto& qos = out.qos;
-  const auto failed = [&out](std::string error) {
-    out.error = std::move(error);
-    return out;
-  };
+  eprosima::fastdds::dds::DomainParticipantQos qos;
   if (!options.xml_profile_file.empty()) {
     if (factory->load_XML_profiles_file(options.xml_profile_file) != ReturnCode_t::RETCODE_OK) {
-      return failed("cannot load the Fast DDS XML profiles file '" + options.xml_profile_file +
-                    "'");
+      return fail("cannot load the Fast DDS XML profiles file '" + options.xml_profile_file + "'");
     }
     if (options.xml_profile.empty()) {
       qos = factory->get_default_participant_qos();
     } else if (factory->get_participant_qos_from_profile(options.xml_profile, qos) !=
                ReturnCode_t::RETCODE_OK) {
-      return failed("no participant profile '" + options.xml_profile + "' in '" +
-                    options.xml_profile_file + "'");
+      return fail("no participant profile '" + options.xml_profile + "' in '" +
+                  options.xml_profile_file + "'");
     }
     if (qos.name().to_string().empty()) qos.name(options.name);
     // The profile decides the transports; say so rather than ignore silently.
     if (!options.interfaces.empty() || options.udp_only) {
-      out.warnings.emplace_back(
+      report.warnings.emplace_back(
           "the XML profile decides the transports: interfaces and udp_only are ignored");
     }
   } else if (!options.xml_profile.empty()) {
-    return failed("an XML profile name needs the XML profiles file that defines it");
+    return fail("an XML profile name needs the XML profiles file that defines it");
   } else {
     TransportOptions transport;
     transport.interfaces = options.interfaces;
@@ -84,100 +82,74 @@ struct ParticipantQos {
   const auto servers = options.xml_profile_file.empty()
                            ? choose_discovery_servers(options.discovery_servers)
                            : discovery_servers_from_entries(options.discovery_servers);
-  if (!servers) return failed(servers.error());
+  if (!servers) return fail(servers.error());
   if (!use_discovery_servers(qos, *servers)) {
-    return failed("cannot use the discovery servers given");
+    return fail("cannot use the discovery servers given");
   }
   for (const auto& server : *servers) {
-    out.notes.push_back("discovery server " + server.to_string());
+    report.notes.push_back("discovery server " + server.to_string());
   }
   if (!options.security_dir.empty()) {
     if (has_property(qos, "dds.sec.auth.plugin")) {
-      return failed(
+      return fail(
           "the XML profile already enables DDS Security; give either it or a security "
           "directory, not both");
     }
     if (options.security_identity.empty()) {
-      return failed("DDS Security: no identity given for the security directory");
+      return fail("DDS Security: no identity given for the security directory");
     }
     const auto files = security_files_in(options.security_dir, options.security_identity);
     if (auto readable = check_security_files(files); !readable) {
-      return failed(readable.error() + " (identity '" + options.security_identity + "' in '" +
-                    options.security_dir + "')");
+      return fail(readable.error() + " (identity '" + options.security_identity + "' in '" +
+                  options.security_dir + "')");
     }
     enable_security(qos, files);
   }
-  return out;
+  return qos;
 }
 
 /// A participant made from ParticipantOptions, with the contract's five topics
 /// (registered with the total type support), a publisher and a subscriber.
 /// Readers and writers are the user's to make on them; everything the
-/// participant contains is deleted with it. Check ok(); error() says what
-/// failed, in words a user can act on.
+/// participant contains is deleted with it. Only create() makes one, so a
+/// Participant that exists is complete; its error says what failed, in words
+/// a user can act on.
 class Participant {
  public:
-  explicit Participant(
-      const ParticipantOptions& options,
+  /// Notes and warnings go to `report`, whether or not it succeeds.
+  [[nodiscard]] static Result<std::unique_ptr<Participant>, std::string> create(
+      const ParticipantOptions& options, SetupReport& report,
       eprosima::fastdds::dds::DomainParticipantListener* listener = nullptr,
       const eprosima::fastdds::dds::StatusMask& mask = eprosima::fastdds::dds::StatusMask::none()) {
     namespace fdds = eprosima::fastdds::dds;
     if (options.domain < 0 || options.domain > 232) {
-      error_ = "DDS domain id " + std::to_string(options.domain) + " is out of range (0-232)";
-      return;
+      return fail("DDS domain id " + std::to_string(options.domain) + " is out of range (0-232)");
     }
-    auto qos = make_participant_qos(options);
-    notes_ = std::move(qos.notes);
-    warnings_ = std::move(qos.warnings);
-    if (!qos.ok()) {
-      error_ = std::move(qos.error);
-      return;
-    }
-    security_from_profile_ = has_property(qos.qos, "dds.sec.auth.plugin");
-    access_control_ = has_property(qos.qos, "dds.sec.access.plugin");
-    participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(
-        static_cast<fdds::DomainId_t>(options.domain), qos.qos, listener, mask);
-    if (participant_ == nullptr) {
-      error_ = "cannot create a DDS participant on domain " + std::to_string(options.domain);
+    auto qos = make_participant_qos(options, report);
+    if (!qos) return fail(std::move(qos).error());
+    // Owns what is made from here on: a failure below deletes it.
+    std::unique_ptr<Participant> made(new Participant());
+    made->security_from_profile_ = has_property(*qos, "dds.sec.auth.plugin");
+    made->access_control_ = has_property(*qos, "dds.sec.access.plugin");
+    made->participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(
+        static_cast<fdds::DomainId_t>(options.domain), *qos, listener, mask);
+    if (made->participant_ == nullptr) {
+      std::string error =
+          "cannot create a DDS participant on domain " + std::to_string(options.domain);
       if (!options.security_dir.empty()) {
-        error_ += ": DDS Security did not accept the credentials of identity '" +
-                  options.security_identity + "' in '" + options.security_dir +
-                  "' (certificate, key and permissions must belong together, be signed by its "
-                  "CAs and be valid now)";
-      } else if (security_from_profile_) {
-        error_ += " (check the DDS Security credentials the XML profile names)";
+        error += ": DDS Security did not accept the credentials of identity '" +
+                 options.security_identity + "' in '" + options.security_dir +
+                 "' (certificate, key and permissions must belong together, be signed by its "
+                 "CAs and be valid now)";
+      } else if (made->security_from_profile_) {
+        error += " (check the DDS Security credentials the XML profile names)";
       } else {
-        error_ += " (check the domain id, the interface addresses and the XML profile)";
+        error += " (check the domain id, the interface addresses and the XML profile)";
       }
-      return;
+      return fail(std::move(error));
     }
-    // Before any reader is discovered: a service's reply writer looks the
-    // class up when a client's filtered reply reader matches it.
-    if (participant_->register_content_filter_factory(kReplyFilterClass, &reply_filters_) !=
-        eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
-      error_ = "cannot register the reply content filter";
-      return;
-    }
-    topics_ = create_topics(*participant_);
-    const std::pair<fdds::Topic*, const std::string&> topics[] = {
-        {topics_.status, dh3::topics::HAND_STATUS},
-        {topics_.event, dh3::topics::HAND_EVENT},
-        {topics_.info, dh3::topics::SERVICE_INFO},
-        {topics_.request, dh3::topics::COMMAND_REQUEST},
-        {topics_.reply, dh3::topics::COMMAND_REPLY}};
-    for (const auto& [topic, name] : topics) {
-      if (topic == nullptr) {
-        error_ = "cannot create the topic " + name;
-        return;
-      }
-    }
-    publisher_ = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
-    if (publisher_ == nullptr) {
-      error_ = "cannot create the DDS publisher";
-      return;
-    }
-    subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
-    if (subscriber_ == nullptr) error_ = "cannot create the DDS subscriber";
+    if (auto contained = made->create_contained(); !contained) return fail(contained.error());
+    return made;
   }
   ~Participant() {
     if (participant_ == nullptr) return;
@@ -190,12 +162,6 @@ class Participant {
   Participant(const Participant&) = delete;
   Participant& operator=(const Participant&) = delete;
 
-  [[nodiscard]] bool ok() const { return error_.empty(); }
-  [[nodiscard]] const std::string& error() const { return error_; }
-  /// Worth an info line even when all went well: the discovery servers used.
-  [[nodiscard]] const std::vector<std::string>& notes() const { return notes_; }
-  /// Worth a warning: options that are ignored.
-  [[nodiscard]] const std::vector<std::string>& warnings() const { return warnings_; }
   /// DDS Security's access control is on: a reader or writer the permissions
   /// do not grant cannot be created.
   [[nodiscard]] bool access_control() const { return access_control_; }
@@ -217,15 +183,40 @@ class Participant {
   }
 
  private:
+  Participant() = default;
+
+  /// The reply filter class, the topics, the publisher and the subscriber.
+  Result<void, std::string> create_contained() {
+    namespace fdds = eprosima::fastdds::dds;
+    // Before any reader is discovered: a service's reply writer looks the
+    // class up when a client's filtered reply reader matches it.
+    if (participant_->register_content_filter_factory(kReplyFilterClass, &reply_filters_) !=
+        eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+      return fail("cannot register the reply content filter");
+    }
+    topics_ = create_topics(*participant_);
+    const std::pair<fdds::Topic*, const std::string&> topics[] = {
+        {topics_.status, dh3::topics::HAND_STATUS},
+        {topics_.event, dh3::topics::HAND_EVENT},
+        {topics_.info, dh3::topics::SERVICE_INFO},
+        {topics_.request, dh3::topics::COMMAND_REQUEST},
+        {topics_.reply, dh3::topics::COMMAND_REPLY}};
+    for (const auto& [topic, name] : topics) {
+      if (topic == nullptr) return fail("cannot create the topic " + name);
+    }
+    publisher_ = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+    if (publisher_ == nullptr) return fail("cannot create the DDS publisher");
+    subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+    if (subscriber_ == nullptr) return fail("cannot create the DDS subscriber");
+    return {};
+  }
+
   /// Outlives participant_ (members are destroyed after ~Participant's body).
   ReplyFilterFactory reply_filters_;
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
   Topics topics_;
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
-  std::string error_;
-  std::vector<std::string> notes_;
-  std::vector<std::string> warnings_;
   bool security_from_profile_ = false;
   bool access_control_ = false;
 };

@@ -74,9 +74,13 @@ void ClientCore::Dds::create_watch_endpoints(const EndpointCreator& creator) {
 }
 
 Result<void, std::string> ClientCore::set_up_dds(const EndpointCreator& creator) {
-  dds_->participant = std::make_unique<contract::Participant>(participant_options(options_),
-                                                              &dds_->participant_listener);
-  if (!dds_->participant->ok()) return fail(dds_->participant->error());
+  // The library writes no log, so the report is not shown; what an XML profile
+  // overrides is said where ClientOptions is documented.
+  contract::SetupReport report;
+  auto created = contract::Participant::create(participant_options(options_), report,
+                                               &dds_->participant_listener);
+  if (!created) return fail(std::move(created).error());
+  dds_->participant = std::move(created).value();
   // With access control, a writer or reader the permissions do not grant
   // fails to be created: for the command endpoints that makes a read-only
   // client, not a failure.

@@ -14,10 +14,13 @@ using eprosima::fastrtps::types::ReturnCode_t;
 Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups) {
   contract::ParticipantOptions participant = options_.participant;
   participant.name = "dh3-service " + options_.name;
-  participant_ = std::make_unique<contract::Participant>(participant, &participant_listener_);
-  for (const auto& warning : participant_->warnings()) spdlog::warn("{}", warning);
-  for (const auto& note : participant_->notes()) spdlog::info("{}", note);
-  if (!participant_->ok()) return fail(participant_->error());
+  contract::SetupReport report;
+  auto made = contract::Participant::create(participant, report, &participant_listener_);
+  // Before the outcome: an ignored option may explain a failure.
+  for (const auto& warning : report.warnings) spdlog::warn("{}", warning);
+  for (const auto& note : report.notes) spdlog::info("{}", note);
+  if (!made) return fail(std::move(made).error());
+  participant_ = std::move(made).value();
   if (!options_.participant.security_dir.empty()) {
     spdlog::info("DDS Security on: identity '{}' in '{}'", options_.participant.security_identity,
                  options_.participant.security_dir);

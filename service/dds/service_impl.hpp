@@ -197,8 +197,9 @@ class Service::Impl {
 
   ParticipantListener participant_listener_{*this};
   RequestListener request_listener_{*this};
-  /// The participant, its topics, publisher and subscriber; the writers and
-  /// the reader below are made on them and deleted with them.
+  /// The participant, its topics, publisher and subscriber (null until init()
+  /// has made them); the writers and the reader below are made on them and
+  /// deleted with them.
   std::unique_ptr<contract::Participant> participant_;
   fdds::Topic* status_topic_ = nullptr;
   fdds::Topic* event_topic_ = nullptr;

@@ -27,8 +27,10 @@ class RawParticipant {
     options.name = name;
     options.domain = domain;
     options.udp_only = udp_only;
-    participant_ = std::make_unique<contract::Participant>(options);
-    if (!participant_->ok()) return;
+    contract::SetupReport report;
+    auto created = contract::Participant::create(options, report);
+    if (!created) return;
+    participant_ = std::move(created).value();
     request_topic = participant_->topics().request;
     reply_topic = participant_->topics().reply;
     publisher = &participant_->publisher();
@@ -39,7 +41,7 @@ class RawParticipant {
   RawParticipant(const RawParticipant&) = delete;
   RawParticipant& operator=(const RawParticipant&) = delete;
 
-  [[nodiscard]] bool ok() const { return participant_->ok(); }
+  [[nodiscard]] bool ok() const { return participant_ != nullptr; }
   [[nodiscard]] std::string client_id() const { return participant_->client_id(); }
 
   fdds::Topic* request_topic = nullptr;

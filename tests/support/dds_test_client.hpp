@@ -61,8 +61,10 @@ class DdsTestClient {
     contract::ParticipantOptions options;
     options.name = name;
     options.domain = domain;
-    participant_ = std::make_unique<contract::Participant>(options);
-    if (!participant_->ok()) return;
+    contract::SetupReport report;
+    auto created = contract::Participant::create(options, report);
+    if (!created) return;
+    participant_ = std::move(created).value();
     client_id_ = participant_->client_id();
     const contract::Topics& contract_topics = participant_->topics();
     auto& publisher = participant_->publisher();
@@ -93,7 +95,7 @@ class DdsTestClient {
   DdsTestClient(const DdsTestClient&) = delete;
   DdsTestClient& operator=(const DdsTestClient&) = delete;
 
-  [[nodiscard]] bool ok() const { return participant_->ok() && request_writer_ != nullptr; }
+  [[nodiscard]] bool ok() const { return participant_ != nullptr && request_writer_ != nullptr; }
   /// The hex GUID prefix of this participant: its client_id in requests.
   [[nodiscard]] const std::string& client_id() const { return client_id_; }
 

@@ -139,6 +139,52 @@ TEST(ServiceLifecycle, ConfigErrorsEndStartUpWithCodeTwo) {
   EXPECT_THAT(missing_output, HasSubstr("/nonexistent/dh3.yaml"));
 }
 
+// The warning about an option the XML profile overrides is logged even when the
+// participant then fails: it may be why (here DDS Security from the profile
+// whose credentials do not exist).
+TEST(ServiceLifecycle, AnIgnoredOptionIsLoggedBesideTheFailureThatFollows) {
+  TempFile profiles(R"(<?xml version="1.0" encoding="UTF-8"?>
+<dds xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">
+  <profiles>
+    <participant profile_name="dh3_missing_credentials">
+      <rtps>
+        <propertiesPolicy>
+          <properties>
+            <property>
+              <name>dds.sec.auth.plugin</name>
+              <value>builtin.PKI-DH</value>
+            </property>
+            <property>
+              <name>dds.sec.auth.builtin.PKI-DH.identity_ca</name>
+              <value>file:///nonexistent/identity_ca.pem</value>
+            </property>
+            <property>
+              <name>dds.sec.auth.builtin.PKI-DH.identity_certificate</name>
+              <value>file:///nonexistent/cert.pem</value>
+            </property>
+            <property>
+              <name>dds.sec.auth.builtin.PKI-DH.private_key</name>
+              <value>file:///nonexistent/key.pem</value>
+            </property>
+          </properties>
+        </propertiesPolicy>
+      </rtps>
+    </participant>
+  </profiles>
+</dds>
+)",
+                    ".xml");
+  const auto [code, output] =
+      run_to_exit("--domain " + std::to_string(test_domain()) + " --bus sim:1 --udp-only --xml " +
+                  profiles.path() + " --profile dh3_missing_credentials");
+  EXPECT_EQ(code, 1);
+  EXPECT_THAT(output, HasSubstr("the XML profile decides the transports: interfaces and "
+                                "udp_only are ignored"));
+  EXPECT_THAT(output, HasSubstr("cannot create a DDS participant on domain " +
+                                std::to_string(test_domain()) +
+                                " (check the DDS Security credentials the XML profile names)"));
+}
+
 TEST(ServiceLifecycle, HelpExitsWithZero) {
   const auto [code, output] = run_to_exit("--help");
   EXPECT_EQ(code, 0);

@@ -65,8 +65,10 @@ class FakeService {
     options.domain = domain;
     options.security_dir = security_dir;
     options.security_identity = "service";
-    participant_ = std::make_unique<contract::Participant>(options);
-    if (!participant_->ok()) return;
+    contract::SetupReport report;
+    auto created = contract::Participant::create(options, report);
+    if (!created) return;
+    participant_ = std::move(created).value();
     const contract::Topics& contract_topics = participant_->topics();
     auto* publisher = &participant_->publisher();
     auto* subscriber = &participant_->subscriber();
@@ -114,7 +116,7 @@ class FakeService {
   FakeService(const FakeService&) = delete;
   FakeService& operator=(const FakeService&) = delete;
 
-  [[nodiscard]] bool ok() const { return participant_->ok() && reply_writer_ != nullptr; }
+  [[nodiscard]] bool ok() const { return participant_ != nullptr && reply_writer_ != nullptr; }
   [[nodiscard]] const std::string& name() const { return name_; }
 
   void set_handler(Handler handler) {

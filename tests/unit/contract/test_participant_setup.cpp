@@ -19,7 +19,9 @@ namespace {
 
 using dh3::contract::Participant;
 using dh3::contract::ParticipantOptions;
+using dh3::contract::SetupReport;
 using dh3::contract::TopicRole;
+using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 
 ParticipantOptions on_test_domain(const std::string& name) {
@@ -30,10 +32,13 @@ ParticipantOptions on_test_domain(const std::string& name) {
 }
 
 TEST(ParticipantSetup, TwoParticipantsFindEachOtherOnTheContractsTopics) {
-  Participant service(on_test_domain("setup-service"));
-  Participant client(on_test_domain("setup-client"));
-  ASSERT_TRUE(service.ok()) << service.error();
-  ASSERT_TRUE(client.ok()) << client.error();
+  SetupReport report;
+  auto service_made = Participant::create(on_test_domain("setup-service"), report);
+  auto client_made = Participant::create(on_test_domain("setup-client"), report);
+  ASSERT_TRUE(service_made.has_value()) << service_made.error();
+  ASSERT_TRUE(client_made.has_value()) << client_made.error();
+  Participant& service = **service_made;
+  Participant& client = **client_made;
   EXPECT_EQ(client.client_id().size(), 24u);
   EXPECT_NE(client.client_id(), service.client_id());
 
@@ -56,32 +61,36 @@ TEST(ParticipantSetup, TwoParticipantsFindEachOtherOnTheContractsTopics) {
 TEST(ParticipantSetup, ADomainOutOfRangeIsRefused) {
   ParticipantOptions options;
   options.domain = 233;
-  const Participant participant(options);
-  EXPECT_FALSE(participant.ok());
+  SetupReport report;
+  const auto participant = Participant::create(options, report);
+  ASSERT_FALSE(participant.has_value());
   EXPECT_THAT(participant.error(), HasSubstr("DDS domain id 233 is out of range (0-232)"));
 }
 
 TEST(ParticipantSetup, AProfileNameNeedsItsFile) {
   ParticipantOptions options = on_test_domain("setup");
   options.xml_profile = "dh3_udp_only";
-  const Participant participant(options);
-  EXPECT_FALSE(participant.ok());
+  SetupReport report;
+  const auto participant = Participant::create(options, report);
+  ASSERT_FALSE(participant.has_value());
   EXPECT_THAT(participant.error(), HasSubstr("an XML profile name needs the XML profiles file"));
 }
 
 TEST(ParticipantSetup, AnUnreadableProfilesFileIsNamed) {
   ParticipantOptions options = on_test_domain("setup");
   options.xml_profile_file = "/nonexistent/profiles.xml";
-  const Participant participant(options);
-  EXPECT_FALSE(participant.ok());
+  SetupReport report;
+  const auto participant = Participant::create(options, report);
+  ASSERT_FALSE(participant.has_value());
   EXPECT_THAT(participant.error(), HasSubstr("'/nonexistent/profiles.xml'"));
 }
 
 TEST(ParticipantSetup, ABadDiscoveryServerIsNamed) {
   ParticipantOptions options = on_test_domain("setup");
   options.discovery_servers = {"127.0.0.1:99999"};
-  const Participant participant(options);
-  EXPECT_FALSE(participant.ok());
+  SetupReport report;
+  const auto participant = Participant::create(options, report);
+  ASSERT_FALSE(participant.has_value());
   EXPECT_THAT(participant.error(), HasSubstr("127.0.0.1:99999"));
 }
 
@@ -89,8 +98,9 @@ TEST(ParticipantSetup, ASecurityDirectoryWithoutCredentialsIsNamed) {
   ParticipantOptions options = on_test_domain("setup");
   options.security_dir = "/nonexistent/pki";
   options.security_identity = "service";
-  const Participant participant(options);
-  EXPECT_FALSE(participant.ok());
+  SetupReport report;
+  const auto participant = Participant::create(options, report);
+  ASSERT_FALSE(participant.has_value());
   EXPECT_THAT(participant.error(), HasSubstr("/nonexistent/pki"));
   EXPECT_THAT(participant.error(), HasSubstr("identity 'service'"));
 }
@@ -98,10 +108,28 @@ TEST(ParticipantSetup, ASecurityDirectoryWithoutCredentialsIsNamed) {
 TEST(ParticipantSetup, TheDiscoveryServersUsedAreNoted) {
   ParticipantOptions options = on_test_domain("setup");
   options.discovery_servers = {"127.0.0.1:11811"};
-  const auto qos = dh3::contract::make_participant_qos(options);
-  ASSERT_TRUE(qos.ok()) << qos.error;
-  ASSERT_EQ(qos.notes.size(), 1u);
-  EXPECT_THAT(qos.notes.front(), HasSubstr("127.0.0.1:11811"));
+  SetupReport report;
+  const auto qos = dh3::contract::make_participant_qos(options, report);
+  ASSERT_TRUE(qos.has_value()) << qos.error();
+  ASSERT_EQ(report.notes.size(), 1u);
+  EXPECT_THAT(report.notes.front(), HasSubstr("127.0.0.1:11811"));
+}
+
+// dh3-service logs the warnings before the failure: an option the profile
+// overrides may be why the set-up failed, so the warning must not go with it.
+TEST(ParticipantSetup, AWarningSurvivesALaterFailure) {
+  ParticipantOptions options = on_test_domain("setup");
+  options.xml_profile_file = DH3_UDP_ONLY_PROFILE;
+  options.xml_profile = "dh3_udp_only";
+  options.udp_only = true;  // ignored: the profile decides the transports
+  options.discovery_servers = {"127.0.0.1:99999"};
+  SetupReport report;
+  const auto participant = Participant::create(options, report);
+  ASSERT_FALSE(participant.has_value());
+  EXPECT_THAT(participant.error(), HasSubstr("127.0.0.1:99999"));
+  EXPECT_THAT(report.warnings,
+              ElementsAre(HasSubstr("the XML profile decides the transports: interfaces and "
+                                    "udp_only are ignored")));
 }
 
 }  // namespace

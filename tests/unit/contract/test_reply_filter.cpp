@@ -63,10 +63,14 @@ bool wait_matched(fdds::DataWriter* writer, int count) {
 }
 
 TEST(ReplyFilter, EachFilteredReaderGetsOnlyItsRepliesAndThePlainReaderAll) {
-  Participant service(on_test_domain("filter-service"));
-  Participant mine(on_test_domain("filter-mine"));
-  Participant plain(on_test_domain("filter-plain"));
-  ASSERT_TRUE(service.ok() && mine.ok() && plain.ok());
+  dh3::contract::SetupReport report;
+  auto service_made = Participant::create(on_test_domain("filter-service"), report);
+  auto mine_made = Participant::create(on_test_domain("filter-mine"), report);
+  auto plain_made = Participant::create(on_test_domain("filter-plain"), report);
+  ASSERT_TRUE(service_made.has_value() && mine_made.has_value() && plain_made.has_value());
+  Participant& service = **service_made;
+  Participant& mine = **mine_made;
+  Participant& plain = **plain_made;
   auto* own_topic = dh3::contract::create_own_replies_topic(mine.participant(), mine.topics().reply,
                                                             mine.client_id());
   ASSERT_NE(own_topic, nullptr);
