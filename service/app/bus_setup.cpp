@@ -70,6 +70,8 @@ Result<std::vector<dds::BusSetup>, std::string> open_buses(const ServiceConfig& 
     setup.hands = expected_hands(settings);
     setup.scheduler = settings.scheduler;
     setup.scheduler.allow_admin = config.allow_admin;
+    setup.scheduler.interval_margin =
+        settings.interval_margin.value_or(default_interval_margin(settings.spec));
     if (spec->kind == bus::BusKind::sim) {
       setup.bus = open_sim_bus(settings, std::move(*spec), clock);
     } else {

@@ -10,6 +10,7 @@
 #include <initializer_list>
 #include <limits>
 #include <set>
+#include <span>
 #include <sstream>
 
 #include "bus/bus_spec.hpp"
@@ -111,6 +112,28 @@ struct FileError {
   std::string message;
 };
 
+/// Every key a bus may have (buses[i]).
+constexpr std::string_view kBusKeys[] = {"name",
+                                         "spec",
+                                         "hands",
+                                         "sim",
+                                         "bit_rate",
+                                         "command_interval_ms",
+                                         "interval_margin_ms",
+                                         "poll_interval_watch_ms",
+                                         "poll_interval_moving_ms",
+                                         "poll_interval_idle_ms",
+                                         "reply_timeout_ms",
+                                         "admin_reply_timeout_ms",
+                                         "max_retries",
+                                         "offline_after_timeouts",
+                                         "offline_probe_interval_ms",
+                                         "init_timeout_ms",
+                                         "motion_timeout_ms",
+                                         "queue_capacity",
+                                         "discovery_interval_ms",
+                                         "probe_spacing_ms"};
+
 class FileParser {
  public:
   explicit FileParser(std::string_view source) : source_(source) {}
@@ -163,6 +186,11 @@ class FileParser {
 
   void check_keys(const YAML::Node& map, std::string_view prefix,
                   std::initializer_list<std::string_view> known) const {
+    check_keys(map, prefix, std::span(known.begin(), known.size()));
+  }
+
+  void check_keys(const YAML::Node& map, std::string_view prefix,
+                  std::span<const std::string_view> known) const {
     for (const auto& entry : map) {
       const auto key = entry.first.as<std::string>();
       if (std::find(known.begin(), known.end(), key) != known.end()) continue;
@@ -293,13 +321,7 @@ class FileParser {
   BusSettings parse_bus(const YAML::Node& node, std::size_t index, std::set<std::string>& names) {
     const std::string key = "buses[" + std::to_string(index) + "]";
     expect_map(node, key);
-    check_keys(
-        node, key + ".",
-        {"name", "spec", "hands", "sim", "bit_rate", "command_interval_ms",
-         "poll_interval_watch_ms", "poll_interval_moving_ms", "poll_interval_idle_ms",
-         "reply_timeout_ms", "admin_reply_timeout_ms", "max_retries", "offline_after_timeouts",
-         "offline_probe_interval_ms", "init_timeout_ms", "motion_timeout_ms", "queue_capacity",
-         "discovery_interval_ms", "probe_spacing_ms"});
+    check_keys(node, key + ".", kBusKeys);
     BusSettings bus;
     const auto spec = node["spec"];
     if (!spec) fail_at(node, key + ".spec", "missing (e.g. sim:1,2,3, tcp:HOST:PORT)");
@@ -322,6 +344,8 @@ class FileParser {
       if (auto n = node[field]) target = millis(n, key + "." + field, min);
     };
     timing("command_interval_ms", s.command_interval);
+    if (auto n = node["interval_margin_ms"])
+      bus.interval_margin = millis(n, key + ".interval_margin_ms");
     timing("poll_interval_watch_ms", s.poll_interval_watch, 1);
     timing("poll_interval_moving_ms", s.poll_interval_moving, 1);
     timing("poll_interval_idle_ms", s.poll_interval_idle, 1);
@@ -427,6 +451,13 @@ std::string default_bus_name(std::string_view spec, std::size_t index) {
     return parsed->interface;
   }
   return "bus" + std::to_string(index);
+}
+
+Duration default_interval_margin(std::string_view spec) {
+  const auto parsed = bus::parse_bus_spec(spec);
+  const bool transfer_box =
+      parsed && (parsed->kind == bus::BusKind::tcp || parsed->kind == bus::BusKind::serial);
+  return transfer_box ? std::chrono::milliseconds(2) : Duration{};
 }
 
 ServiceConfig default_config() {

@@ -31,7 +31,7 @@
 //         - {id: 1, object: 40, rotation_obstacle: 70}   # sim only
 //
 // Bus specs: sim | sim:1,2,3 | socketcan:can0 | tcp:HOST:PORT | serial:PATH@BAUD.
-// Scheduler keys per bus (milliseconds unless said): command_interval_ms,
+// Scheduler keys per bus (milliseconds unless said): command_interval_ms, interval_margin_ms,
 // poll_interval_watch_ms, poll_interval_moving_ms, poll_interval_idle_ms, reply_timeout_ms,
 // admin_reply_timeout_ms, offline_probe_interval_ms, init_timeout_ms,
 // motion_timeout_ms, discovery_interval_ms, probe_spacing_ms, max_retries,
@@ -79,8 +79,15 @@ struct BusSettings {
   std::uint32_t bit_rate = 0;
   std::vector<HandSettings> hands;  ///< empty: discover
   hand::SchedulerOptions scheduler;
+  /// interval_margin_ms; unset: default_interval_margin() of the bus's kind.
+  std::optional<Duration> interval_margin;
   SimSettings sim;
 };
+
+/// 2 ms on a transfer box (TCP or serial: a frame the path delays shortens the
+/// gap to the next as the hand sees it; measured up to 1 ms on loopback TCP),
+/// 0 on SocketCAN (the kernel sends in order, measured on its timestamps) and sim.
+[[nodiscard]] Duration default_interval_margin(std::string_view spec);
 
 /// The service's participant before configuration: the test PKI's "service"
 /// identity once a security directory is given.

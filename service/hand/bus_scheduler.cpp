@@ -344,7 +344,7 @@ class BusScheduler::Impl {
         spdlog::info("{}: found a hand with CAN ID {}", name_, id);
         HandDriver* found = add_driver(HandConfig{id, {}}, now);
         // The probe was this hand's first frame: its own reads keep the interval to it.
-        found->hold_sends_until(probe->second.sent + options_.command_interval);
+        found->hold_sends_until(probe->second.sent + options_.frame_spacing());
         scan_->pending.erase(probe);
         found->on_discovered(*message, now);
         return;
@@ -386,7 +386,7 @@ class BusScheduler::Impl {
         line_used(now);
         // The interval counts from when the frame left, which is after now.
         const TimePoint left = clock_.now();
-        driver.hold_sends_until(left + options_.command_interval);
+        driver.hold_sends_until(left + options_.frame_spacing());
         last_sent_[id] = left;
         if (id == 0) id_zero_sent(left);
         continue;
@@ -411,7 +411,7 @@ class BusScheduler::Impl {
 
   // ---- pacing across senders ------------------------------------------------
   //
-  // Each driver paces its own frames (SchedulerOptions::command_interval). Two
+  // Each driver paces its own frames (SchedulerOptions::frame_spacing()). Two
   // kinds of frame reach a hand from elsewhere: the scan's discovery probes
   // (handled where a probe is answered) and frames to ID 0, which every hand on
   // the bus receives. A frame to ID 0 therefore waits until no hand, and no
@@ -430,7 +430,7 @@ class BusScheduler::Impl {
     id_zero_slot_ = slot;
     id_zero->hold_sends_until(slot);
     for (std::uint8_t id : order_) {
-      if (id != 0) drivers_[id]->hold_sends_until(slot + options_.command_interval);
+      if (id != 0) drivers_[id]->hold_sends_until(slot + options_.frame_spacing());
     }
   }
 
@@ -441,7 +441,7 @@ class BusScheduler::Impl {
       if (id != 0 && last_sent_[id]) clear = std::max(clear, *last_sent_[id]);
     }
     if (last_probe_at_) clear = std::max(clear, *last_probe_at_);
-    return clear + options_.command_interval;
+    return clear + options_.frame_spacing();
   }
 
   [[nodiscard]] bool id_zero_may_send(TimePoint now) {
@@ -453,15 +453,15 @@ class BusScheduler::Impl {
   void id_zero_sent(TimePoint now) {
     id_zero_slot_.reset();
     for (std::uint8_t id : order_) {
-      if (id != 0) drivers_[id]->hold_sends_until(now + options_.command_interval);
+      if (id != 0) drivers_[id]->hold_sends_until(now + options_.frame_spacing());
     }
   }
 
   /// Probes wait while a frame to ID 0 waits, and the interval after one.
   [[nodiscard]] TimePoint probes_allowed_at() const {
     TimePoint allowed{};
-    if (last_sent_[0]) allowed = *last_sent_[0] + options_.command_interval;
-    if (id_zero_slot_) allowed = std::max(allowed, *id_zero_slot_ + options_.command_interval);
+    if (last_sent_[0]) allowed = *last_sent_[0] + options_.frame_spacing();
+    if (id_zero_slot_) allowed = std::max(allowed, *id_zero_slot_ + options_.frame_spacing());
     return allowed;
   }
 

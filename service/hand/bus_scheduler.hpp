@@ -28,6 +28,12 @@ namespace dh3::hand {
 struct SchedulerOptions {
   /// Minimum time between two frames to the same hand (docs/protocol-notes.md reading 9).
   Duration command_interval = std::chrono::milliseconds(20);
+  /// Added to command_interval when pacing, for a path that may delay one frame
+  /// more than the next (a transfer box behind TCP or a serial line): the hand
+  /// then still sees command_interval between them. 0 on SocketCAN and sim.
+  Duration interval_margin{};
+  /// What the scheduler keeps between two frames to one hand.
+  [[nodiscard]] Duration frame_spacing() const { return command_interval + interval_margin; }
   /// Status polling by what can change (poll_policy.hpp): the status register
   /// that shows the change a hand waits for (the grip status of fingers that
   /// hold an object or move, the rotation status while rotating) is read every

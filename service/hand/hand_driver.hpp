@@ -134,7 +134,7 @@ class HandDriver {
   void on_rotation_confirmed(TimePoint now);
   void on_initialized_flag(std::int32_t value, TimePoint now);
   void on_position_confirmed(TimePoint now);
-  void finger_motion_ended(GripState grip, EventKind event);
+  void finger_motion_ended(GripState grip, EventKind event, TimePoint now);
 
   // Lifecycle and time (hand_driver.cpp).
   void on_answer(TimePoint now);

@@ -95,6 +95,7 @@ void HandDriver::on_position_confirmed(TimePoint now) {
 void HandDriver::apply_read(Register r, const Message& reply, TimePoint now) {
   if (r == reg::kPosition) {
     state_.position = reply.data;
+    if (finger_motion_) finger_motion_->position_read = true;
   } else if (r == reg::kGripStatus) {
     on_grip_status(protocol::status_value(reply), now);
   } else if (r == reg::kRotation) {
@@ -261,7 +262,7 @@ void HandDriver::on_grip_status(std::int32_t status, TimePoint now, bool may_rec
   }
   if (reading.hold_starts) hold_untouched_ = true;
   if (reading.motion_ended) {
-    finger_motion_ended(*reading.grip, *reading.event);
+    finger_motion_ended(*reading.grip, *reading.event, now);
     return;
   }
   if (reading.grip) state_.grip = *reading.grip;
@@ -275,21 +276,28 @@ void HandDriver::on_grip_status(std::int32_t status, TimePoint now, bool may_rec
   }
 }
 
-void HandDriver::finger_motion_ended(GripState grip, EventKind event) {
+void HandDriver::finger_motion_ended(GripState grip, EventKind event, TimePoint now) {
   state_.grip = grip;
-  finger_motion_.reset();
   // The position was read before the status that ended the motion, so it may
   // be a poll old: the event waits for a fresh read of where the fingers stopped.
+  // Not when a read during this motion found them at the target and the status
+  // says they stopped without a catch: they stopped there, and the frame a
+  // further read takes would only delay the event.
+  const bool stopped_at_target = event != EventKind::grasped && finger_motion_ &&
+                                 finger_motion_->position_read &&
+                                 state_.position == finger_motion_->target;
+  finger_motion_.reset();
   // A grasp is explained by the force it holds with; an arrival by its status.
   end_of_motion_.event =
       PendingEvent{event, event == EventKind::grasped ? state_.closing_force : 2};
-  end_of_motion_.read_due = true;
+  end_of_motion_.read_due = !stopped_at_target;
   if (motion_waiter_ && motion_waiter_->epoch == finger_epoch_ && !motion_waiter_->outcome) {
     // The result carries where the fingers stopped, after the same read.
     motion_waiter_->outcome = grip == GripState::caught      ? GraspOutcome::grasped
                               : grip == GripState::no_object ? GraspOutcome::missed
                                                              : GraspOutcome::none;
   }
+  if (stopped_at_target) on_position_confirmed(now);
 }
 
 void HandDriver::on_rotation_status(std::int32_t status, TimePoint now, bool may_recheck) {

@@ -25,7 +25,7 @@ std::optional<Message> HandDriver::next_frame(TimePoint now) {
     again.sent = now;
     again.deadline = now + again.reply_timeout;
     in_flight_ = again;
-    next_send_at_ = now + options_.command_interval;
+    next_send_at_ = now + options_.frame_spacing();
     return again.message;
   }
   if (auto frame = job_frame(now)) {
@@ -55,7 +55,7 @@ bool HandDriver::has_command_frame() const {
 Message HandDriver::send(Message message, Purpose purpose, TimePoint now, bool retryable,
                          Duration reply_timeout) {
   in_flight_ = InFlight{message, purpose, now, now + reply_timeout, reply_timeout, 1, retryable};
-  next_send_at_ = now + options_.command_interval;
+  next_send_at_ = now + options_.frame_spacing();
   return message;
 }
 

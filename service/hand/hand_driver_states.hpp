@@ -80,8 +80,9 @@ using Link = std::variant<Offline, Online>;
 /// A commanded finger motion, from its position write until its status ends it.
 struct FingerMotion {
   std::int32_t target = 0;
-  bool gripping = false;  ///< a grasp or a move to 0: ending without a catch is a miss
-  bool closing = false;   ///< towards a smaller position: a catch can end it
+  bool gripping = false;       ///< a grasp or a move to 0: ending without a catch is a miss
+  bool closing = false;        ///< towards a smaller position: a catch can end it
+  bool position_read = false;  ///< a position read was answered since the motion began
 };
 
 /// A commanded rotation, from its write until its status ends it.
@@ -95,7 +96,8 @@ struct PendingEvent {
 };
 
 /// A finger motion ended: its event waits for a fresh position read, so that it
-/// reports where the fingers stopped, not a position one poll old.
+/// reports where the fingers stopped, not a position one poll old (unless a read
+/// during the motion found them at the target: an arrival stops there).
 struct EndOfMotion {
   std::optional<PendingEvent> event;
   bool read_due = false;  ///< the confirming position read is still to be sent

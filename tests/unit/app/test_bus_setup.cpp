@@ -66,5 +66,22 @@ TEST(BusSetup, ABoxBusKnowsTheBitRateItWasGiven) {
   EXPECT_EQ((*setups)[0].bus->bit_rate(), 500'000U);  // what the load figure divides by
 }
 
+TEST(BusSetup, ATransferBoxKeepsAMarginOnTheCommandIntervalAndTheOthersNone) {
+  using std::chrono::milliseconds;
+  ServiceConfig config;
+  config.buses.push_back(bus("tcp:127.0.0.1:9"));
+  config.buses.push_back(bus("sim:1"));
+  config.buses.push_back(bus("tcp:127.0.0.1:9"));
+  config.buses[2].interval_margin = milliseconds(0);  // the file's word wins
+  auto setups = open_buses(config, SystemClock::instance());
+  ASSERT_TRUE(setups.ok()) << setups.error();
+  EXPECT_EQ((*setups)[0].scheduler.interval_margin, milliseconds(2));
+  EXPECT_EQ((*setups)[0].scheduler.frame_spacing(), milliseconds(22));
+  EXPECT_EQ((*setups)[1].scheduler.interval_margin, Duration::zero());
+  EXPECT_EQ((*setups)[2].scheduler.interval_margin, Duration::zero());
+  EXPECT_EQ(default_interval_margin("serial:/dev/ttyUSB0@115200"), milliseconds(2));
+  EXPECT_EQ(default_interval_margin("socketcan:can0"), Duration::zero());
+}
+
 }  // namespace
 }  // namespace dh3::app

@@ -55,6 +55,7 @@ buses:
   - name: left
     spec: tcp:127.0.0.1:9000
     command_interval_ms: 5
+    interval_margin_ms: 1
     poll_interval_watch_ms: 25
     poll_interval_moving_ms: 30
     poll_interval_idle_ms: 400
@@ -87,6 +88,7 @@ buses:
   EXPECT_EQ(left.name, "left");
   EXPECT_EQ(left.spec, "tcp:127.0.0.1:9000");
   EXPECT_EQ(left.scheduler.command_interval, milliseconds(5));
+  EXPECT_EQ(left.interval_margin, milliseconds(1));
   EXPECT_EQ(left.scheduler.poll_interval_watch, milliseconds(25));
   EXPECT_EQ(left.scheduler.poll_interval_moving, milliseconds(30));
   EXPECT_EQ(left.scheduler.poll_interval_idle, milliseconds(400));
@@ -104,6 +106,7 @@ buses:
   EXPECT_EQ(left.hands[0].name, "gripper");
   EXPECT_EQ(left.hands[1].id, 2);
   const auto& sim = config.buses[1];
+  EXPECT_FALSE(sim.interval_margin.has_value());  // the bus kind's default (bus_setup)
   EXPECT_EQ(sim.name, "bus1");  // named by position when the file does not name it
   EXPECT_EQ(sim.sim.reply_delay, Duration::zero());
   EXPECT_DOUBLE_EQ(sim.sim.position_speed, 1000.0);
@@ -258,7 +261,8 @@ TEST(Config, DiscoveryServersXmlProfileAndSecurityAreRead) {
   auto config = parse_config(yaml, "cell.yaml");
   ASSERT_TRUE(config.ok()) << config.error().message;
   // The empty entry keeps its place: the third entry is server id 2.
-  EXPECT_THAT(config->participant.discovery_servers, ::testing::ElementsAre("127.0.0.1:11811", "", "10.0.0.2"));
+  EXPECT_THAT(config->participant.discovery_servers,
+              ::testing::ElementsAre("127.0.0.1:11811", "", "10.0.0.2"));
   EXPECT_EQ(config->participant.xml_profile_file, pki.xml());
   EXPECT_EQ(config->participant.xml_profile, "dh3_udp");
   EXPECT_EQ(config->participant.security_dir, pki.path());

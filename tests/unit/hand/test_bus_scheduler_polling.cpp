@@ -150,6 +150,36 @@ TEST(BusSchedulerPolling, AnArrivalIsReportedWithinThreeCommandIntervals) {
   }
 }
 
+TEST(BusSchedulerPolling, AnArrivalAlreadyReadAtTheTargetGoesOutWithoutAnotherRead) {
+  // Fingers that reach the target within a millisecond, and a position polled
+  // more often than the grip status: the first read after the command (the
+  // position, due first) finds the fingers at the target before the status says
+  // they arrived. The event then needs no further read: they stopped there.
+  auto sim = sim_hands({1});
+  sim[0].position_speed = 10000.0;
+  auto options = test_options();
+  options.poll_interval_moving = 20ms;
+  options.poll_interval_watch = 200ms;
+  SchedulerHarness h(sim, configs({1}), options);
+  h.bring_up({1});
+  for (const std::int32_t target : {30, 70}) {
+    const std::size_t before = h.observer.events_of(EventKind::arrived, 1).size();
+    ASSERT_TRUE(h.call(1, move(target))->ok());
+    ASSERT_TRUE(h.run_until(
+        [&] { return h.observer.events_of(EventKind::arrived, 1).size() > before; }, 2s));
+    const auto arrived = h.observer.events_of(EventKind::arrived, 1).back();
+    EXPECT_EQ(arrived.position, target);
+    // The last read before the event was the grip status that showed the arrival.
+    const RecordingBus::Sent* last = nullptr;
+    for (const auto& sent : h.recorder().sent) {
+      if (sent.message.hand_id == 1 && sent.at <= arrived.time) last = &sent;
+    }
+    ASSERT_NE(last, nullptr);
+    EXPECT_EQ(last->message.reg, reg::kGripStatus)
+        << "to " << target << ": the event waited for " << protocol::describe(last->message);
+  }
+}
+
 /// Every pair of consecutive frames to one hand closer than `interval`.
 std::vector<std::string> too_close(const RecordingBus& bus, Duration interval) {
   std::map<std::uint8_t, TimePoint> last;
