@@ -62,7 +62,8 @@ case $mode in
   *) fail "unknown mode $mode" ;;
 esac
 
-candump -L -x "$iface" >"$work/bus.log" 2>"$work/candump.err" &
+# Line-buffered: the stop below waits for a frame to appear in this log.
+stdbuf -oL candump -L -x "$iface" >"$work/bus.log" 2>"$work/candump.err" &
 pids+=($!)
 
 mkfifo "$work/sim.in"
@@ -120,9 +121,22 @@ expect MISSED grasp e2e/can/1 40
 expect "" release e2e/can/2 100
 # A stop while the fingers move: the move ends (OK if it arrived first,
 # CANCELLED if the stop came in time) and the stop succeeds.
+# The stop's dh3ctl starts once the move's frame (position 100 to hand 1) is on
+# the bus, not after a fixed sleep: the stop then reaches fingers in motion, and
+# the two clients' DDS participants are not created at the same moment (under
+# load in user-mode Linux, a move client started 0.1 s beside the stop's once
+# found the service but did not become ready to send within 30 s).
+move_frame='001#0602010064000000'
+frames_before=$(grep -c "$move_frame" "$work/bus.log" || true)
 ctl move e2e/can/1 100 >"$work/move.out" 2>&1 &
 move_pid=$!
-sleep 0.1
+for _ in $(seq 1200); do
+  (($(grep -c "$move_frame" "$work/bus.log" || true) > frames_before)) && break
+  kill -0 "$move_pid" 2>/dev/null || break
+  sleep 0.05
+done
+(($(grep -c "$move_frame" "$work/bus.log" || true) > frames_before)) ||
+  fail "the move's frame never reached the bus: $(cat "$work/move.out")"
 expect "" stop e2e/can/1
 wait "$move_pid" || grep -q CANCELLED "$work/move.out" || fail "the stopped move: $(cat "$work/move.out")"
 expect "4.1.2.0" version e2e/can/1
