@@ -223,6 +223,10 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   void post_status_locked(const HandStatus& status);
   void post_event_locked(const HandEvent& event);
   // What the client knows (status_cache.cpp).
+  /// Takes a status sample from `prefix` (an incarnation), from the status
+  /// topic or a reply: cached and posted to the status subscriptions only if
+  /// newer than the cached one (see statuses_); false if not.
+  bool take_status_locked(const std::string& prefix, const msg::HandStatus& sample);
   [[nodiscard]] ServiceInfo info_locked(const std::string& name, const ServiceState& s) const;
   [[nodiscard]] std::vector<KnownHand> known_hands_locked() const;
 
@@ -254,7 +258,15 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   std::multiset<std::string> request_readers_;  ///< prefixes of matched request readers
   std::multiset<std::string> reply_writers_;    ///< prefixes of matched reply writers
   std::multiset<std::string> event_writers_;    ///< prefixes of matched event writers
+  /// The newest status of every hand. A hand's status comes twice, in the
+  /// reply to a command (CommandReply.status, the service's sample before it
+  /// is written) and on the status topic, in either order: a sample from the
+  /// incarnation that sent the cached one replaces it only with a higher
+  /// update_seq, so each sample is cached and posted once, in order, and an
+  /// older one never rolls the cache back. update_seq restarts with the
+  /// service: a sample of another incarnation always replaces the cached one.
   std::map<HandAddress, HandStatus> statuses_;
+  std::map<HandAddress, std::string> status_origins_;  ///< the incarnation of each cached status
   std::vector<std::shared_ptr<SubscriptionState>> event_subs_;
   std::vector<std::shared_ptr<SubscriptionState>> status_subs_;
 

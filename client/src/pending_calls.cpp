@@ -211,6 +211,12 @@ void ClientCore::on_reply(const msg::CommandReply& reply) {
     std::lock_guard lock(mutex_);
     const auto it = pending_.find(reply.request_seq());
     if (it == pending_.end() || it->second.request.command() != reply.command()) return;
+    // The hand's status as the command left it, cached (and posted) before the
+    // call ends; the same sample on the status topic is then not news.
+    if (reply.status().update_seq() != 0 && !closed_ && !it->second.sent_to.empty() &&
+        !reply.status().service().empty()) {
+      take_status_locked(it->second.sent_to, reply.status());
+    }
     done = std::move(it->second.done);
     pending_.erase(it);
   }

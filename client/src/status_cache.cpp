@@ -13,12 +13,23 @@ void ClientCore::on_status(const std::string& prefix, const msg::HandStatus& sam
   {
     std::lock_guard lock(mutex_);
     if (closed_ || !note_participant_locked(prefix, sample.service(), out)) return;
-    HandStatus status = to_public(sample);
-    post_status_locked(status);
-    statuses_[status.address] = std::move(status);
-    changed_.notify_all();
+    take_status_locked(prefix, sample);
   }
   run(out);
+}
+
+bool ClientCore::take_status_locked(const std::string& prefix, const msg::HandStatus& sample) {
+  HandStatus status = to_public(sample);
+  const auto origin = status_origins_.find(status.address);
+  if (origin != status_origins_.end() && origin->second == prefix) {
+    const auto cached = statuses_.find(status.address);
+    if (cached != statuses_.end() && status.update_seq <= cached->second.update_seq) return false;
+  }
+  status_origins_[status.address] = prefix;
+  post_status_locked(status);
+  statuses_[status.address] = std::move(status);
+  changed_.notify_all();
+  return true;
 }
 
 ServiceInfo ClientCore::info_locked(const std::string& name, const ServiceState& s) const {

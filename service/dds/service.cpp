@@ -110,7 +110,7 @@ Result<void, std::string> Service::Impl::start() {
     for (const hand::HandState& state : bus.scheduler->state()) {
       std::lock_guard lock(bus.status_mutex);
       if (slot_locked(bus, state.can_id).update_seq == 0) {
-        on_state_locked(static_cast<std::uint16_t>(i), state);
+        on_state_locked(static_cast<std::uint16_t>(i), state, false);
       }
     }
   }

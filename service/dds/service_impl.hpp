@@ -91,6 +91,7 @@ class Service::Impl {
     void on_fresh(const hand::HandState& state) override { impl_.on_state(bus_, state); }
     void on_event(const hand::HandEvent& event) override { impl_.on_event(bus_, event); }
     void on_link(bus::LinkState state) override { impl_.on_link(bus_, state); }
+    void on_batch_end(std::uint8_t can_id) override { impl_.send_held_status(bus_, can_id); }
 
    private:
     Impl& impl_;
@@ -126,10 +127,19 @@ class Service::Impl {
 
   /// What only the DDS side knows of a hand: its status samples. Its state is
   /// the driver's; each sample is filled from the state the bus reports.
+  ///
+  /// A sample is prepared (update_seq, lease holder, time) and then sent. A
+  /// state the bus loop reports is held, prepared but not sent, until the end
+  /// of its batch (HandObserver::on_batch_end): the commands that ended with
+  /// it are answered first, their replies carrying the held sample
+  /// (CommandReply.status), so a state-changing command's reply does not wait
+  /// for a status sample to be written. An event of the hand sends a held
+  /// sample first: statuses still go out before the events they explain.
   struct HandSlot {
     std::uint64_t update_seq = 0;
     bool announced = false;  ///< the service info lists it
     bool written = false;    ///< `sample` was filled from a reported state
+    bool held = false;       ///< `sample` is prepared and not sent yet
     msg::HandStatus sample;  ///< the last sample, reused for every sample of this hand
   };
 
@@ -165,6 +175,9 @@ class Service::Impl {
   void finish_scan(const std::shared_ptr<PendingScan>& scan, msg::ResultCode code,
                    const std::vector<std::uint8_t>& found, std::string message);
   void write_reply(msg::CommandReply& reply);
+  /// Copies the hand's last prepared status sample into the reply (sent or
+  /// held); leaves the reply's empty (update_seq 0) if the hand has none.
+  void attach_status(msg::CommandReply& reply, std::uint16_t bus, std::uint8_t can_id);
 
   // Leases.
   void on_participant_left(const std::string& participant_id, bool dropped);
@@ -173,11 +186,21 @@ class Service::Impl {
 
   // Publishing.
   HandSlot& slot_locked(BusRuntime& bus, std::uint8_t can_id);
-  void on_state_locked(std::uint16_t bus, const hand::HandState& state);
+  /// `hold`: prepare the sample and leave it for send_held_status().
+  void on_state_locked(std::uint16_t bus, const hand::HandState& state, bool hold);
+  /// Gives the slot's sample its lease holder, next update_seq and time.
+  void prepare_status_locked(std::uint16_t bus, std::uint8_t can_id, HandSlot& slot);
+  void send_status_locked(std::uint16_t bus, std::uint8_t can_id, HandSlot& slot);
+  /// prepare_status_locked() and send_status_locked().
   void write_status_locked(std::uint16_t bus, std::uint8_t can_id, HandSlot& slot);
+  /// Sends the hand's held sample, if any (the end of a batch, or of a lease change).
+  void send_held_status(std::uint16_t bus, std::uint8_t can_id);
   /// A hand-layer (steady) time on the wall clock, ns since the epoch; 0 for "never".
   [[nodiscard]] std::uint64_t wall_clock_ns_of(TimePoint time) const;
   void republish_status(HandKey hand);
+  /// A new sample of the hand (its lease holder changed), held: copied into
+  /// `reply` for the reply to go first; send_held_status() sends it after.
+  void hold_republished_status(HandKey hand, msg::CommandReply& reply);
   void publish_info();
 
   // Set-up: each step names the entity it could not create.

@@ -19,15 +19,39 @@ Service::Impl::HandSlot& Service::Impl::slot_locked(BusRuntime& bus, std::uint8_
   return *slot;
 }
 
-void Service::Impl::write_status_locked(std::uint16_t bus, std::uint8_t can_id, HandSlot& slot) {
+void Service::Impl::prepare_status_locked(std::uint16_t bus, std::uint8_t can_id, HandSlot& slot) {
   slot.sample.lease_holder(leases_.holder(HandKey{bus, can_id}));
   slot.sample.update_seq(++slot.update_seq);
   slot.sample.timestamp_ns(wall_clock_ns());
+}
+
+void Service::Impl::send_status_locked(std::uint16_t bus, std::uint8_t can_id, HandSlot& slot) {
+  slot.held = false;
   if (status_writer_ == nullptr) return;  // DDS set-up failed or is gone
   std::lock_guard write_lock(status_write_mutex_);
   if (!status_writer_->write(&slot.sample)) {
     spdlog::warn("could not publish the status of {}", hand_text(buses_[bus]->name, can_id));
   }
+}
+
+void Service::Impl::write_status_locked(std::uint16_t bus, std::uint8_t can_id, HandSlot& slot) {
+  prepare_status_locked(bus, can_id, slot);
+  send_status_locked(bus, can_id, slot);
+}
+
+void Service::Impl::send_held_status(std::uint16_t bus_index, std::uint8_t can_id) {
+  BusRuntime& bus = *buses_[bus_index];
+  std::lock_guard lock(bus.status_mutex);
+  HandSlot* slot = bus.hands[can_id].get();
+  if (slot != nullptr && slot->held) send_status_locked(bus_index, can_id, *slot);
+}
+
+void Service::Impl::attach_status(msg::CommandReply& reply, std::uint16_t bus_index,
+                                  std::uint8_t can_id) {
+  BusRuntime& bus = *buses_[bus_index];
+  std::lock_guard lock(bus.status_mutex);
+  const HandSlot* slot = bus.hands[can_id].get();
+  if (slot != nullptr && slot->written) reply.status(slot->sample);
 }
 
 std::uint64_t Service::Impl::wall_clock_ns_of(TimePoint time) const {
@@ -45,12 +69,24 @@ void Service::Impl::republish_status(HandKey hand) {
   if (slot.written) write_status_locked(hand.bus, hand.can_id, slot);
 }
 
-void Service::Impl::on_state(std::uint16_t bus_index, const hand::HandState& state) {
-  std::lock_guard lock(buses_[bus_index]->status_mutex);
-  on_state_locked(bus_index, state);
+void Service::Impl::hold_republished_status(HandKey hand, msg::CommandReply& reply) {
+  BusRuntime& bus = *buses_[hand.bus];
+  std::lock_guard lock(bus.status_mutex);
+  HandSlot& slot = slot_locked(bus, hand.can_id);
+  // A hand's first status carries its lease holder anyway.
+  if (!slot.written) return;
+  prepare_status_locked(hand.bus, hand.can_id, slot);
+  slot.held = true;
+  reply.status(slot.sample);
 }
 
-void Service::Impl::on_state_locked(std::uint16_t bus_index, const hand::HandState& state) {
+void Service::Impl::on_state(std::uint16_t bus_index, const hand::HandState& state) {
+  std::lock_guard lock(buses_[bus_index]->status_mutex);
+  on_state_locked(bus_index, state, true);  // sent at the batch's end (on_batch_end)
+}
+
+void Service::Impl::on_state_locked(std::uint16_t bus_index, const hand::HandState& state,
+                                    bool hold) {
   BusRuntime& bus = *buses_[bus_index];
   HandSlot& slot = slot_locked(bus, state.can_id);
   if (!std::exchange(slot.announced, true)) {
@@ -60,7 +96,12 @@ void Service::Impl::on_state_locked(std::uint16_t bus_index, const hand::HandSta
   fill_status(slot.sample, state,
               StatusContext{options_.name, bus.name, {}, 0, 0, wall_clock_ns_of(state.read_at)});
   slot.written = true;
-  write_status_locked(bus_index, state.can_id, slot);  // with lease holder, sequence and time
+  prepare_status_locked(bus_index, state.can_id, slot);  // lease holder, sequence and time
+  if (hold) {
+    slot.held = true;
+  } else {
+    send_status_locked(bus_index, state.can_id, slot);
+  }
 }
 
 void Service::Impl::on_event(std::uint16_t bus_index, const hand::HandEvent& event) {
@@ -70,6 +111,10 @@ void Service::Impl::on_event(std::uint16_t bus_index, const hand::HandEvent& eve
                 hand::to_string(event.kind), event.message.empty() ? "" : ": ", event.message);
   if (event_writer_ == nullptr) return;
   std::lock_guard lock(bus.status_mutex);
+  // The status that explains the event goes first, as a subscriber expects.
+  if (HandSlot* slot = bus.hands[event.can_id].get(); slot != nullptr && slot->held) {
+    send_status_locked(bus_index, event.can_id, *slot);
+  }
   fill_event(bus.event_sample, event, options_.name, bus.name,
              directory_.hand_name(bus_index, event.can_id), ++event_seq_, wall_clock_ns());
   if (!event_writer_->write(&bus.event_sample)) {

@@ -76,13 +76,16 @@ void Service::Impl::submit_command(const ValidRequest& valid, ReplyHeader header
                      hand_text(header.hand.bus(), valid.can_id) + " is leased by client '" +
                          *holder + "'; only it may send " + command_name(header.command));
       reply.lease_holder(*holder);
+      if (valid.can_id != 0) attach_status(reply, valid.bus, valid.can_id);
       write_reply(reply);
       return;
     }
   }
   const std::uint8_t can_id = valid.can_id;
-  buses_[valid.bus]->scheduler->submit(
-      can_id, valid.command, [this, header = std::move(header)](const hand::CommandResult& result) {
+  const std::uint16_t bus = valid.bus;
+  buses_[bus]->scheduler->submit(
+      can_id, valid.command,
+      [this, bus, can_id, header = std::move(header)](const hand::CommandResult& result) {
         msg::CommandReply reply;
         if (result) {
           reply = make_reply(header, msg::OK);
@@ -93,6 +96,9 @@ void Service::Impl::submit_command(const ValidRequest& valid, ReplyHeader header
                              describe_failure(result.error(), header.command, header.hand.bus(),
                                               static_cast<std::uint8_t>(header.hand.can_id())));
         }
+        // On the bus loop, before the batch's end: a state this command
+        // changed is held, and this reply carries it before it is sent.
+        if (can_id != 0) attach_status(reply, bus, can_id);
         write_reply(reply);
       });
 }
@@ -159,9 +165,12 @@ void Service::Impl::handle_lease(const ValidRequest& valid, const ReplyHeader& h
     spdlog::info("{}: lease {} by '{}'", who,
                  valid.action == RequestAction::release_lease ? "released" : "taken",
                  header.client_id);
-    republish_status(hand);
+    hold_republished_status(hand, reply);
+  } else {
+    attach_status(reply, hand.bus, hand.can_id);
   }
   write_reply(reply);
+  send_held_status(hand.bus, hand.can_id);
   if (valid.action != RequestAction::release_lease) wake_lease_timer();
 }
 

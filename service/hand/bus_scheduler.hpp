@@ -88,6 +88,11 @@ class HandObserver {
   /// fresh it is without a sample on every poll.
   virtual void on_fresh(const HandState& /*state*/) {}
   virtual void on_event(const HandEvent& event) = 0;
+  /// Ends one hand's batch: a state (on_state or on_fresh), then that hand's
+  /// events, then the completions of its commands that the same pass ended,
+  /// and then this. An observer may hold the state back until here: the
+  /// service answers the commands first and publishes the state after.
+  virtual void on_batch_end(std::uint8_t /*can_id*/) {}
   virtual void on_link(bus::LinkState state) = 0;
 };
 

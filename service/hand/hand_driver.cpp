@@ -383,6 +383,7 @@ void HandDriver::publish_now(TimePoint now) {
 }
 
 void HandDriver::flush(TimePoint now) {
+  bool reported = true;
   if (!anonymous_ && (!ever_published_ || context_.roster.differs_from_published(state_))) {
     ever_published_ = true;
     ++state_.sequence;
@@ -394,6 +395,8 @@ void HandDriver::flush(TimePoint now) {
     published_read_at_ = state_.read_at;
     context_.roster.publish(state_);  // the same fields, read again
     context_.observer.on_fresh(state_);
+  } else {
+    reported = false;
   }
   // Callbacks may call back into the scheduler (submit): take the lists first.
   auto events = std::move(pending_events_);
@@ -402,6 +405,7 @@ void HandDriver::flush(TimePoint now) {
   auto completions = std::move(pending_completions_);
   pending_completions_.clear();
   for (auto& [done, result] : completions) done(result);
+  if (reported) context_.observer.on_batch_end(state_.can_id);
 }
 
 }  // namespace dh3::hand

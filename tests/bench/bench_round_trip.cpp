@@ -220,6 +220,15 @@ int run_responder(int domain, bool udp_only, bool hop) {
         reply_.command(request_.command());
         reply_.code(msg::OK);
         reply_.value(request_.value());
+        // The hand's status, as dh3-service's replies carry it (same size).
+        msg::HandStatus& status = reply_.status();
+        status.service(request_.hand().service());
+        status.bus(request_.hand().bus());
+        status.can_id(request_.hand().can_id());
+        status.online(true);
+        status.closing_force(request_.value());
+        status.firmware_version_text("4.1.2.0");
+        status.update_seq(status.update_seq() + 1);
         if (!hop) {
           writer->write(&reply_);
           continue;

@@ -22,9 +22,15 @@
 //
 // When the reply to a command that changed the hand's state (a force, a
 // position reached, a lease) arrives, this client's cached status of that hand
-// (Hand::status(), Client::status()) already shows the change: the service
-// publishes the status before it replies, and the client takes both in the
-// order they arrived.
+// (Hand::status(), Client::status()) already shows the change: the reply
+// carries the hand's status sample, which the service publishes on the status
+// topic only after the reply, and the client caches it before the call ends.
+// Status callbacks get that sample then, once: the same sample arriving on the
+// status topic afterwards, or an older one, is not news and changes nothing.
+// So the cache and the status callbacks only move forward (update_seq rises,
+// except when the service restarts, which starts it again); like the status
+// topic itself (KEEP_LAST 1 per hand), a callback may skip a sample that a
+// newer one overtook, never the newest.
 //
 // When a service leaves the domain (stopped, killed, network lost) its pending
 // calls end with SERVICE_LOST and its hands are reported offline; calls made

@@ -164,6 +164,50 @@ TEST_F(ServiceCommandsTest, StopIsAnsweredAndHoldsTheHand) {
   EXPECT_TRUE(client_->wait_status(hand(1), [](const auto& s) { return s.initialized(); }));
 }
 
+TEST_F(ServiceCommandsTest, AReplyCarriesTheStatusSampleThatFollowsIt) {
+  const auto initialized = ok(1, msg::INITIALIZE);
+  EXPECT_TRUE(initialized.status().initialized());
+  const auto forced = ok(1, msg::SET_CLOSING_FORCE, 30);
+  const msg::HandStatus& carried = forced.status();
+  EXPECT_EQ(carried.service(), service_.name());
+  EXPECT_EQ(carried.bus(), "bus0");
+  EXPECT_EQ(carried.can_id(), 1);
+  EXPECT_EQ(carried.name(), "left");
+  EXPECT_EQ(carried.closing_force(), 30);
+  EXPECT_GT(carried.update_seq(), initialized.status().update_seq());
+  // The service writes the same sample (same update_seq, time and values) on
+  // the status topic after the reply.
+  ASSERT_TRUE(client_->wait_status(
+      hand(1), [&](const auto& s) { return s.update_seq() >= carried.update_seq(); }));
+  std::optional<msg::HandStatus> published;
+  for (const auto& s : client_->status_history(hand(1))) {
+    if (s.update_seq() == carried.update_seq()) published = s;
+  }
+  ASSERT_TRUE(published) << "no status sample with update_seq " << carried.update_seq();
+  EXPECT_EQ(*published, carried);
+  // A command that changes nothing carries the current status.
+  const auto read = ok(1, msg::READ_REGISTER, 0, 0x0502);
+  EXPECT_EQ(read.status().closing_force(), 30);
+  EXPECT_GE(read.status().update_seq(), carried.update_seq());
+}
+
+TEST_F(ServiceCommandsTest, RepliesNotAboutOneHandCarryNoStatus) {
+  EXPECT_EQ(ok(0, msg::SCAN).status().update_seq(), 0U);
+  const auto unknown = client_->call(hand(9), msg::READ_REGISTER, 0, 0x0602);
+  ASSERT_TRUE(unknown);
+  EXPECT_EQ(unknown->code(), msg::UNKNOWN_HAND);
+  EXPECT_EQ(unknown->status().update_seq(), 0U);
+}
+
+TEST_F(ServiceCommandsTest, ALeaseReplyCarriesTheStatusNamingTheNewHolder) {
+  const auto lease = ok(2, msg::ACQUIRE_LEASE, 60000);
+  EXPECT_EQ(lease.status().lease_holder(), client_->client_id());
+  EXPECT_EQ(lease.status().can_id(), 2);
+  const auto released = ok(2, msg::RELEASE_LEASE);
+  EXPECT_EQ(released.status().lease_holder(), "");
+  EXPECT_GT(released.status().update_seq(), lease.status().update_seq());
+}
+
 TEST_F(ServiceCommandsTest, EveryRequestGetsExactlyOneReply) {
   ok(1, msg::INITIALIZE);
   std::vector<std::uint64_t> seqs;

@@ -124,7 +124,8 @@ class FakeService {
     handler_ = std::move(handler);
   }
 
-  void publish_status(std::uint16_t id, bool online, std::int32_t position = 100) {
+  /// A status sample of hand `id` with the next update_seq, not published.
+  msg::HandStatus make_status(std::uint16_t id, bool online, std::int32_t position = 100) {
     msg::HandStatus status;
     status.service(name_);
     status.bus("bus0");
@@ -133,7 +134,11 @@ class FakeService {
     status.online(online);
     status.position(position);
     status.update_seq(++update_seq_);
-    status_writer_->write(&status);
+    return status;
+  }
+  void publish(msg::HandStatus status) { status_writer_->write(&status); }
+  void publish_status(std::uint16_t id, bool online, std::int32_t position = 100) {
+    publish(make_status(id, online, position));
   }
 
   void publish_event(std::uint16_t id, msg::EventKind kind, std::int32_t value = 0) {
@@ -191,7 +196,7 @@ class FakeService {
   eprosima::fastdds::dds::DataWriter* info_writer_ = nullptr;
   eprosima::fastdds::dds::DataWriter* reply_writer_ = nullptr;
   Listener listener_{*this};
-  std::uint64_t update_seq_ = 0;
+  std::atomic<std::uint64_t> update_seq_{0};  // handlers run on a DDS thread
   std::uint64_t event_seq_ = 0;
 
   std::mutex mutex_;

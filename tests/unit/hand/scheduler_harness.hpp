@@ -89,6 +89,9 @@ class RecordingObserver final : public HandObserver {
   void on_fresh(const HandState& state) override { fresh.push_back(state); }
   void on_event(const HandEvent& event) override { events.push_back(event); }
   void on_link(bus::LinkState state) override { links.push_back(state); }
+  void on_batch_end(std::uint8_t can_id) override {
+    batch_ends.push_back(BatchEnd{can_id, states.size(), fresh.size()});
+  }
 
   [[nodiscard]] std::vector<HandEvent> events_of(EventKind kind, std::uint8_t id = 0) const {
     std::vector<HandEvent> found;
@@ -109,6 +112,13 @@ class RecordingObserver final : public HandObserver {
   std::vector<HandState> fresh;
   std::vector<HandEvent> events;
   std::vector<bus::LinkState> links;
+  /// on_batch_end, with how many states and fresh states had been reported by then.
+  struct BatchEnd {
+    std::uint8_t can_id = 0;
+    std::size_t states = 0;
+    std::size_t fresh = 0;
+  };
+  std::vector<BatchEnd> batch_ends;
   /// Runs inside each on_state, on the loop thread: a slow publisher.
   std::function<void()> while_publishing;
 };

@@ -166,6 +166,47 @@ TEST(BusSchedulerEvents, EveryStateChangeIsPublishedWithARisingSequence) {
   EXPECT_EQ(h.observer.states.size(), published);
 }
 
+TEST(BusSchedulerEvents, ACommandEndsAfterItsStateAndBeforeTheBatchEnd) {
+  // The service holds a state back until the batch end and answers the
+  // commands that ended with it first: the completion must see the new state
+  // reported, and the batch end must follow it on the same pass.
+  SchedulerHarness h(sim_hands({1}), configs({1}));
+  h.bring_up({1});
+  std::optional<CommandResult> result;
+  std::size_t states_at_completion = 0;
+  std::size_t ends_at_completion = 0;
+  h.scheduler->submit(1, cmd(CommandKind::set_closing_force, 70), [&](const CommandResult& r) {
+    result = r;
+    states_at_completion = h.observer.states.size();
+    ends_at_completion = h.observer.batch_ends.size();
+  });
+  ASSERT_TRUE(h.run_until([&] { return result.has_value(); }));
+  ASSERT_TRUE(result->ok());
+  ASSERT_TRUE(h.observer.last_state(1));
+  EXPECT_EQ(h.observer.states.back().closing_force, 70);
+  ASSERT_EQ(h.observer.batch_ends.size(), ends_at_completion + 1);
+  EXPECT_EQ(h.observer.batch_ends.back().can_id, 1);
+  EXPECT_EQ(h.observer.batch_ends.back().states, states_at_completion);
+}
+
+TEST(BusSchedulerEvents, EveryReportedStateIsFollowedByABatchEnd) {
+  SchedulerHarness h(sim_hands({1, 2}), configs({1, 2}));
+  h.bring_up({1, 2});
+  ASSERT_TRUE(h.call(1, move(50))->ok());
+  h.run_for(2s);
+  // Each end closes exactly the reports since the previous one.
+  std::size_t states = 0;
+  std::size_t fresh = 0;
+  for (const auto& end : h.observer.batch_ends) {
+    EXPECT_EQ(end.states + end.fresh, states + fresh + 1);
+    states = end.states;
+    fresh = end.fresh;
+  }
+  EXPECT_EQ(states, h.observer.states.size());
+  EXPECT_EQ(fresh, h.observer.fresh.size());
+  EXPECT_FALSE(h.observer.fresh.empty());
+}
+
 /// Waits for the next read of `r` to go out and answers it with `value`
 /// before the (slower) simulated hand does; the hand's own reply then arrives
 /// as a stray frame.
