@@ -21,8 +21,8 @@
 #include <string>
 #include <vector>
 
-#include "bus/sim_bus.hpp"
-#include "hand/bus_scheduler.hpp"
+#include "dh3/bus/sim_bus.hpp"
+#include "dh3/hand/bus_scheduler.hpp"
 
 namespace {
 

@@ -28,13 +28,13 @@
 #include <thread>
 #include <vector>
 
-#include "app/bus_setup.hpp"
-#include "app/config.hpp"
 #include "bench_util.hpp"
-#include "bus/sim_bus.hpp"
-#include "dds/service.hpp"
+#include "dh3/app/bus_setup.hpp"
+#include "dh3/app/config.hpp"
+#include "dh3/bus/sim_bus.hpp"
 #include "dh3/client.hpp"
-#include "hand/bus_scheduler.hpp"
+#include "dh3/dds/service.hpp"
+#include "dh3/hand/bus_scheduler.hpp"
 
 namespace {
 

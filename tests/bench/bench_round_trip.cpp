@@ -58,17 +58,17 @@
 #include <thread>
 #include <vector>
 
-#include "app/bus_setup.hpp"
-#include "app/config.hpp"
 #include "bench_util.hpp"
-#include "dds/service.hpp"
+#include "dh3/app/bus_setup.hpp"
+#include "dh3/app/config.hpp"
 #include "dh3/client.hpp"
+#include "dh3/dds/service.hpp"
+#include "dh3/protocol/codec.hpp"
+#include "dh3/protocol/registers.hpp"
 #include "dh3/registers.hpp"
 #include "dh3_idl/dh3PubSubTypes.h"
 #include "dh3_participant.hpp"
 #include "dh3_qos.hpp"
-#include "protocol/codec.hpp"
-#include "protocol/registers.hpp"
 #include "raw_dds.hpp"
 
 namespace {

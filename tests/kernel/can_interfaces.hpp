@@ -21,8 +21,8 @@
 #include <string>
 #include <vector>
 
-#include "bus/fd_util.hpp"
-#include "bus/socketcan_bus.hpp"
+#include "dh3/base/fd_util.hpp"
+#include "dh3/bus/socketcan_bus.hpp"
 
 namespace dh3::test {
 
@@ -143,7 +143,7 @@ class RawCanSocket {
   }
 
  private:
-  bus::UniqueFd fd_;
+  UniqueFd fd_;
 };
 
 }  // namespace dh3::test

@@ -18,8 +18,8 @@
 #include <string>
 #include <thread>
 
-#include "bus/socketcan_bus.hpp"
-#include "protocol/codec.hpp"
+#include "dh3/bus/socketcan_bus.hpp"
+#include "dh3/protocol/codec.hpp"
 #include "support/process.hpp"
 #include "support/raw_tcp_client.hpp"
 #include "kernel/can_interfaces.hpp"

@@ -1,7 +1,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "app/bus_setup.hpp"
+#include "dh3/app/bus_setup.hpp"
 
 namespace dh3::app {
 namespace {

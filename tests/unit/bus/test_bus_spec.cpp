@@ -5,8 +5,8 @@
 
 #include <string>
 
-#include "bus/bus_spec.hpp"
-#include "protocol/codec.hpp"
+#include "dh3/bus/bus_spec.hpp"
+#include "dh3/protocol/codec.hpp"
 #include "support/bus_wait.hpp"
 
 namespace dh3::bus {

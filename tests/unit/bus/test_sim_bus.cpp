@@ -8,9 +8,9 @@
 #include <span>
 #include <vector>
 
-#include "bus/sim_bus.hpp"
-#include "protocol/codec.hpp"
-#include "protocol/registers.hpp"
+#include "dh3/bus/sim_bus.hpp"
+#include "dh3/protocol/codec.hpp"
+#include "dh3/protocol/registers.hpp"
 
 namespace dh3::bus {
 namespace {

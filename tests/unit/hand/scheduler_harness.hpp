@@ -12,10 +12,10 @@
 #include <span>
 #include <vector>
 
-#include "bus/sim_bus.hpp"
-#include "common/clock.hpp"
-#include "hand/bus_scheduler.hpp"
-#include "protocol/codec.hpp"
+#include "dh3/base/clock.hpp"
+#include "dh3/bus/sim_bus.hpp"
+#include "dh3/hand/bus_scheduler.hpp"
+#include "dh3/protocol/codec.hpp"
 
 namespace dh3::hand::test {
 

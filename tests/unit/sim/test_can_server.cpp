@@ -19,7 +19,7 @@
 #include <string>
 #include <thread>
 
-#include "sim/can_server.hpp"
+#include "dh3/sim_server/can_server.hpp"
 #include "support/raw_tcp_client.hpp"
 #include "unit/sim/server_test_support.hpp"
 
