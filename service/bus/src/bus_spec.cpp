@@ -231,16 +231,10 @@ Result<std::unique_ptr<Bus>, std::string> open_parsed(const BusSpec& spec, std::
                                                       const Clock& clock,
                                                       const OpenBusOptions& options) {
   switch (spec.kind) {
-    case BusKind::sim: {
-      std::vector<sim::SimHandOptions> hands;
-      for (const std::uint8_t id : spec.sim_hand_ids) {
-        sim::SimHandOptions hand = options.sim_hand;
-        hand.id = id;
-        hands.push_back(hand);
-      }
-      return std::unique_ptr<Bus>(
-          std::make_unique<SimBus>(std::move(text), std::move(hands), clock, options.sim));
-    }
+    case BusKind::sim:
+      return dh3::fail(text +
+                       ": simulated hands are made by the sim layer (sim::SimBus), "
+                       "not opened by the bus layer");
     case BusKind::socketcan: {
       auto opened = SocketCanBus::open(std::move(text), spec.interface, clock, options.socketcan);
       if (!opened) return dh3::fail(opened.error());

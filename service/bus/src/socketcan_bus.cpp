@@ -2,12 +2,8 @@
 
 #include <linux/can.h>
 #include <linux/can/error.h>
-#include <linux/can/raw.h>
-#include <net/if.h>
-#include <net/if_arp.h>
 #include <poll.h>
 #include <spdlog/spdlog.h>
-#include <sys/ioctl.h>
 #include <sys/socket.h>
 #include <sys/uio.h>
 
@@ -20,8 +16,6 @@
 namespace dh3::bus {
 namespace {
 
-// DH-3 hands use CAN IDs 0-255 (spec: "Gripper ID ... range 0-255").
-constexpr std::uint32_t kMaxHandId = 0xFF;
 // One receive() reads at most this many datagrams so a flooded bus cannot keep
 // the I/O loop from its other work; the rest waits in the socket.
 constexpr int kMaxFramesPerReceive = 256;
@@ -29,52 +23,6 @@ constexpr int kMaxFramesPerReceive = 256;
 constexpr Duration kErrorLogInterval = std::chrono::seconds(10);
 
 std::size_t index_of(ErrorFrameKind kind) { return static_cast<std::size_t>(kind); }
-
-Result<UniqueFd, std::string> new_can_socket() {
-  UniqueFd fd(::socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK | SOCK_CLOEXEC, CAN_RAW));
-  if (fd) return fd;
-  const int error = errno;
-  if (error == EAFNOSUPPORT || error == EPROTONOSUPPORT) {
-    return dh3::fail("kernel has no CAN support: socket(PF_CAN) failed: " + errno_text(error));
-  }
-  return dh3::fail("socket(PF_CAN) failed: " + errno_text(error));
-}
-
-bool fill_ifreq(ifreq& request, const std::string& interface) {
-  if (interface.empty() || interface.size() >= IFNAMSIZ) return false;
-  std::memset(&request, 0, sizeof request);
-  std::memcpy(request.ifr_name, interface.data(), interface.size());
-  return true;
-}
-
-std::string bad_name(const std::string& interface) {
-  return "invalid interface name '" + interface + "' (1-" + std::to_string(IFNAMSIZ - 1) +
-         " characters)";
-}
-
-/// The interface's index, or why there is none.
-Result<int, std::string> interface_index(int fd, const std::string& interface) {
-  ifreq request{};
-  if (!fill_ifreq(request, interface)) return dh3::fail(bad_name(interface));
-  if (::ioctl(fd, SIOCGIFINDEX, &request) != 0) {
-    if (errno == ENODEV) return dh3::fail("no network interface named '" + interface + "'");
-    return dh3::fail("SIOCGIFINDEX " + interface + ": " + errno_text(errno));
-  }
-  return request.ifr_ifindex;
-}
-
-/// Empty if `interface` is a CAN interface, else why not.
-std::string not_can_reason(int fd, const std::string& interface) {
-  ifreq request{};
-  if (!fill_ifreq(request, interface)) return bad_name(interface);
-  if (::ioctl(fd, SIOCGIFHWADDR, &request) != 0) {
-    return "SIOCGIFHWADDR " + interface + ": " + errno_text(errno);
-  }
-  if (request.ifr_hwaddr.sa_family != ARPHRD_CAN) {
-    return "'" + interface + "' is not a CAN interface";
-  }
-  return {};
-}
 
 std::string link_error_text(int error) {
   if (error == ENETDOWN) return "interface is down (" + errno_text(error) + ")";
@@ -111,70 +59,12 @@ std::bitset<kErrorFrameKinds> classify_error_frame(std::uint32_t can_id, const s
   return kinds;
 }
 
-std::string kernel_can_support_problem() {
-  auto probe = new_can_socket();
-  return probe ? std::string() : probe.error();
-}
-
-Result<UniqueFd, std::string> open_can_raw_socket(const std::string& interface) {
-  auto created = new_can_socket();
-  if (!created) return created;
-  UniqueFd fd = std::move(created.value());
-
-  const auto index = interface_index(fd.get(), interface);
-  if (!index) return dh3::fail(index.error());
-  if (auto reason = not_can_reason(fd.get(), interface); !reason.empty()) {
-    return dh3::fail(std::move(reason));
-  }
-  ifreq flags{};
-  fill_ifreq(flags, interface);
-  if (::ioctl(fd.get(), SIOCGIFFLAGS, &flags) != 0) {
-    return dh3::fail("SIOCGIFFLAGS " + interface + ": " + errno_text(errno));
-  }
-  if ((flags.ifr_flags & IFF_UP) == 0) {
-    return dh3::fail("interface '" + interface + "' is down (ip link set " + interface + " up)");
-  }
-
-  // Standard data frames with ids 0-0xFF only: the id bits above 0xFF, the
-  // extended-frame flag and the RTR flag must all be 0.
-  const can_filter filter{0, CAN_EFF_FLAG | CAN_RTR_FLAG | (CAN_SFF_MASK & ~kMaxHandId)};
-  if (::setsockopt(fd.get(), SOL_CAN_RAW, CAN_RAW_FILTER, &filter, sizeof filter) != 0) {
-    return dh3::fail("CAN_RAW_FILTER: " + errno_text(errno));
-  }
-  // Every class the controller reports: counted by kind, the chatty ones
-  // (bus errors come only with berr-reporting on) logged at a limited rate.
-  const can_err_mask_t errors = CAN_ERR_MASK;
-  if (::setsockopt(fd.get(), SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &errors, sizeof errors) != 0) {
-    return dh3::fail("CAN_RAW_ERR_FILTER: " + errno_text(errno));
-  }
-  // Each datagram then carries how many the kernel dropped for a full queue.
-  const int on = 1;
-  if (::setsockopt(fd.get(), SOL_SOCKET, SO_RXQ_OVFL, &on, sizeof on) != 0) {
-    return dh3::fail("SO_RXQ_OVFL: " + errno_text(errno));
-  }
-
-  sockaddr_can address{};
-  address.can_family = AF_CAN;
-  address.can_ifindex = index.value();
-  if (::bind(fd.get(), reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0) {
-    return dh3::fail("bind to " + interface + ": " + errno_text(errno));
-  }
-  return fd;
-}
-
 Result<std::unique_ptr<SocketCanBus>, std::string> SocketCanBus::open(std::string spec,
                                                                       std::string interface,
                                                                       const Clock& clock,
                                                                       SocketCanOptions options) {
-  auto probe = new_can_socket();
-  if (!probe) return dh3::fail(spec + ": " + probe.error());
-  ifreq request{};
-  if (!fill_ifreq(request, interface)) return dh3::fail(spec + ": " + bad_name(interface));
-  // An existing interface of another kind will not turn into CAN by waiting.
-  if (interface_index(probe.value().get(), interface)) {
-    if (auto reason = not_can_reason(probe.value().get(), interface); !reason.empty()) {
-      return dh3::fail(spec + ": " + reason);
-    }
+  if (auto problem = lasting_can_interface_problem(interface); !problem.empty()) {
+    return dh3::fail(spec + ": " + problem);
   }
   CanSocketOpener opener = [interface] { return open_can_raw_socket(interface); };
   return std::make_unique<SocketCanBus>(std::move(spec), std::move(opener), clock, options);
@@ -346,7 +236,7 @@ void SocketCanBus::read_available(std::vector<CanFrame>& out, TimePoint now) {
       continue;
     }
     const std::uint32_t id = raw.can_id & CAN_SFF_MASK;
-    if ((raw.can_id & (CAN_EFF_FLAG | CAN_RTR_FLAG)) != 0 || id > kMaxHandId ||
+    if ((raw.can_id & (CAN_EFF_FLAG | CAN_RTR_FLAG)) != 0 || id > kMaxHandCanId ||
         raw.len > CAN_MAX_DLEN) {
       frames_ignored_.fetch_add(1, std::memory_order_relaxed);
       continue;

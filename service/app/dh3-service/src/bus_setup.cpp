@@ -1,7 +1,7 @@
 #include "dh3/app/bus_setup.hpp"
 
 #include "dh3/bus/bus_spec.hpp"
-#include "dh3/bus/sim_bus.hpp"
+#include "dh3/sim/sim_bus.hpp"
 
 namespace dh3::app {
 namespace {
@@ -30,9 +30,9 @@ std::unique_ptr<bus::Bus> open_sim_bus(const BusSettings& settings, bus::BusSpec
     }
     hands.push_back(hand);
   }
-  bus::SimBusOptions options;
+  sim::SimBusOptions options;
   options.bit_rate = settings.sim.bit_rate;
-  return std::make_unique<bus::SimBus>(bus::to_string(spec), std::move(hands), clock, options);
+  return std::make_unique<sim::SimBus>(bus::to_string(spec), std::move(hands), clock, options);
 }
 
 }  // namespace

@@ -3,7 +3,6 @@
 #include <linux/can.h>
 #include <spdlog/spdlog.h>
 #include <sys/time.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -15,8 +14,6 @@ namespace dh3::sim {
 
 namespace {
 
-// DH-3 hands use CAN IDs 0-255 (spec: "Gripper ID ... range 0-255").
-constexpr canid_t kMaxHandId = 0xFF;
 // One round reads at most this many frames so a flooded bus cannot keep the
 // loop from the hands' own frames and the control channel.
 constexpr int kMaxFramesPerRound = 256;
@@ -42,11 +39,11 @@ std::optional<Duration> receive_timestamp(const msghdr& message) {
   return std::nullopt;
 }
 
-CanServer::CanServer(CanServerOptions options, CanFdOpener opener, const Clock& clock)
+CanServer::CanServer(CanServerOptions options, CanSocketOpener opener, const Clock& clock)
     : options_(std::move(options)), opener_(std::move(opener)), host_(options_, clock) {}
 
 Result<std::unique_ptr<CanServer>, std::string> CanServer::open(CanServerOptions options,
-                                                                CanFdOpener opener,
+                                                                CanSocketOpener opener,
                                                                 const Clock& clock) {
   std::unique_ptr<CanServer> server(new CanServer(std::move(options), std::move(opener), clock));
   if (auto started = server->host_.start(); !started) {
@@ -56,22 +53,18 @@ Result<std::unique_ptr<CanServer>, std::string> CanServer::open(CanServerOptions
   return server;
 }
 
-CanServer::~CanServer() {
-  if (fd_ >= 0) ::close(fd_);
-}
-
 Result<void, std::string> CanServer::open_fd() {
   auto opened = opener_();
   if (!opened) return fail(opened.error());
-  fd_ = opened.value();
-  set_nonblocking(fd_);
+  fd_ = std::move(opened.value());
+  set_nonblocking(fd_.get());
   if (options_.kernel_timestamps) {
     const int on = 1;
-    if (::setsockopt(fd_, SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof on) != 0) {
+    if (::setsockopt(fd_.get(), SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof on) != 0) {
       spdlog::warn(
           "dh3-sim: {}: no kernel receive timestamps ({}); the interval check uses "
           "the time of reading",
-          options_.interface_name, errno_text());
+          options_.interface_name, errno_text(errno));
     }
   }
   return {};
@@ -83,15 +76,15 @@ void CanServer::run() {
 }
 
 void CanServer::add_poll_fds(std::vector<pollfd>& fds) {
-  if (fd_ >= 0) fds.push_back(pollfd{fd_, POLLIN, 0});
+  if (fd_) fds.push_back(pollfd{fd_.get(), POLLIN, 0});
 }
 
 void CanServer::on_poll(std::span<const pollfd> fds) {
-  if (!fds.empty() && fds[0].fd == fd_ && fds[0].revents != 0) read_frames();
+  if (!fds.empty() && fds[0].fd == fd_.get() && fds[0].revents != 0) read_frames();
 }
 
 void CanServer::read_frames() {
-  for (int round = 0; round < kMaxFramesPerRound && fd_ >= 0; ++round) {
+  for (int round = 0; round < kMaxFramesPerRound && fd_.valid(); ++round) {
     // Room for a CAN FD frame too, so a longer datagram is seen as such.
     alignas(can_frame) unsigned char data[sizeof(canfd_frame)];
     alignas(cmsghdr) unsigned char control[CMSG_SPACE(sizeof(timespec)) * 2];
@@ -101,7 +94,7 @@ void CanServer::read_frames() {
     message.msg_iovlen = 1;
     message.msg_control = control;
     message.msg_controllen = sizeof control;
-    const ssize_t got = ::recvmsg(fd_, &message, MSG_DONTWAIT);
+    const ssize_t got = ::recvmsg(fd_.get(), &message, MSG_DONTWAIT);
     if (got < 0) {
       if (errno == EINTR) continue;
       if (errno == EAGAIN || errno == EWOULDBLOCK) return;
@@ -133,7 +126,7 @@ void CanServer::handle_frame(const void* data, std::size_t size, std::optional<D
   const bool standard_data = (frame.can_id & (CAN_EFF_FLAG | CAN_RTR_FLAG | CAN_ERR_FLAG)) == 0;
   const canid_t id = frame.can_id & CAN_EFF_MASK;
   std::optional<protocol::Message> request;
-  if (standard_data && id <= kMaxHandId && frame.len == protocol::kPayloadSize) {
+  if (standard_data && id <= kMaxHandCanId && frame.len == protocol::kPayloadSize) {
     auto decoded = protocol::decode_payload(static_cast<std::uint8_t>(id),
                                             std::span(frame.data, protocol::kPayloadSize));
     if (decoded) request = decoded.value();
@@ -150,7 +143,7 @@ void CanServer::handle_frame(const void* data, std::size_t size, std::optional<D
 
 void CanServer::send(std::uint64_t /*destination*/, const protocol::Message& message) {
   // On a bus every node sees every frame: there is one destination.
-  if (fd_ < 0) {
+  if (!fd_) {
     ++counters_.frames_lost;
     return;
   }
@@ -160,7 +153,7 @@ void CanServer::send(std::uint64_t /*destination*/, const protocol::Message& mes
   const protocol::Payload payload = protocol::encode_payload(message);
   std::copy(payload.begin(), payload.end(), frame.data);
   for (;;) {
-    const ssize_t sent = ::send(fd_, &frame, sizeof frame, MSG_DONTWAIT | MSG_NOSIGNAL);
+    const ssize_t sent = ::send(fd_.get(), &frame, sizeof frame, MSG_DONTWAIT | MSG_NOSIGNAL);
     if (sent == static_cast<ssize_t>(sizeof frame)) {
       ++counters_.frames_sent;
       note_working();
@@ -190,8 +183,7 @@ void CanServer::handle_error(int error, std::string_view during) {
     }
     return;
   }
-  errno = error;
-  lose_fd(std::string(during) + ": " + errno_text());
+  lose_fd(std::string(during) + ": " + errno_text(error));
 }
 
 void CanServer::note_working() {
@@ -201,9 +193,8 @@ void CanServer::note_working() {
 }
 
 void CanServer::lose_fd(std::string_view reason) {
-  if (fd_ < 0) return;
-  ::close(fd_);
-  fd_ = -1;
+  if (!fd_) return;
+  fd_.reset();
   down_reported_ = false;
   next_reopen_ = host_.clock().now() + options_.reopen_interval;
   spdlog::warn(
@@ -212,12 +203,12 @@ void CanServer::lose_fd(std::string_view reason) {
 }
 
 std::optional<TimePoint> CanServer::next_timer() const {
-  if (fd_ >= 0) return std::nullopt;
+  if (fd_) return std::nullopt;
   return next_reopen_;
 }
 
 void CanServer::on_timer(TimePoint now) {
-  if (fd_ >= 0) return;
+  if (fd_) return;
   if (auto opened = open_fd(); !opened) {
     spdlog::debug("dh3-sim: {} not back yet: {}", options_.interface_name, opened.error());
     next_reopen_ = now + options_.reopen_interval;

@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "dh3/base/can_socket.hpp"
 #include "dh3/base/clock.hpp"
-#include "dh3/bus/socketcan_bus.hpp"
 #include "dh3/sim_server/can_server.hpp"
 #include "dh3/sim_server/transfer_box_server.hpp"
 
@@ -97,14 +97,6 @@ std::pair<std::uint8_t, std::int32_t> parse_placement(const std::string& text,
     throw CLI::ValidationError(what, "positions are 0-100, not " + text.substr(colon + 1));
   }
   return {id, position};
-}
-
-/// The CAN_RAW socket dh3-sim's hands use, bound to `interface`: the same
-/// socket (and kernel filter for IDs 0-255) as dh3-service's socketcan bus.
-dh3::Result<int, std::string> open_can_interface(const std::string& interface) {
-  auto opened = dh3::bus::open_can_raw_socket(interface);
-  if (!opened) return dh3::fail(opened.error());
-  return opened.value().release();
 }
 
 /// Prints `ready_line` once a stop signal would reach `server`, runs it until
@@ -236,8 +228,9 @@ int serve_on_can(const dh3::sim::TransferBoxServerOptions& options,
   dh3::sim::CanServerOptions can;
   static_cast<dh3::sim::SimHostOptions&>(can) = options;  // hands, control, interval
   can.interface_name = can_interface;
+  // The same socket (and kernel filter for IDs 0-255) as dh3-service's socketcan bus.
   auto opened = dh3::sim::CanServer::open(
-      can, [can_interface] { return open_can_interface(can_interface); },
+      can, [can_interface] { return dh3::open_can_raw_socket(can_interface); },
       dh3::SystemClock::instance());
   if (!opened) {
     spdlog::critical("dh3-sim: cannot serve on {}: {}", can_interface, opened.error());

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cerrno>
 #include <charconv>
-#include <cstring>
 #include <sstream>
 
 namespace dh3::sim {
@@ -58,7 +57,7 @@ void write_all(int fd, std::string_view text) {
     const ssize_t written = ::write(fd, text.data(), text.size());
     if (written < 0) {
       if (errno == EINTR) continue;
-      spdlog::warn("dh3-sim: control answer not written: {}", errno_text());
+      spdlog::warn("dh3-sim: control answer not written: {}", errno_text(errno));
       return;
     }
     text.remove_prefix(static_cast<std::size_t>(written));
@@ -100,15 +99,6 @@ const std::string_view kControlHelp =
     "  kick               close every client connection (TCP only; simulates link loss)\n"
     "  quit               stop dh3-sim\n";
 
-std::string errno_text() {
-  return std::strerror(errno);
-}
-
-bool set_nonblocking(int fd) {
-  const int flags = ::fcntl(fd, F_GETFL, 0);
-  return flags >= 0 && ::fcntl(fd, F_SETFL, flags | O_NONBLOCK) == 0;
-}
-
 SimHost::SimHost(SimHostOptions options, const Clock& clock)
     : options_(std::move(options)), clock_(clock), watch_(options_.min_interval) {
   const TimePoint now = clock_.now();
@@ -118,14 +108,11 @@ SimHost::SimHost(SimHostOptions options, const Clock& clock)
   }
 }
 
-SimHost::~SimHost() {
-  for (const int fd : wake_pipe_) {
-    if (fd >= 0) ::close(fd);
-  }
-}
-
 Result<void, std::string> SimHost::start() {
-  if (::pipe2(wake_pipe_, O_NONBLOCK | O_CLOEXEC) != 0) return fail(errno_text());
+  int ends[2];
+  if (::pipe2(ends, O_NONBLOCK | O_CLOEXEC) != 0) return fail(errno_text(errno));
+  wake_read_.reset(ends[0]);
+  wake_write_.reset(ends[1]);
   if (options_.control_in >= 0) set_nonblocking(options_.control_in);
   return {};
 }
@@ -133,7 +120,7 @@ Result<void, std::string> SimHost::start() {
 void SimHost::request_stop() {
   stop_requested_.store(true);
   const char byte = 's';
-  [[maybe_unused]] const ssize_t ignored = ::write(wake_pipe_[1], &byte, 1);
+  [[maybe_unused]] const ssize_t ignored = ::write(wake_write_.get(), &byte, 1);
 }
 
 void SimHost::run(SimTransport& transport) {
@@ -144,7 +131,7 @@ void SimHost::run(SimTransport& transport) {
     if (stop_requested_.load()) break;
 
     fds.clear();
-    fds.push_back(pollfd{wake_pipe_[0], POLLIN, 0});
+    fds.push_back(pollfd{wake_read_.get(), POLLIN, 0});
     const bool control_open = options_.control_in >= 0;
     if (control_open) fds.push_back(pollfd{options_.control_in, POLLIN, 0});
     const std::size_t first_transport = fds.size();
@@ -154,13 +141,13 @@ void SimHost::run(SimTransport& transport) {
     const int ready = ::poll(fds.data(), fds.size(), poll_timeout_ms(clock_.now(), timer));
     if (ready < 0) {
       if (errno == EINTR) continue;
-      spdlog::error("dh3-sim: poll: {}", errno_text());
+      spdlog::error("dh3-sim: poll: {}", errno_text(errno));
       break;
     }
     if (ready > 0) {
       if (fds[0].revents != 0) {
         char drain[64];
-        while (::read(wake_pipe_[0], drain, sizeof drain) > 0) {
+        while (::read(wake_read_.get(), drain, sizeof drain) > 0) {
         }
       }
       if (control_open && fds[1].revents != 0) read_control(transport);
@@ -236,7 +223,7 @@ void SimHost::read_control(SimTransport& transport) {
     if (got < 0) {
       if (errno == EINTR) continue;
       if (errno != EAGAIN && errno != EWOULDBLOCK) {
-        spdlog::warn("dh3-sim: control channel: {}", errno_text());
+        spdlog::warn("dh3-sim: control channel: {}", errno_text(errno));
         options_.control_in = -1;
       }
       break;

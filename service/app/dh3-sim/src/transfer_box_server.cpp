@@ -6,7 +6,6 @@
 #include <poll.h>
 #include <spdlog/spdlog.h>
 #include <sys/socket.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -60,30 +59,25 @@ Result<void, ServerError> TransferBoxServer::listen() {
     spdlog::error("dh3-sim: '{}' is not an IPv4 address", options_.host);
     return fail(ServerError::bad_address);
   }
-  listen_fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
-  if (listen_fd_ < 0) {
-    spdlog::error("dh3-sim: socket: {}", errno_text());
+  listen_fd_.reset(::socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0));
+  if (!listen_fd_) {
+    spdlog::error("dh3-sim: socket: {}", errno_text(errno));
     return fail(ServerError::socket_failed);
   }
   const int reuse = 1;
-  ::setsockopt(listen_fd_, SOL_SOCKET, SO_REUSEADDR, &reuse, sizeof reuse);
-  if (::bind(listen_fd_, reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0) {
-    spdlog::error("dh3-sim: cannot listen on {}:{}: {}", host, options_.port, errno_text());
+  ::setsockopt(listen_fd_.get(), SOL_SOCKET, SO_REUSEADDR, &reuse, sizeof reuse);
+  if (::bind(listen_fd_.get(), reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0) {
+    spdlog::error("dh3-sim: cannot listen on {}:{}: {}", host, options_.port, errno_text(errno));
     return fail(ServerError::bind_failed);
   }
-  if (::listen(listen_fd_, 16) != 0) {
-    spdlog::error("dh3-sim: listen: {}", errno_text());
+  if (::listen(listen_fd_.get(), 16) != 0) {
+    spdlog::error("dh3-sim: listen: {}", errno_text(errno));
     return fail(ServerError::listen_failed);
   }
   socklen_t length = sizeof address;
-  ::getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&address), &length);
+  ::getsockname(listen_fd_.get(), reinterpret_cast<sockaddr*>(&address), &length);
   port_ = ntohs(address.sin_port);
   return {};
-}
-
-TransferBoxServer::~TransferBoxServer() {
-  for (const std::unique_ptr<Client>& client : clients_) ::close(client->fd);
-  if (listen_fd_ >= 0) ::close(listen_fd_);
 }
 
 std::string TransferBoxServer::address() const {
@@ -97,10 +91,10 @@ void TransferBoxServer::run() {
 }
 
 void TransferBoxServer::add_poll_fds(std::vector<pollfd>& fds) {
-  fds.push_back(pollfd{listen_fd_, POLLIN, 0});
+  fds.push_back(pollfd{listen_fd_.get(), POLLIN, 0});
   for (const std::unique_ptr<Client>& client : clients_) {
     const short events = client->out.empty() ? POLLIN : POLLIN | POLLOUT;
-    fds.push_back(pollfd{client->fd, events, 0});
+    fds.push_back(pollfd{client->fd.get(), events, 0});
   }
 }
 
@@ -109,19 +103,20 @@ void TransferBoxServer::on_poll(std::span<const pollfd> fds) {
   // Clients accepted or kicked above are not in `fds`; match by descriptor.
   for (const pollfd& polled : fds.subspan(1)) {
     if (polled.revents == 0) continue;
-    const auto found = std::find_if(clients_.begin(), clients_.end(),
-                                    [&](const auto& client) { return client->fd == polled.fd; });
+    const auto found = std::find_if(clients_.begin(), clients_.end(), [&](const auto& client) {
+      return client->fd.get() == polled.fd;
+    });
     if (found == clients_.end()) continue;
     Client& client = **found;
     if (polled.revents & (POLLIN | POLLHUP | POLLERR)) read_client(client);
-    if (client.fd >= 0 && (polled.revents & POLLOUT)) write_client(client);
+    if (client.fd && (polled.revents & POLLOUT)) write_client(client);
   }
-  std::erase_if(clients_, [](const std::unique_ptr<Client>& client) { return client->fd < 0; });
+  std::erase_if(clients_, [](const std::unique_ptr<Client>& client) { return !client->fd; });
 }
 
 void TransferBoxServer::send(std::uint64_t destination, const protocol::Message& message) {
   for (const std::unique_ptr<Client>& client : clients_) {
-    if (client->fd >= 0 && (destination == kEveryPeer || destination == client->id)) {
+    if (client->fd && (destination == kEveryPeer || destination == client->id)) {
       queue_for(*client, message);
     }
   }
@@ -129,7 +124,7 @@ void TransferBoxServer::send(std::uint64_t destination, const protocol::Message&
 
 void TransferBoxServer::flush() {
   for (const std::unique_ptr<Client>& client : clients_) {
-    if (client->fd >= 0 && !client->out.empty()) write_client(*client);
+    if (client->fd && !client->out.empty()) write_client(*client);
   }
 }
 
@@ -144,11 +139,11 @@ void TransferBoxServer::accept_clients() {
   for (;;) {
     sockaddr_in peer{};
     socklen_t length = sizeof peer;
-    const int fd = ::accept4(listen_fd_, reinterpret_cast<sockaddr*>(&peer), &length,
+    const int fd = ::accept4(listen_fd_.get(), reinterpret_cast<sockaddr*>(&peer), &length,
                              SOCK_NONBLOCK | SOCK_CLOEXEC);
     if (fd < 0) {
       if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
-        spdlog::warn("dh3-sim: accept: {}", errno_text());
+        spdlog::warn("dh3-sim: accept: {}", errno_text(errno));
       }
       return;
     }
@@ -156,7 +151,7 @@ void TransferBoxServer::accept_clients() {
     const int no_delay = 1;
     ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &no_delay, sizeof no_delay);
     auto client = std::make_unique<Client>();
-    client->fd = fd;
+    client->fd.reset(fd);
     client->id = next_client_id_++;
     char text[INET_ADDRSTRLEN] = {};
     ::inet_ntop(AF_INET, &peer.sin_addr, text, sizeof text);
@@ -169,14 +164,14 @@ void TransferBoxServer::accept_clients() {
 void TransferBoxServer::read_client(Client& client) {
   std::uint8_t buffer[kReadChunk];
   for (;;) {
-    const ssize_t got = ::recv(client.fd, buffer, sizeof buffer, 0);
+    const ssize_t got = ::recv(client.fd.get(), buffer, sizeof buffer, 0);
     if (got == 0) {
       close_client(client, "closed by the client");
       return;
     }
     if (got < 0) {
       if (errno == EINTR) continue;
-      if (errno != EAGAIN && errno != EWOULDBLOCK) close_client(client, errno_text());
+      if (errno != EAGAIN && errno != EWOULDBLOCK) close_client(client, errno_text(errno));
       return;
     }
     decoded_.clear();
@@ -190,7 +185,7 @@ void TransferBoxServer::read_client(Client& client) {
     const Duration read_at = host_.clock().now().time_since_epoch();
     for (const protocol::Message& request : decoded_) host_.receive(request, client.id, read_at);
     host_.serve_due(*this);
-    if (client.fd < 0 || static_cast<std::size_t>(got) < sizeof buffer) return;
+    if (!client.fd || static_cast<std::size_t>(got) < sizeof buffer) return;
   }
 }
 
@@ -205,10 +200,10 @@ void TransferBoxServer::queue_for(Client& client, const protocol::Message& messa
 void TransferBoxServer::write_client(Client& client) {
   while (!client.out.empty()) {
     const ssize_t sent =
-        ::send(client.fd, client.out.data(), client.out.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+        ::send(client.fd.get(), client.out.data(), client.out.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
     if (sent < 0) {
       if (errno == EINTR) continue;
-      if (errno != EAGAIN && errno != EWOULDBLOCK) close_client(client, errno_text());
+      if (errno != EAGAIN && errno != EWOULDBLOCK) close_client(client, errno_text(errno));
       return;
     }
     client.out.erase(client.out.begin(), client.out.begin() + sent);
@@ -216,10 +211,9 @@ void TransferBoxServer::write_client(Client& client) {
 }
 
 void TransferBoxServer::close_client(Client& client, std::string_view why) {
-  if (client.fd < 0) return;
+  if (!client.fd) return;
   spdlog::info("dh3-sim: client {} ({}) disconnected: {}", client.id, client.peer, why);
-  ::close(client.fd);
-  client.fd = -1;
+  client.fd.reset();
   client.out.clear();
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // Bus specs as users write them (command line, config file) and the factory
-// that opens the matching backend:
+// that opens the matching backend of this layer (a sim spec is parsed here; the
+// simulated bus itself lives in the sim layer above, see dh3/sim/sim_bus.hpp):
 //
 //   sim                         one simulated hand with CAN ID 1
 //   sim:1,2,3                   simulated hands with these CAN IDs (1-255)
@@ -17,11 +18,9 @@
 #include "dh3/base/clock.hpp"
 #include "dh3/base/result.hpp"
 #include "dh3/bus/bus.hpp"
-#include "dh3/bus/sim_bus.hpp"
 #include "dh3/bus/socketcan_bus.hpp"
 #include "dh3/bus/stream_link.hpp"
 #include "dh3/bus/transfer_box_bus.hpp"
-#include "dh3/sim/sim_hand.hpp"
 
 namespace dh3::bus {
 
@@ -53,16 +52,14 @@ struct BusSpec {
 
 /// Tuning for every backend open_bus() may create.
 struct OpenBusOptions {
-  SimBusOptions sim;
-  /// Template for simulated hands; `id` is replaced by each spec id.
-  sim::SimHandOptions sim_hand;
   SocketCanOptions socketcan;
   TransferBoxOptions transfer_box;
   TcpLinkOptions tcp;
 };
 
-/// Opens the backend a spec names. Fails with a clear message for a bad spec or
-/// what cannot get better by waiting (no CAN support in the kernel). A box that
+/// Opens the backend a spec names. Fails with a clear message for a bad spec, a
+/// sim spec (the sim layer makes those buses) or what cannot get better by
+/// waiting (no CAN support in the kernel). A box that
 /// is not reachable yet, a missing serial device or a down CAN interface give a
 /// bus whose link is down and which keeps retrying.
 [[nodiscard]] Result<std::unique_ptr<Bus>, std::string> open_bus(

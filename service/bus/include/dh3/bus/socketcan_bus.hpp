@@ -32,6 +32,7 @@
 #include <string>
 #include <vector>
 
+#include "dh3/base/can_socket.hpp"
 #include "dh3/base/fd_util.hpp"
 #include "dh3/bus/bus.hpp"
 #include "dh3/bus/link_tracker.hpp"
@@ -44,25 +45,10 @@ struct SocketCanOptions {
   std::uint32_t bit_rate = 0;
 };
 
-/// Returns a fresh non-blocking fd carrying `struct can_frame` datagrams, or
-/// why it could not.
-using CanSocketOpener = std::function<Result<UniqueFd, std::string>()>;
-
 /// The kinds an error frame (can_id with CAN_ERR_FLAG, 8 data bytes) reports,
 /// bit i for ErrorFrameKind i. Pure, for the tests.
 [[nodiscard]] std::bitset<kErrorFrameKinds> classify_error_frame(std::uint32_t can_id,
                                                                  const std::uint8_t* data);
-
-/// Empty if the kernel can create PF_CAN sockets, else the reason, e.g.
-/// "kernel has no CAN support: socket(PF_CAN) failed: Address family not
-/// supported by protocol".
-[[nodiscard]] std::string kernel_can_support_problem();
-
-/// socket(PF_CAN, SOCK_RAW, CAN_RAW), receive filter, error-frame mask,
-/// SO_RXQ_OVFL, bind to
-/// `interface`. Fails with a clear reason when the interface is missing, is not
-/// a CAN interface, or is down.
-[[nodiscard]] Result<UniqueFd, std::string> open_can_raw_socket(const std::string& interface);
 
 class SocketCanBus final : public Bus {
  public:

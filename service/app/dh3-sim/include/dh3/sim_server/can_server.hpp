@@ -6,9 +6,10 @@
 // hands, the control channel and the interval check are SimHost's.
 //
 // Like SocketCanBus, the server runs on a file descriptor carrying `struct
-// can_frame` datagrams that an opener function provides: dh3-sim's opener binds
-// a CAN_RAW socket to an interface such as vcan0; tests hand over one end of an
-// AF_UNIX SOCK_SEQPACKET socketpair and play the bus on the other end.
+// can_frame` datagrams that a CanSocketOpener provides: dh3-sim's opener binds
+// a CAN_RAW socket to an interface such as vcan0 (open_can_raw_socket()); tests
+// hand over one end of an AF_UNIX SOCK_SEQPACKET socketpair and play the bus on
+// the other end.
 // Received frames are checked in user space whatever the fd: only standard data
 // frames (not extended, RTR or error frames) with IDs 0-255 and exactly 8 data
 // bytes that decode as a DH-3 payload reach the hands; the rest are counted as
@@ -32,22 +33,19 @@
 #include <sys/socket.h>
 
 #include <cstdint>
-#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "dh3/base/can_socket.hpp"
 #include "dh3/base/clock.hpp"
+#include "dh3/base/fd_util.hpp"
 #include "dh3/base/result.hpp"
 #include "dh3/sim_server/sim_host.hpp"
 
 namespace dh3::sim {
-
-/// A fresh fd carrying `struct can_frame` datagrams (the server closes it), or
-/// why there is none, e.g. "no network interface named 'vcan0'".
-using CanFdOpener = std::function<Result<int, std::string>()>;
 
 /// The hands, control channel and interval check (SimHostOptions) and the interface.
 struct CanServerOptions : SimHostOptions {
@@ -70,8 +68,7 @@ class CanServer final : private SimTransport {
   /// Opens the interface through `opener` once now; fails with the opener's
   /// reason (or the OS's, for the wake-up pipe). The hands start now.
   [[nodiscard]] static Result<std::unique_ptr<CanServer>, std::string> open(
-      CanServerOptions options, CanFdOpener opener, const Clock& clock);
-  ~CanServer() override;
+      CanServerOptions options, CanSocketOpener opener, const Clock& clock);
   CanServer(const CanServer&) = delete;
   CanServer& operator=(const CanServer&) = delete;
 
@@ -99,7 +96,7 @@ class CanServer final : private SimTransport {
   [[nodiscard]] Counters counters() const { return counters_; }
 
  private:
-  CanServer(CanServerOptions options, CanFdOpener opener, const Clock& clock);
+  CanServer(CanServerOptions options, CanSocketOpener opener, const Clock& clock);
   [[nodiscard]] Result<void, std::string> open_fd();
 
   // SimTransport
@@ -117,9 +114,9 @@ class CanServer final : private SimTransport {
   void note_working();
 
   CanServerOptions options_;
-  CanFdOpener opener_;
+  CanSocketOpener opener_;
   SimHost host_;
-  int fd_ = -1;
+  UniqueFd fd_;
   TimePoint next_reopen_{};
   bool down_reported_ = false;
   Counters counters_;

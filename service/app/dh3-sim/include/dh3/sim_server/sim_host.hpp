@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "dh3/base/clock.hpp"
+#include "dh3/base/fd_util.hpp"
 #include "dh3/base/result.hpp"
 #include "dh3/protocol/codec.hpp"
 #include "dh3/sim/hand_set.hpp"
@@ -79,7 +80,6 @@ struct SimHostOptions {
 class SimHost {
  public:
   SimHost(SimHostOptions options, const Clock& clock);
-  ~SimHost();
   SimHost(const SimHost&) = delete;
   SimHost& operator=(const SimHost&) = delete;
 
@@ -138,7 +138,8 @@ class SimHost {
   const Clock& clock_;
   HandSet hands_;
   IntervalWatch watch_;
-  int wake_pipe_[2] = {-1, -1};
+  UniqueFd wake_read_;  // the stop request's wake-up pipe
+  UniqueFd wake_write_;
   std::atomic<bool> stop_requested_{false};
   std::priority_queue<Scheduled, std::vector<Scheduled>, ScheduledLater> scheduled_;
   std::uint64_t next_sequence_ = 0;
@@ -146,10 +147,5 @@ class SimHost {
   std::vector<Outgoing> unsolicited_;  // scratch
   std::string control_buffer_;
 };
-
-/// "Bad file descriptor" for errno; shared by the transports' log lines.
-[[nodiscard]] std::string errno_text();
-/// Sets O_NONBLOCK; false if the OS refuses.
-bool set_nonblocking(int fd);
 
 }  // namespace dh3::sim

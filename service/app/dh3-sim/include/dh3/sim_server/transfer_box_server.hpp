@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "dh3/base/clock.hpp"
+#include "dh3/base/fd_util.hpp"
 #include "dh3/base/result.hpp"
 #include "dh3/protocol/stream_decoder.hpp"
 #include "dh3/sim_server/sim_host.hpp"
@@ -54,7 +55,6 @@ class TransferBoxServer final : private SimTransport {
   /// Binds and listens; the hands start now (not initialized).
   [[nodiscard]] static Result<std::unique_ptr<TransferBoxServer>, ServerError> open(
       TransferBoxServerOptions options, const Clock& clock);
-  ~TransferBoxServer() override;
   TransferBoxServer(const TransferBoxServer&) = delete;
   TransferBoxServer& operator=(const TransferBoxServer&) = delete;
 
@@ -79,7 +79,7 @@ class TransferBoxServer final : private SimTransport {
 
  private:
   struct Client {
-    int fd = -1;
+    UniqueFd fd;
     std::uint64_t id = 0;
     std::string peer;
     protocol::StreamDecoder decoder;
@@ -106,7 +106,7 @@ class TransferBoxServer final : private SimTransport {
 
   TransferBoxServerOptions options_;
   SimHost host_;
-  int listen_fd_ = -1;
+  UniqueFd listen_fd_;
   std::uint16_t port_ = 0;
   std::vector<std::unique_ptr<Client>> clients_;
   std::uint64_t next_client_id_ = 1;

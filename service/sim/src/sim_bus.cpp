@@ -1,4 +1,4 @@
-#include "dh3/bus/sim_bus.hpp"
+#include "dh3/sim/sim_bus.hpp"
 
 #include <spdlog/spdlog.h>
 
@@ -8,7 +8,11 @@
 
 #include "dh3/protocol/codec.hpp"
 
-namespace dh3::bus {
+namespace dh3::sim {
+
+using bus::BusError;
+using bus::CanFrame;
+using bus::LinkState;
 
 namespace {
 
@@ -25,7 +29,7 @@ CanFrame to_frame(const protocol::Message& message) {
 
 }  // namespace
 
-SimBus::SimBus(std::string spec, std::vector<sim::SimHandOptions> hands, const Clock& clock,
+SimBus::SimBus(std::string spec, std::vector<SimHandOptions> hands, const Clock& clock,
                SimBusOptions options)
     : spec_(std::move(spec)),
       clock_(clock),
@@ -37,7 +41,7 @@ SimBus::SimBus(std::string spec, std::vector<sim::SimHandOptions> hands, const C
                                  1'000'000'000ULL / options_.bit_rate));
   }
   const TimePoint now = clock_.now();
-  for (const sim::SimHandOptions& hand : hands) {
+  for (const SimHandOptions& hand : hands) {
     if (hands_.add(hand, now)) {
       spdlog::warn("sim bus {}: two hands with CAN ID {}, keeping the last", spec_, hand.id);
     }
@@ -105,26 +109,26 @@ LinkState SimBus::link_state() const {
   return link_up_ ? LinkState::up : LinkState::down;
 }
 
-bool SimBus::with_hand(std::uint8_t id, const std::function<void(sim::SimHand&)>& action) {
+bool SimBus::with_hand(std::uint8_t id, const std::function<void(SimHand&)>& action) {
   {
     std::lock_guard lock(mutex_);
     const TimePoint now = clock_.now();
     process_until_locked(now);
-    sim::SimHand* hand = hands_.find(id);
+    SimHand* hand = hands_.find(id);
     if (hand == nullptr) return false;
     // Bring the hand to now so the injection happens now, not at its last request.
     scratch_ = hand->advance(now);
     schedule_locked(now, scratch_);
     std::uint8_t id_after = id;
     hands_.with_hand(id, action, &id_after);
-    if (const sim::SimHand* moved = hands_.find(id_after)) arm_timer_locked(*moved);
+    if (const SimHand* moved = hands_.find(id_after)) arm_timer_locked(*moved);
     process_until_locked(now);
   }
   wakeup_.notify_all();
   return true;
 }
 
-void SimBus::add_hand(const sim::SimHandOptions& options) {
+void SimBus::add_hand(const SimHandOptions& options) {
   std::lock_guard lock(mutex_);
   const TimePoint now = clock_.now();
   process_until_locked(now);
@@ -196,7 +200,7 @@ void SimBus::play_locked(const Event& event) {
       return;
     case Event::Kind::hand_timer: {
       if (timer_armed_at_[event.hand_id] == event.at) timer_armed_at_[event.hand_id].reset();
-      sim::SimHand* hand = hands_.find(event.hand_id);
+      SimHand* hand = hands_.find(event.hand_id);
       if (hand == nullptr) return;
       scratch_ = hand->advance(event.at);
       schedule_locked(event.at, scratch_);
@@ -219,14 +223,14 @@ void SimBus::reach_hands_locked(TimePoint at, const CanFrame& frame) {
   hands_.deliver(*request, at, scratch_, scratch_);
   schedule_locked(at, scratch_);
   if (id != 0) {
-    if (const sim::SimHand* hand = hands_.find(id)) arm_timer_locked(*hand);
+    if (const SimHand* hand = hands_.find(id)) arm_timer_locked(*hand);
     return;
   }
   for (const std::uint8_t each : hands_.ids()) arm_timer_locked(*hands_.find(each));
 }
 
-void SimBus::schedule_locked(TimePoint not_before, std::vector<sim::Outgoing>& frames) {
-  for (const sim::Outgoing& outgoing : frames) {
+void SimBus::schedule_locked(TimePoint not_before, std::vector<Outgoing>& frames) {
+  for (const Outgoing& outgoing : frames) {
     Event event;
     event.at = std::max(outgoing.due, not_before);
     event.kind = Event::Kind::reply_ready;
@@ -236,7 +240,7 @@ void SimBus::schedule_locked(TimePoint not_before, std::vector<sim::Outgoing>& f
   frames.clear();
 }
 
-void SimBus::arm_timer_locked(const sim::SimHand& hand) {
+void SimBus::arm_timer_locked(const SimHand& hand) {
   const std::optional<TimePoint> at = hand.next_unsolicited_at();
   if (!at || timer_armed_at_[hand.id()] == at) return;
   timer_armed_at_[hand.id()] = at;
@@ -314,4 +318,4 @@ std::optional<TimePoint> SimBus::next_activity_locked() const {
   return next;
 }
 
-}  // namespace dh3::bus
+}  // namespace dh3::sim

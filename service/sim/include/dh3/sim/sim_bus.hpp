@@ -1,10 +1,12 @@
 #pragma once
 // In-process simulated hands on a simulated CAN bus. A first-class backend:
-// `dh3-service` with no config runs on it. Frames sent are handed to the
-// simulated hand with that CAN ID; its replies become receivable after the
-// hand's reply delay and, optionally, the CAN bit time of the frames at the
-// configured bit rate (111 bits per 8-byte frame without stuffing, up to 135
-// with worst-case stuffing).
+// `dh3-service` with no config runs on it. It implements the bus layer's
+// interface from above it, as ros2_control's mock components sit above
+// hardware_interface: the bus layer knows no simulator, and dh3-service's app
+// layer makes a SimBus where the configuration asks for one (bus_setup.cpp). Frames sent are handed
+// to the simulated hand with that CAN ID; its replies become receivable after the hand's reply
+// delay and, optionally, the CAN bit time of the frames at the configured bit rate (111 bits per
+// 8-byte frame without stuffing, up to 135 with worst-case stuffing).
 //
 // With a FakeClock, time moves only when the test advances it: receive() with a
 // zero timeout returns what is due at clock.now(), so tests never sleep.
@@ -42,7 +44,7 @@
 #include "dh3/sim/hand_set.hpp"
 #include "dh3/sim/sim_hand.hpp"
 
-namespace dh3::bus {
+namespace dh3::sim {
 
 struct SimBusOptions {
   /// 0: frames take no bus time. Otherwise replies are delayed by the time the
@@ -55,17 +57,17 @@ struct SimBusOptions {
   std::size_t tx_queue_length = 0;
 };
 
-class SimBus final : public Bus {
+class SimBus final : public bus::Bus {
  public:
-  SimBus(std::string spec, std::vector<sim::SimHandOptions> hands, const Clock& clock,
+  SimBus(std::string spec, std::vector<SimHandOptions> hands, const Clock& clock,
          SimBusOptions options = {});
   ~SimBus() override;
 
   [[nodiscard]] const std::string& spec() const override { return spec_; }
-  Result<void, BusError> send(const CanFrame& frame) override;
-  Result<void, BusError> receive(std::vector<CanFrame>& out, Duration timeout) override;
+  Result<void, bus::BusError> send(const bus::CanFrame& frame) override;
+  Result<void, bus::BusError> receive(std::vector<bus::CanFrame>& out, Duration timeout) override;
   void wake() override;
-  [[nodiscard]] LinkState link_state() const override;
+  [[nodiscard]] bus::LinkState link_state() const override;
   [[nodiscard]] std::uint32_t bit_rate() const override { return options_.bit_rate; }
 
   /// Runs `action` on the simulated hand with this CAN ID under the bus's lock
@@ -73,9 +75,9 @@ class SimBus final : public Bus {
   /// The hand is first advanced to clock.now(), so the injection happens now.
   /// If the action reboots the hand onto a new ID, it is found under that ID
   /// afterwards. Returns false if there is no such hand.
-  bool with_hand(std::uint8_t id, const std::function<void(sim::SimHand&)>& action);
+  bool with_hand(std::uint8_t id, const std::function<void(SimHand&)>& action);
   /// Adds a hand while running (a hand plugged in later).
-  void add_hand(const sim::SimHandOptions& options);
+  void add_hand(const SimHandOptions& options);
   /// Removes a hand (unplugged): it stops answering.
   void remove_hand(std::uint8_t id);
   /// Simulates the link going down and coming back: while down, send() and
@@ -100,7 +102,7 @@ class SimBus final : public Bus {
     Kind kind = Kind::reply_ready;
     bool is_request = false;   ///< for line_done: sent by us (true) or by a hand
     std::uint8_t hand_id = 0;  ///< for hand_timer
-    CanFrame frame;
+    bus::CanFrame frame;
   };
   struct EventLater {
     bool operator()(const Event& a, const Event& b) const {
@@ -115,7 +117,7 @@ class SimBus final : public Bus {
   };
   /// A frame waiting for the line; the lowest CAN ID wins arbitration.
   struct Contender {
-    CanFrame frame;
+    bus::CanFrame frame;
     std::uint64_t sequence = 0;
     bool is_request = false;
   };
@@ -126,7 +128,7 @@ class SimBus final : public Bus {
   };
   struct Pending {
     TimePoint due;
-    CanFrame frame;
+    bus::CanFrame frame;
   };
 
   void push_event(Event event);
@@ -135,14 +137,14 @@ class SimBus final : public Bus {
   void process_until_locked(TimePoint now);
   void play_locked(const Event& event);
   /// A request reaches the hands at `at`; their replies are scheduled.
-  void reach_hands_locked(TimePoint at, const CanFrame& frame);
-  void schedule_locked(TimePoint not_before, std::vector<sim::Outgoing>& frames);
-  void arm_timer_locked(const sim::SimHand& hand);
-  void contend_locked(TimePoint at, const CanFrame& frame, bool is_request);
+  void reach_hands_locked(TimePoint at, const bus::CanFrame& frame);
+  void schedule_locked(TimePoint not_before, std::vector<Outgoing>& frames);
+  void arm_timer_locked(const SimHand& hand);
+  void contend_locked(TimePoint at, const bus::CanFrame& frame, bool is_request);
   void request_arbitration_locked(TimePoint at);
   void start_next_frame_locked(TimePoint at);
-  void deliver_locked(TimePoint due, const CanFrame& frame);
-  void collect_due_locked(TimePoint now, std::vector<CanFrame>& out);
+  void deliver_locked(TimePoint due, const bus::CanFrame& frame);
+  void collect_due_locked(TimePoint now, std::vector<bus::CanFrame>& out);
   void drop_in_flight_locked();
   [[nodiscard]] std::optional<TimePoint> next_activity_locked() const;
 
@@ -155,17 +157,17 @@ class SimBus final : public Bus {
   std::condition_variable wakeup_;
   bool woken_ = false;
   bool link_up_ = true;
-  sim::HandSet hands_;
+  HandSet hands_;
   std::priority_queue<Event, std::vector<Event>, EventLater> events_;
   std::priority_queue<Contender, std::vector<Contender>, ContenderLoses> contenders_;
   std::size_t requests_waiting_ = 0;  // our frames among contenders_
   bool line_busy_ = false;
   std::array<std::optional<TimePoint>, 256> timer_armed_at_{};
   std::uint64_t next_sequence_ = 0;
-  std::vector<sim::Outgoing> scratch_;  // frames of the hand being served
-  std::deque<Pending> in_flight_;       // crossed the line, ordered by due time
+  std::vector<Outgoing> scratch_;  // frames of the hand being served
+  std::deque<Pending> in_flight_;  // crossed the line, ordered by due time
   std::uint64_t frames_sent_ = 0;
   std::uint64_t frames_delivered_ = 0;
 };
 
-}  // namespace dh3::bus
+}  // namespace dh3::sim
