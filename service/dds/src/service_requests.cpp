@@ -15,7 +15,8 @@ void Service::Impl::on_requests(fdds::DataReader& reader) {
   fdds::SampleInfo info;
   while (reader.take_next_sample(&request_, &info) == ReturnCode_t::RETCODE_OK) {
     if (!info.valid_data) continue;
-    if (options_.tracer) options_.tracer(TracePoint::request_taken, request_.request_seq());
+    if (options_.test_seam_tracer)
+      options_.test_seam_tracer(TracePoint::request_taken, request_.request_seq());
     handle_request(request_);
   }
 }
@@ -180,11 +181,13 @@ void Service::Impl::write_reply(msg::CommandReply& reply) {
                   result_code_name(reply.code()), reply.message());
   }
   if (reply_writer_ == nullptr) return;
-  if (options_.tracer) options_.tracer(TracePoint::reply_writing, reply.request_seq());
+  if (options_.test_seam_tracer)
+    options_.test_seam_tracer(TracePoint::reply_writing, reply.request_seq());
   if (!reply_writer_->write(&reply)) {
     spdlog::warn("could not publish the reply to {}#{}", reply.client_id(), reply.request_seq());
   }
-  if (options_.tracer) options_.tracer(TracePoint::reply_written, reply.request_seq());
+  if (options_.test_seam_tracer)
+    options_.test_seam_tracer(TracePoint::reply_written, reply.request_seq());
 }
 
 }  // namespace dh3::dds

@@ -10,8 +10,6 @@
 // thread ends expired leases.
 
 #include <chrono>
-#include <cstdint>
-#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -19,19 +17,11 @@
 #include "dh3/base/clock.hpp"
 #include "dh3/base/result.hpp"
 #include "dh3/bus/bus.hpp"
+#include "dh3/dds/request_trace_seam.hpp"
 #include "dh3/hand/bus_scheduler.hpp"
 #include "dh3_participant_options.hpp"
 
 namespace dh3::dds {
-
-/// Points on a command request's way through the service, for the service
-/// overhead benchmark (tests/bench/bench_round_trip.cpp), which timestamps them.
-enum class TracePoint : std::uint8_t {
-  request_taken,  ///< the request sample was taken from the reader
-  reply_writing,  ///< its reply is about to be written
-  reply_written,  ///< the reply writer's write() returned
-};
-using RequestTracer = std::function<void(TracePoint, std::uint64_t request_seq)>;
 
 struct ServiceOptions {
   std::string name = "dh3";  ///< answers requests whose hand.service is this
@@ -43,9 +33,10 @@ struct ServiceOptions {
   std::string host;          ///< published in the service info
   /// How long stop() waits for subscribers to acknowledge the last samples.
   Duration shutdown_ack_timeout = std::chrono::seconds(2);
-  /// Called at each TracePoint of every request, on the thread that is there
-  /// (must be quick). Unset, the default: nothing but the emptiness test.
-  RequestTracer tracer;
+  /// Test seam (request_trace_seam.hpp): called at each TracePoint of every
+  /// request, on the thread that is there (must be quick). Unset, the
+  /// default: nothing but the emptiness test.
+  RequestTracer test_seam_tracer;
 
   /// The service's identity in the test PKI unless told otherwise.
   static contract::ParticipantOptions default_participant() {
