@@ -31,7 +31,7 @@ if grep -q '^dh3ctl:' <<<"$known_targets"; then
 fi
 cmake --build "$build" -j "$jobs" --target "${targets[@]}"
 
-service="$build/service/app/dh3-service"
+service="$build/service/app/dh3-service/dh3-service"
 config=$(mktemp --suffix=.yaml)
 log=$(mktemp)
 service_pid=

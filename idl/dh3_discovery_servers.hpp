@@ -36,7 +36,7 @@
 #include <utility>
 #include <vector>
 
-#include "common/result.hpp"
+#include "dh3/base/result.hpp"
 
 namespace dh3::contract {
 

@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-#include "common/result.hpp"
+#include "dh3/base/result.hpp"
 #include "dh3_discovery.hpp"
 #include "dh3_participant.hpp"
 #include "dh3_participant_options.hpp"

@@ -57,8 +57,8 @@
 #include <thread>
 #include <vector>
 
-#include "common/result.hpp"
 #include "dh3/address.hpp"
+#include "dh3/base/result.hpp"
 #include "dh3/client.hpp"
 #include "dh3/types.hpp"
 #include "dh3_idl/dh3.h"

@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-#include "common/result.hpp"
+#include "dh3/base/result.hpp"
 #include "dh3/types.hpp"
 #include "dh3_idl/dh3.h"
 #include "dh3_names.hpp"

@@ -21,8 +21,8 @@
 #include <string>
 #include <vector>
 
-#include "bus/sim_bus.hpp"
-#include "hand/bus_scheduler.hpp"
+#include "dh3/hand/bus_scheduler.hpp"
+#include "dh3/sim/sim_bus.hpp"
 
 namespace {
 
@@ -91,12 +91,12 @@ Row run(int hands, double seconds) {
     sim.push_back(o);
     configs.push_back(hand::HandConfig{static_cast<std::uint8_t>(id), {}});
   }
-  bus::SimBusOptions line;
+  sim::SimBusOptions line;
   line.bit_rate = kBitRate;
   line.bits_per_frame = 111;
   line.tx_queue_length = 4;
   auto counting = std::make_unique<CountingBus>(
-      std::make_unique<bus::SimBus>("sim:bench", std::move(sim), clock, line));
+      std::make_unique<sim::SimBus>("sim:bench", std::move(sim), clock, line));
   CountingBus* bus = counting.get();
   hand::SchedulerOptions options;
   options.command_interval = 0ms;

@@ -28,13 +28,13 @@
 #include <thread>
 #include <vector>
 
-#include "app/bus_setup.hpp"
-#include "app/config.hpp"
 #include "bench_util.hpp"
-#include "bus/sim_bus.hpp"
-#include "dds/service.hpp"
+#include "dh3/app/bus_setup.hpp"
+#include "dh3/app/config.hpp"
 #include "dh3/client.hpp"
-#include "hand/bus_scheduler.hpp"
+#include "dh3/dds/service.hpp"
+#include "dh3/hand/bus_scheduler.hpp"
+#include "dh3/sim/sim_bus.hpp"
 
 namespace {
 
@@ -178,7 +178,7 @@ class TcpSim final : public Sim {
 
 class InProcessSim final : public Sim {
  public:
-  explicit InProcessSim(dh3::bus::SimBus& bus) : bus_(bus) {}
+  explicit InProcessSim(dh3::sim::SimBus& bus) : bus_(bus) {}
   void place_object(unsigned id, int position) override {
     bus_.with_hand(static_cast<std::uint8_t>(id),
                    [&](dh3::sim::SimHand& hand) { hand.place_object(position); });
@@ -199,7 +199,7 @@ class InProcessSim final : public Sim {
   }
 
  private:
-  dh3::bus::SimBus& bus_;
+  dh3::sim::SimBus& bus_;
 };
 
 // ---------------------------------------------------------------------------
@@ -244,7 +244,7 @@ std::optional<Latencies> run_scenario(const std::string& config_yaml, int domain
   if (tcp_sim != nullptr) {
     sim = std::make_unique<TcpSim>(*tcp_sim);
   } else {
-    auto* sim_bus = dynamic_cast<dh3::bus::SimBus*>(setups->front().bus.get());
+    auto* sim_bus = dynamic_cast<dh3::sim::SimBus*>(setups->front().bus.get());
     if (sim_bus == nullptr) return std::nullopt;
     sim = std::make_unique<InProcessSim>(*sim_bus);
   }
@@ -356,7 +356,7 @@ std::vector<StateLoad> bus_load_per_state() {
   using dh3::hand::CommandKind;
   struct Case {
     const char* name;
-    std::function<void(dh3::hand::BusScheduler&, dh3::bus::SimBus&, dh3::FakeClock&)> enter;
+    std::function<void(dh3::hand::BusScheduler&, dh3::sim::SimBus&, dh3::FakeClock&)> enter;
   };
   const auto submit = [](dh3::hand::BusScheduler& s, CommandKind kind, std::int32_t value) {
     Command c;
@@ -386,9 +386,9 @@ std::vector<StateLoad> bus_load_per_state() {
     hand.init_time = 100ms;
     hand.position_speed = 1.0;  // motions outlast the measurement
     hand.rotation_speed = 1.0;
-    dh3::bus::SimBusOptions line;
+    dh3::sim::SimBusOptions line;
     line.bit_rate = 500'000;
-    auto bus = std::make_unique<dh3::bus::SimBus>("sim:load", std::vector{hand}, clock, line);
+    auto bus = std::make_unique<dh3::sim::SimBus>("sim:load", std::vector{hand}, clock, line);
     auto* sim_bus = bus.get();
     NullObserver observer;
     dh3::hand::BusScheduler scheduler("load", std::move(bus), {{1, ""}}, {}, clock, observer);

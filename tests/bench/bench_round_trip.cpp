@@ -18,7 +18,7 @@
 // would use Fast DDS's intraprocess delivery and bypass the transport.
 //
 // Service overhead: dh3's Service in this process (shared memory), traced
-// (dds::ServiceOptions::tracer) and with its bus wrapped to timestamp frames,
+// (dds::ServiceOptions::test_seam_tracer) and with its bus wrapped to timestamp frames,
 // driven by a dh3::Client in a child process. Reports the time from a request
 // sample's take to its frame on the bus, and from the echo's arrival to the
 // reply's write() call and return.
@@ -58,17 +58,17 @@
 #include <thread>
 #include <vector>
 
-#include "app/bus_setup.hpp"
-#include "app/config.hpp"
 #include "bench_util.hpp"
-#include "dds/service.hpp"
+#include "dh3/app/bus_setup.hpp"
+#include "dh3/app/config.hpp"
 #include "dh3/client.hpp"
+#include "dh3/dds/service.hpp"
+#include "dh3/protocol/codec.hpp"
+#include "dh3/protocol/registers.hpp"
 #include "dh3/registers.hpp"
 #include "dh3_idl/dh3PubSubTypes.h"
 #include "dh3_participant.hpp"
 #include "dh3_qos.hpp"
-#include "protocol/codec.hpp"
-#include "protocol/registers.hpp"
 #include "raw_dds.hpp"
 
 namespace {
@@ -504,7 +504,7 @@ std::optional<Overhead> service_overhead(int domain, int count, Command command)
   dh3::dds::ServiceOptions options;
   options.name = "traced";
   options.participant.domain = domain;
-  options.tracer = [&recorder](dh3::dds::TracePoint point, std::uint64_t seq) {
+  options.test_seam_tracer = [&recorder](dh3::dds::TracePoint point, std::uint64_t seq) {
     recorder.on_point(point, seq);
   };
   auto service = dh3::dds::Service::create(options, std::move(*setups), clock);

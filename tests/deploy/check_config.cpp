@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <utility>
 
-#include "app/config.hpp"
+#include "dh3/app/config.hpp"
 
 int main(int argc, char** argv) {
   if (argc < 2) {

@@ -7,8 +7,8 @@
 #include <cstdlib>
 #include <span>
 
-#include "protocol/codec.hpp"
-#include "protocol/registers.hpp"
+#include "dh3/protocol/codec.hpp"
+#include "dh3/protocol/registers.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* bytes, std::size_t size) {
   using namespace dh3::protocol;

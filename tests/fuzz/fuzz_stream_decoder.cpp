@@ -11,8 +11,8 @@
 #include <span>
 #include <vector>
 
-#include "protocol/codec.hpp"
-#include "protocol/stream_decoder.hpp"
+#include "dh3/protocol/codec.hpp"
+#include "dh3/protocol/stream_decoder.hpp"
 
 namespace {
 

@@ -32,9 +32,9 @@ if ! "$cxx" -fsanitize=fuzzer "$probe" -o "$work/probe" 2>"$work/probe.log"; the
   exit 77
 fi
 
-flags=(-std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all
-       -I "$root/service")
-protocol=("$root"/service/protocol/*.cpp)
+flags=(-std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all)
+for layer in base protocol bus hand dds; do flags+=(-I "$root/service/$layer/include"); done
+protocol=("$root"/service/protocol/src/*.cpp)
 status=0
 
 # fuzz TARGET: replays the kept cases, then searches from the corpus in
@@ -75,9 +75,9 @@ build_request_validation() {
   local idl_sources=("$generated/dh3_idl/dh3.cxx" "$generated/dh3_idl/dh3PubSubTypes.cxx")
   local libs=(-lfastrtps -lfastcdr -lfmt)
   "$cxx" "${flags[@]}" "${idl[@]}" "$here/fuzz_request_validation.cpp" "${idl_sources[@]}" \
-    "$root"/service/dds/request_validation.cpp "$root"/service/dds/conversions.cpp \
-    "$root"/service/dds/hand_directory.cpp "$root"/service/hand/command_validation.cpp \
-    "$root"/service/hand/hand_types.cpp "${protocol[@]}" "${libs[@]}" \
+    "$root"/service/dds/src/request_validation.cpp "$root"/service/dds/src/conversions.cpp \
+    "$root"/service/dds/src/hand_directory.cpp "$root"/service/hand/src/command_validation.cpp \
+    "$root"/service/hand/src/hand_types.cpp "${protocol[@]}" "${libs[@]}" \
     -o "$work/fuzz_request_validation" || return 1
   "$cxx" -std=c++20 -O1 "${idl[@]}" "$here/make_request_seeds.cpp" "${idl_sources[@]}" \
     "${libs[@]}" -o "$work/make_request_seeds" || return 1

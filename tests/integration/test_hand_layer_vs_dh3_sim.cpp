@@ -13,8 +13,8 @@
 #include <string>
 #include <thread>
 
-#include "bus/bus_spec.hpp"
-#include "hand/bus_scheduler.hpp"
+#include "dh3/bus/bus_spec.hpp"
+#include "dh3/hand/bus_scheduler.hpp"
 #include "support/process.hpp"
 
 namespace dh3::hand {

@@ -10,9 +10,9 @@
 #include <optional>
 #include <string>
 
-#include "bus/bus_spec.hpp"
-#include "bus/transfer_box_bus.hpp"
-#include "protocol/codec.hpp"
+#include "dh3/bus/bus_spec.hpp"
+#include "dh3/bus/transfer_box_bus.hpp"
+#include "dh3/protocol/codec.hpp"
 #include "support/bus_wait.hpp"
 #include "support/process.hpp"
 

@@ -21,15 +21,15 @@
 #include <string>
 #include <vector>
 
-#include "bus/fd_util.hpp"
-#include "bus/socketcan_bus.hpp"
+#include "dh3/base/fd_util.hpp"
+#include "dh3/bus/socketcan_bus.hpp"
 
 namespace dh3::test {
 
 /// Skips the calling test unless the kernel has CAN; use as the first line.
 #define DH3_REQUIRE_KERNEL_CAN()                                                        \
   do {                                                                                  \
-    if (const std::string problem = ::dh3::bus::kernel_can_support_problem();            \
+    if (const std::string problem = ::dh3::kernel_can_support_problem();            \
         !problem.empty()) {                                                             \
       GTEST_SKIP() << problem << " (tests/kernel/uml-run.sh runs this in a kernel with CAN)"; \
     }                                                                                   \
@@ -143,7 +143,7 @@ class RawCanSocket {
   }
 
  private:
-  bus::UniqueFd fd_;
+  UniqueFd fd_;
 };
 
 }  // namespace dh3::test

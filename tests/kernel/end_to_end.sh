@@ -18,8 +18,8 @@ set -euo pipefail
 build=$(cd "${1:?build dir}" && pwd)
 mode=${2:?vcan or vxcan}
 here=$(cd "$(dirname "$0")" && pwd)
-sim=$build/service/sim/dh3-sim
-service=$build/service/app/dh3-service
+sim=$build/service/app/dh3-sim/dh3-sim
+service=$build/service/app/dh3-service/dh3-service
 ctl_bin=$build/client/dh3ctl
 work=$(mktemp -d /tmp/dh3-e2e.XXXXXX)
 domain=$((100 + RANDOM % 100))

@@ -18,8 +18,8 @@
 #include <string>
 #include <thread>
 
-#include "bus/socketcan_bus.hpp"
-#include "protocol/codec.hpp"
+#include "dh3/bus/socketcan_bus.hpp"
+#include "dh3/protocol/codec.hpp"
 #include "support/process.hpp"
 #include "support/raw_tcp_client.hpp"
 #include "kernel/can_interfaces.hpp"
@@ -52,7 +52,7 @@ int open_raw_socket(const std::string& interface) {
 class Dh3SimCanKernel : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (const std::string problem = dh3::bus::kernel_can_support_problem(); !problem.empty()) {
+    if (const std::string problem = dh3::kernel_can_support_problem(); !problem.empty()) {
       GTEST_SKIP() << problem;
     }
     vcan_ = std::make_unique<OwnVcan>("dh3simvcan");

@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "bus/socketcan_bus.hpp"
+#include "dh3/bus/socketcan_bus.hpp"
 #include "kernel/can_interfaces.hpp"
-#include "protocol/codec.hpp"
+#include "dh3/protocol/codec.hpp"
 #include "support/bus_wait.hpp"
 
 namespace dh3::bus {

@@ -6,8 +6,8 @@
 #include <functional>
 #include <vector>
 
-#include "bus/bus.hpp"
-#include "protocol/codec.hpp"
+#include "dh3/bus/bus.hpp"
+#include "dh3/protocol/codec.hpp"
 
 namespace dh3::test {
 

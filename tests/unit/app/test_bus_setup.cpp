@@ -1,7 +1,12 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "app/bus_setup.hpp"
+#include <algorithm>
+
+#include "dh3/app/bus_setup.hpp"
+#include "dh3/protocol/codec.hpp"
+#include "dh3/sim/sim_bus.hpp"
+#include "support/bus_wait.hpp"
 
 namespace dh3::app {
 namespace {
@@ -45,6 +50,27 @@ TEST(BusSetup, OpensSimBusesWithTheirHands) {
   EXPECT_TRUE((*setups)[0].scheduler.allow_admin);
   ASSERT_EQ((*setups)[0].hands.size(), 1U);
   EXPECT_EQ((*setups)[0].hands[0].name, "x");
+}
+
+TEST(BusSetup, ASimSpecSimulatesThoseIdsOnly) {
+  ServiceConfig config;
+  config.buses.push_back(bus("sim:2,5"));
+  auto setups = open_buses(config, SystemClock::instance());
+  ASSERT_TRUE(setups.ok()) << setups.error();
+  bus::Bus& opened = *(*setups)[0].bus;
+  EXPECT_EQ(opened.spec(), "sim:2,5");
+  EXPECT_NE(dynamic_cast<sim::SimBus*>(&opened), nullptr);
+
+  // Hands 2 and 5 answer a position read; hand 1 (not listed) does not.
+  for (const std::uint8_t id : {1, 2, 5}) {
+    ASSERT_TRUE(
+        opened.send(test::to_can_frame(protocol::make_read(id, protocol::reg::kPosition))).ok());
+  }
+  const auto frames = test::receive_frames(opened, 2);
+  ASSERT_EQ(frames.size(), 2u);
+  std::vector<std::uint32_t> ids{frames[0].id, frames[1].id};
+  std::sort(ids.begin(), ids.end());
+  EXPECT_EQ(ids, (std::vector<std::uint32_t>{2, 5}));
 }
 
 TEST(BusSetup, UnreachableBoxStillOpensAndRetries) {

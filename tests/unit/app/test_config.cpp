@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "app/config.hpp"
+#include "dh3/app/config.hpp"
 
 namespace dh3::app {
 namespace {

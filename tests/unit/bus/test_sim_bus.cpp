@@ -8,9 +8,9 @@
 #include <span>
 #include <vector>
 
-#include "bus/sim_bus.hpp"
-#include "protocol/codec.hpp"
-#include "protocol/registers.hpp"
+#include "dh3/protocol/codec.hpp"
+#include "dh3/protocol/registers.hpp"
+#include "dh3/sim/sim_bus.hpp"
 
 namespace dh3::bus {
 namespace {
@@ -20,6 +20,8 @@ using protocol::make_read;
 using protocol::make_write;
 using protocol::Message;
 namespace reg = protocol::reg;
+using sim::SimBus;
+using sim::SimBusOptions;
 
 sim::SimHandOptions hand_options(std::uint8_t id) {
   sim::SimHandOptions options;

@@ -23,8 +23,8 @@
 #include <string>
 #include <thread>
 
-#include "bus/socketcan_bus.hpp"
-#include "protocol/codec.hpp"
+#include "dh3/bus/socketcan_bus.hpp"
+#include "dh3/protocol/codec.hpp"
 #include "support/bus_wait.hpp"
 
 namespace dh3::bus {

@@ -18,9 +18,9 @@
 #include <string>
 #include <vector>
 
-#include "bus/bus_spec.hpp"
-#include "bus/transfer_box_bus.hpp"
-#include "protocol/codec.hpp"
+#include "dh3/bus/bus_spec.hpp"
+#include "dh3/bus/transfer_box_bus.hpp"
+#include "dh3/protocol/codec.hpp"
 #include "support/bus_wait.hpp"
 
 namespace dh3::bus {

@@ -3,7 +3,7 @@
 #include <memory>
 #include <string>
 
-#include "common/result.hpp"
+#include "dh3/base/result.hpp"
 
 namespace dh3 {
 namespace {

@@ -3,9 +3,9 @@
 
 #include <chrono>
 
-#include "dds/conversions.hpp"
-#include "dds/request_validation.hpp"
-#include "protocol/registers.hpp"
+#include "dh3/dds/conversions.hpp"
+#include "dh3/dds/request_validation.hpp"
+#include "dh3/protocol/registers.hpp"
 
 namespace dh3::dds {
 namespace {

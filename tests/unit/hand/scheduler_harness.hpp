@@ -12,10 +12,10 @@
 #include <span>
 #include <vector>
 
-#include "bus/sim_bus.hpp"
-#include "common/clock.hpp"
-#include "hand/bus_scheduler.hpp"
-#include "protocol/codec.hpp"
+#include "dh3/base/clock.hpp"
+#include "dh3/hand/bus_scheduler.hpp"
+#include "dh3/protocol/codec.hpp"
+#include "dh3/sim/sim_bus.hpp"
 
 namespace dh3::hand::test {
 
@@ -188,8 +188,8 @@ class SchedulerHarness {
   /// `sim` hands answer on the bus; `configured` hands are what the scheduler
   /// expects (empty: it discovers).
   SchedulerHarness(std::vector<sim::SimHandOptions> sim, std::vector<HandConfig> configured,
-                   SchedulerOptions options = test_options(), bus::SimBusOptions bus_options = {}) {
-    auto sim_bus = std::make_unique<bus::SimBus>("sim:test", std::move(sim), clock, bus_options);
+                   SchedulerOptions options = test_options(), sim::SimBusOptions bus_options = {}) {
+    auto sim_bus = std::make_unique<sim::SimBus>("sim:test", std::move(sim), clock, bus_options);
     sim_bus_ = sim_bus.get();
     auto recording = std::make_unique<RecordingBus>(std::move(sim_bus), clock);
     bus_ = recording.get();
@@ -256,7 +256,7 @@ class SchedulerHarness {
     return out;
   }
 
-  bus::SimBus& sim_bus() { return *sim_bus_; }
+  sim::SimBus& sim_bus() { return *sim_bus_; }
   RecordingBus& recorder() { return *bus_; }
   [[nodiscard]] const RecordingBus& recorder() const { return *bus_; }
 
@@ -270,7 +270,7 @@ class SchedulerHarness {
     scheduler->step();
   }
 
-  bus::SimBus* sim_bus_ = nullptr;
+  sim::SimBus* sim_bus_ = nullptr;
   RecordingBus* bus_ = nullptr;
 };
 

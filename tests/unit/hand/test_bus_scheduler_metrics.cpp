@@ -147,7 +147,7 @@ TEST(BusSchedulerMetrics, LinkDownAndUpCountsOneReconnectAndBusDownCommands) {
 }
 
 TEST(BusSchedulerMetrics, LineLoadFollowsTheFramesOfTheLastSecondsWhenTheBitRateIsKnown) {
-  bus::SimBusOptions line;
+  sim::SimBusOptions line;
   line.bit_rate = 125'000;
   SchedulerHarness h(sim_hands({1}), configs({1}), test_options(), line);
   EXPECT_EQ(h.scheduler->metrics().bit_rate, 125'000u);

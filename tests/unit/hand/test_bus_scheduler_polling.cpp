@@ -204,7 +204,7 @@ TEST(BusSchedulerPolling, ManyHoldingHandsKeepThePacingAndTheLineBudget) {
   for (int id = 1; id <= n; ++id) ids.push_back(static_cast<std::uint8_t>(id));
   auto sim = sim_hands(ids);
   for (auto& hand : sim) hand.object_position = 40;
-  bus::SimBusOptions line;
+  sim::SimBusOptions line;
   line.bit_rate = 500'000;
   line.bits_per_frame = 135;
   line.tx_queue_length = 4;

@@ -156,7 +156,7 @@ TEST_P(BusSchedulerFairness, EveryHandGetsItsShareOnAPacedCanLine) {
   options.command_interval = std::max<Duration>(20ms, 2 * n * exchange);
   options.poll_interval_idle = 0ms;
   options.poll_interval_moving = 0ms;
-  bus::SimBusOptions line;
+  sim::SimBusOptions line;
   line.bit_rate = 500'000;
   line.bits_per_frame = 135;
   line.tx_queue_length = 4;
@@ -175,7 +175,7 @@ TEST_P(BusSchedulerFairness, EveryHandGetsItsShareOnAnUnpacedCanLine) {
   options.command_interval = 0ms;
   options.poll_interval_idle = 0ms;
   options.poll_interval_moving = 0ms;
-  bus::SimBusOptions line;
+  sim::SimBusOptions line;
   line.bit_rate = 500'000;
   line.bits_per_frame = 135;
   line.tx_queue_length = 4;
@@ -192,7 +192,7 @@ TEST(BusSchedulerScheduling, WithoutTheLineBudgetHighIdsStarveOnASaturatedCanLin
   options.poll_interval_idle = 0ms;
   options.poll_interval_moving = 0ms;
   options.max_line_load = 0.0;
-  bus::SimBusOptions line;
+  sim::SimBusOptions line;
   line.bit_rate = 500'000;
   line.bits_per_frame = 135;
   line.tx_queue_length = 4;

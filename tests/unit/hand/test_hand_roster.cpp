@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "hand/hand_roster.hpp"
+#include "dh3/hand/hand_roster.hpp"
 #include "unit/hand/scheduler_harness.hpp"
 
 namespace dh3::hand::test {

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "hand/poll_policy.hpp"
+#include "dh3/hand/poll_policy.hpp"
 
 namespace dh3::hand {
 namespace {

@@ -7,11 +7,11 @@
 #include <atomic>
 #include <string>
 
-#include "dds/conversions.hpp"
-#include "dds/hand_directory.hpp"
-#include "dds/request_validation.hpp"
+#include "dh3/dds/conversions.hpp"
+#include "dh3/dds/hand_directory.hpp"
+#include "dh3/dds/request_validation.hpp"
+#include "dh3/metrics/metrics_exporter.hpp"
 #include "dh3_names.hpp"
-#include "metrics/metrics_exporter.hpp"
 #include "support/metrics_scrape.hpp"
 
 namespace dh3::metrics {

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "protocol/codec.hpp"
+#include "dh3/protocol/codec.hpp"
 
 namespace dh3::protocol {
 namespace {

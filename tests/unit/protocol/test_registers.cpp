@@ -9,7 +9,7 @@
 #include <set>
 #include <string>
 
-#include "protocol/registers.hpp"
+#include "dh3/protocol/registers.hpp"
 
 namespace dh3::protocol {
 namespace {

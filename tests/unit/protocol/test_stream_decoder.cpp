@@ -9,8 +9,8 @@
 #include <random>
 #include <vector>
 
-#include "protocol/codec.hpp"
-#include "protocol/stream_decoder.hpp"
+#include "dh3/protocol/codec.hpp"
+#include "dh3/protocol/stream_decoder.hpp"
 
 namespace dh3::protocol {
 namespace {

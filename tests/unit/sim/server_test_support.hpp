@@ -11,7 +11,7 @@
 #include <string>
 #include <thread>
 
-#include "sim/sim_hand.hpp"
+#include "dh3/sim/sim_hand.hpp"
 
 namespace dh3::sim::test {
 

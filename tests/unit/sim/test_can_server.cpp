@@ -19,7 +19,7 @@
 #include <string>
 #include <thread>
 
-#include "sim/can_server.hpp"
+#include "dh3/sim_server/can_server.hpp"
 #include "support/raw_tcp_client.hpp"
 #include "unit/sim/server_test_support.hpp"
 
@@ -82,7 +82,7 @@ std::string exchange(int fd, canid_t id, std::string_view request) {
 /// A server on its own thread; its control channel is a pair of pipes.
 class Running : public test::ServerThread<CanServer> {
  public:
-  Running(CanServerOptions options, CanFdOpener opener,
+  Running(CanServerOptions options, CanSocketOpener opener,
           const Clock& clock = SystemClock::instance())
       : Running(std::make_unique<Channel>(), std::move(options), std::move(opener), clock) {}
   // The server stops before its control channel closes.
@@ -101,12 +101,12 @@ class Running : public test::ServerThread<CanServer> {
     test::Pipe in;
     test::Pipe out;
   };
-  Running(std::unique_ptr<Channel> channel, CanServerOptions options, CanFdOpener opener,
+  Running(std::unique_ptr<Channel> channel, CanServerOptions options, CanSocketOpener opener,
           const Clock& clock)
       : ServerThread(open_or_null(*channel, std::move(options), std::move(opener), clock)),
         channel_(std::move(channel)) {}
   static std::unique_ptr<CanServer> open_or_null(const Channel& channel, CanServerOptions options,
-                                                 CanFdOpener opener, const Clock& clock) {
+                                                 CanSocketOpener opener, const Clock& clock) {
     options.control_in = channel.in.read_end();
     options.control_out = channel.out.write_end();
     auto opened = CanServer::open(std::move(options), std::move(opener), clock);
@@ -117,8 +117,8 @@ class Running : public test::ServerThread<CanServer> {
 };
 
 /// An opener that hands over `fd` once.
-CanFdOpener once(int fd) {
-  return [fd]() -> Result<int, std::string> { return fd; };
+CanSocketOpener once(int fd) {
+  return [fd]() -> Result<UniqueFd, std::string> { return UniqueFd(fd); };
 }
 
 CanServerOptions options_with(std::vector<SimHandOptions> hands) {
@@ -284,12 +284,13 @@ TEST(CanServer, ReopensTheInterfaceWhenItsFdFailsAndTheHandsKeepTheirState) {
   opens.emplace_back(first.server);
   opens.emplace_back(fail(std::string("no network interface named 'testcan'")));
   opens.emplace_back(second.server);
-  CanFdOpener opener = [&]() -> Result<int, std::string> {
+  CanSocketOpener opener = [&]() -> Result<UniqueFd, std::string> {
     const std::lock_guard lock(mutex);
     if (opens.empty()) return fail(std::string("no more"));
     Result<int, std::string> next = std::move(opens.front());
     opens.pop_front();
-    return next;
+    if (!next) return fail(next.error());
+    return UniqueFd(next.value());
   };
   CanServerOptions options = options_with({hand(1)});
   options.reopen_interval = 10ms;
@@ -307,7 +308,7 @@ TEST(CanServer, ReopensTheInterfaceWhenItsFdFailsAndTheHandsKeepTheirState) {
 TEST(CanServer, OpeningFailsWithTheOpenersReason) {
   auto opened = CanServer::open(
       options_with({hand(1)}),
-      []() -> Result<int, std::string> {
+      []() -> Result<UniqueFd, std::string> {
         return fail(std::string("no network interface named 'vcan9'"));
       },
       SystemClock::instance());

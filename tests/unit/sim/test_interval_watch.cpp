@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "sim/interval_watch.hpp"
+#include "dh3/sim/interval_watch.hpp"
 
 namespace dh3::sim {
 namespace {

@@ -7,9 +7,9 @@
 #include <optional>
 #include <vector>
 
-#include "protocol/codec.hpp"
-#include "protocol/registers.hpp"
-#include "sim/sim_hand.hpp"
+#include "dh3/protocol/codec.hpp"
+#include "dh3/protocol/registers.hpp"
+#include "dh3/sim/sim_hand.hpp"
 
 namespace dh3::sim {
 namespace {

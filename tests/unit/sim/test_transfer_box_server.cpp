@@ -7,7 +7,7 @@
 #include <string>
 #include <thread>
 
-#include "sim/transfer_box_server.hpp"
+#include "dh3/sim_server/transfer_box_server.hpp"
 #include "support/raw_tcp_client.hpp"
 #include "unit/sim/server_test_support.hpp"
 

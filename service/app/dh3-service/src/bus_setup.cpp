@@ -1,0 +1,90 @@
+#include "dh3/app/bus_setup.hpp"
+
+#include "dh3/bus/bus_spec.hpp"
+#include "dh3/sim/sim_bus.hpp"
+
+namespace dh3::app {
+namespace {
+
+const HandSettings* find_hand(const BusSettings& bus, std::uint8_t id) {
+  for (const auto& hand : bus.hands) {
+    if (hand.id == id) return &hand;
+  }
+  return nullptr;
+}
+
+std::unique_ptr<bus::Bus> open_sim_bus(const BusSettings& settings, bus::BusSpec spec,
+                                       const Clock& clock) {
+  spec.sim_hand_ids = simulated_ids(settings);
+  std::vector<sim::SimHandOptions> hands;
+  for (const std::uint8_t id : spec.sim_hand_ids) {
+    sim::SimHandOptions hand;
+    hand.id = id;
+    hand.reply_delay = settings.sim.reply_delay;
+    hand.position_speed = settings.sim.position_speed;
+    hand.rotation_speed = settings.sim.rotation_speed;
+    hand.init_time = settings.sim.init_time;
+    if (const HandSettings* listed = find_hand(settings, id)) {
+      hand.object_position = listed->object;
+      hand.rotation_obstacle = listed->rotation_obstacle;
+    }
+    hands.push_back(hand);
+  }
+  sim::SimBusOptions options;
+  options.bit_rate = settings.sim.bit_rate;
+  return std::make_unique<sim::SimBus>(bus::to_string(spec), std::move(hands), clock, options);
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> simulated_ids(const BusSettings& bus) {
+  if (is_bare_sim_spec(bus.spec) && !bus.hands.empty()) {
+    std::vector<std::uint8_t> ids;
+    for (const auto& hand : bus.hands) ids.push_back(hand.id);
+    return ids;
+  }
+  auto spec = bus::parse_bus_spec(bus.spec);
+  return spec ? spec->sim_hand_ids : std::vector<std::uint8_t>{};
+}
+
+std::vector<hand::HandConfig> expected_hands(const BusSettings& bus) {
+  std::vector<hand::HandConfig> hands;
+  for (const auto& hand : bus.hands) hands.push_back({hand.id, hand.name});
+  if (hands.empty()) {
+    auto spec = bus::parse_bus_spec(bus.spec);
+    if (spec && spec->kind == bus::BusKind::sim) {
+      for (const std::uint8_t id : simulated_ids(bus)) hands.push_back({id, {}});
+    }
+  }
+  return hands;
+}
+
+Result<std::vector<dds::BusSetup>, std::string> open_buses(const ServiceConfig& config,
+                                                           const Clock& clock) {
+  std::vector<dds::BusSetup> setups;
+  for (const auto& settings : config.buses) {
+    auto spec = bus::parse_bus_spec(settings.spec);
+    if (!spec) return fail("bus '" + settings.name + "': " + spec.error());
+    dds::BusSetup setup;
+    setup.name = settings.name;
+    setup.hands = expected_hands(settings);
+    setup.scheduler = settings.scheduler;
+    setup.scheduler.allow_admin = config.allow_admin;
+    setup.scheduler.interval_margin =
+        settings.interval_margin.value_or(default_interval_margin(settings.spec));
+    if (spec->kind == bus::BusKind::sim) {
+      setup.bus = open_sim_bus(settings, std::move(*spec), clock);
+    } else {
+      bus::OpenBusOptions options;
+      options.socketcan.bit_rate = settings.bit_rate;
+      options.transfer_box.can_bit_rate = settings.bit_rate;
+      auto opened = bus::open_bus(*spec, clock, options);
+      if (!opened) return fail("bus '" + settings.name + "': " + opened.error());
+      setup.bus = std::move(*opened);
+    }
+    setups.push_back(std::move(setup));
+  }
+  return setups;
+}
+
+}  // namespace dh3::app

@@ -1,0 +1,100 @@
+#pragma once
+// Control leases: a client that holds a hand's lease is the only one whose
+// motion and write commands that hand accepts; reads and status stay open to
+// everyone. A lease ends when its holder releases it, when it is not renewed
+// within its time to live, or when the holder's participant leaves the domain.
+// Without a lease, the last command wins.
+//
+// Thread-safe: requests (DDS listener threads), the expiry timer and the
+// participant listener all use one table. Knows no DDS.
+
+#include <atomic>
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "dh3/base/clock.hpp"
+
+namespace dh3::dds {
+
+/// A hand inside one service: its bus's index and its CAN ID.
+struct HandKey {
+  std::uint16_t bus = 0;
+  std::uint8_t can_id = 0;
+
+  friend auto operator<=>(const HandKey&, const HandKey&) = default;
+};
+
+enum class LeaseOutcome : std::uint8_t {
+  granted,        ///< acquired, renewed, or released
+  held_by_other,  ///< another client holds the hand's lease
+  not_held,       ///< renew by a client that holds no lease on the hand
+};
+
+struct LeaseAnswer {
+  LeaseOutcome outcome = LeaseOutcome::granted;
+  /// The holder after the call (empty if none); for held_by_other, who holds it.
+  std::string holder;
+  /// True if the holder changed (a status sample should say so).
+  bool holder_changed = false;
+};
+
+/// A lease that ended without its holder asking.
+struct EndedLease {
+  HandKey hand;
+  std::string holder;
+};
+
+class LeaseTable {
+ public:
+  explicit LeaseTable(const Clock& clock) : clock_(clock) {}
+
+  /// Takes the lease, or extends it if `client` already holds it.
+  LeaseAnswer acquire(HandKey hand, std::string_view client, Duration ttl);
+  /// Extends a lease `client` holds.
+  LeaseAnswer renew(HandKey hand, std::string_view client, Duration ttl);
+  /// Gives the lease up. Releasing a lease nobody holds is granted (nothing to do).
+  LeaseAnswer release(HandKey hand, std::string_view client);
+
+  /// Who keeps `client` from commanding `hand`: the holder, or nullopt if the
+  /// hand is free or `client` holds it. Cheap when no lease is held at all.
+  [[nodiscard]] std::optional<std::string> blocking_holder(HandKey hand,
+                                                           std::string_view client) const;
+  /// Like blocking_holder() for every hand of a bus (a command to CAN ID 0
+  /// reaches whichever hand is there).
+  [[nodiscard]] std::optional<std::string> blocking_holder_on_bus(std::uint16_t bus,
+                                                                  std::string_view client) const;
+  /// The current holder of `hand`, empty if none (expired leases count as none).
+  [[nodiscard]] std::string holder(HandKey hand) const;
+
+  /// Ends leases whose time ran out at clock.now() and returns them.
+  std::vector<EndedLease> expire();
+  /// Ends every lease of a client whose participant left. `participant_id` is
+  /// compared with client ids ignoring case and '.'/':' separators, so
+  /// "01.0F.A2..." and "010fa2..." name the same participant.
+  std::vector<EndedLease> drop_client(std::string_view participant_id);
+  /// When the next lease runs out, nullopt if none is held.
+  [[nodiscard]] std::optional<TimePoint> next_expiry() const;
+
+ private:
+  struct Lease {
+    std::string holder;
+    TimePoint expires;
+  };
+  /// The live lease on `hand`, nullopt if none or it ran out (locked).
+  [[nodiscard]] const Lease* live_locked(HandKey hand, TimePoint now) const;
+
+  const Clock& clock_;
+  mutable std::mutex mutex_;
+  std::map<HandKey, Lease> leases_;
+  std::atomic<std::size_t> count_{0};  ///< leases_.size(), read without the lock
+};
+
+/// `id` with separators removed and hex letters lower-cased.
+[[nodiscard]] std::string canonical_client_id(std::string_view id);
+
+}  // namespace dh3::dds

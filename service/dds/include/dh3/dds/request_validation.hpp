@@ -1,0 +1,48 @@
+#pragma once
+// Checks a command request before anything reaches a bus (out-of-range values
+// never do: docs/protocol-notes.md reading 12) and turns it into what the hand
+// layer or the lease table needs. Every rejection carries the code and a
+// message that says what was wrong.
+
+#include <cstdint>
+#include <string>
+
+#include "dh3/base/result.hpp"
+#include "dh3/dds/hand_directory.hpp"
+#include "dh3/hand/hand_types.hpp"
+#include "dh3_idl/dh3.h"
+
+namespace dh3::dds {
+
+enum class RequestAction : std::uint8_t {
+  hand_command,  ///< goes to the bus's scheduler
+  scan,          ///< probe the bus for hands
+  acquire_lease,
+  renew_lease,
+  release_lease,
+};
+
+struct ValidRequest {
+  RequestAction action = RequestAction::hand_command;
+  std::uint16_t bus = 0;
+  std::uint8_t can_id = 0;
+  hand::Command command;  ///< for hand_command
+  Duration lease_ttl{};   ///< for acquire_lease and renew_lease
+  /// Motion and write commands: refused while another client holds the lease.
+  bool needs_lease = false;
+};
+
+struct Rejection {
+  msg::ResultCode code = msg::INVALID_ARGUMENT;
+  std::string message;
+};
+
+/// Validates a request addressed to this service (the caller already ignored
+/// requests for other services). Checks, in order: the request's form and
+/// values (INVALID_ARGUMENT), the bus and hand (UNKNOWN_HAND), administrative
+/// commands (DENIED unless `allow_admin`). Leases are the caller's to check.
+[[nodiscard]] Result<ValidRequest, Rejection> validate_request(const msg::CommandRequest& request,
+                                                               const HandDirectory& directory,
+                                                               bool allow_admin);
+
+}  // namespace dh3::dds

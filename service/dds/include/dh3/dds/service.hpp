@@ -1,0 +1,89 @@
+#pragma once
+// dh3-service's DDS side: one participant that publishes every hand's status,
+// the hands' events and the service's description, and answers command
+// requests by handing them to the bus schedulers. The only part of the service
+// that knows Fast DDS; this header keeps it out of its users.
+//
+// Threads: each bus's scheduler runs its own loop; status, event and reply
+// samples are written from there. Requests are validated on the DDS listener
+// thread and submitted straight to the scheduler (never blocking). A timer
+// thread ends expired leases.
+
+#include <chrono>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "dh3/base/clock.hpp"
+#include "dh3/base/result.hpp"
+#include "dh3/bus/bus.hpp"
+#include "dh3/dds/request_trace_seam.hpp"
+#include "dh3/hand/bus_scheduler.hpp"
+#include "dh3_participant_options.hpp"
+
+namespace dh3::dds {
+
+struct ServiceOptions {
+  std::string name = "dh3";  ///< answers requests whose hand.service is this
+  /// Domain, transports, discovery servers, XML profile and DDS Security of
+  /// the service's participant (its name is "dh3-service " + name).
+  contract::ParticipantOptions participant = default_participant();
+  bool allow_admin = false;  ///< SET_CAN_ID and SET_BAUD_RATE are refused unless set
+  std::string version;       ///< published in the service info
+  std::string host;          ///< published in the service info
+  /// How long stop() waits for subscribers to acknowledge the last samples.
+  Duration shutdown_ack_timeout = std::chrono::seconds(2);
+  /// Test seam (request_trace_seam.hpp): called at each TracePoint of every
+  /// request, on the thread that is there (must be quick). Unset, the
+  /// default: nothing but the emptiness test.
+  RequestTracer test_seam_tracer;
+
+  /// The service's identity in the test PKI unless told otherwise.
+  static contract::ParticipantOptions default_participant() {
+    contract::ParticipantOptions participant;
+    participant.security_identity = "service";
+    return participant;
+  }
+};
+
+/// One bus the service runs: the open bus, the hands expected on it (empty:
+/// discover them) and the scheduler's tuning.
+struct BusSetup {
+  std::string name;
+  std::unique_ptr<bus::Bus> bus;
+  std::vector<hand::HandConfig> hands;
+  hand::SchedulerOptions scheduler;
+};
+
+class Service {
+ public:
+  /// Creates the participant, topics and writers; nothing runs yet. Fails with
+  /// a message if DDS cannot be set up (e.g. a bad interface address).
+  [[nodiscard]] static Result<std::unique_ptr<Service>, std::string> create(
+      ServiceOptions options, std::vector<BusSetup> buses, const Clock& clock);
+  ~Service();
+  Service(const Service&) = delete;
+  Service& operator=(const Service&) = delete;
+
+  /// Publishes the service info and every configured hand's status, starts the
+  /// buses' loops and begins answering requests. Fails, saying which, if the
+  /// request reader cannot be created (e.g. DDS Security permissions that do
+  /// not allow it): a service that cannot take requests must not run. Then
+  /// stop() (or the destructor) ends what was started.
+  [[nodiscard]] Result<void, std::string> start();
+  /// Orderly stop: new requests are answered CANCELLED, the buses stop (their
+  /// pending commands end CANCELLED), every hand is published offline, and the
+  /// last samples are given shutdown_ack_timeout to be acknowledged. Idempotent.
+  void stop();
+
+  /// Every bus's counters and its hands' (for the metrics endpoint). Any
+  /// thread, until the Service is destroyed.
+  [[nodiscard]] std::vector<hand::BusMetrics> metrics() const;
+
+ private:
+  class Impl;
+  explicit Service(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace dh3::dds

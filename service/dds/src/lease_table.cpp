@@ -1,0 +1,135 @@
+#include "dh3/dds/lease_table.hpp"
+
+#include <cctype>
+
+namespace dh3::dds {
+
+std::string canonical_client_id(std::string_view id) {
+  std::string out;
+  out.reserve(id.size());
+  for (const char c : id) {
+    if (c == '.' || c == ':') continue;
+    out.push_back(static_cast<char>(std::tolower(static_cast<unsigned char>(c))));
+  }
+  return out;
+}
+
+const LeaseTable::Lease* LeaseTable::live_locked(HandKey hand, TimePoint now) const {
+  const auto it = leases_.find(hand);
+  if (it == leases_.end() || it->second.expires <= now) return nullptr;
+  return &it->second;
+}
+
+LeaseAnswer LeaseTable::acquire(HandKey hand, std::string_view client, Duration ttl) {
+  const TimePoint now = clock_.now();
+  std::lock_guard lock(mutex_);
+  if (const Lease* lease = live_locked(hand, now); lease != nullptr && lease->holder != client) {
+    return {LeaseOutcome::held_by_other, lease->holder, false};
+  }
+  auto [it, inserted] = leases_.try_emplace(hand);
+  const bool changed = inserted || it->second.holder != client || it->second.expires <= now;
+  it->second.holder.assign(client);
+  it->second.expires = now + ttl;
+  count_.store(leases_.size());
+  return {LeaseOutcome::granted, it->second.holder, changed};
+}
+
+LeaseAnswer LeaseTable::renew(HandKey hand, std::string_view client, Duration ttl) {
+  const TimePoint now = clock_.now();
+  std::lock_guard lock(mutex_);
+  const auto it = leases_.find(hand);
+  if (it == leases_.end() || it->second.expires <= now) {
+    return {LeaseOutcome::not_held, {}, false};
+  }
+  if (it->second.holder != client) return {LeaseOutcome::held_by_other, it->second.holder, false};
+  it->second.expires = now + ttl;
+  return {LeaseOutcome::granted, it->second.holder, false};
+}
+
+LeaseAnswer LeaseTable::release(HandKey hand, std::string_view client) {
+  const TimePoint now = clock_.now();
+  std::lock_guard lock(mutex_);
+  const auto it = leases_.find(hand);
+  if (it == leases_.end()) return {LeaseOutcome::granted, {}, false};
+  if (it->second.expires > now && it->second.holder != client) {
+    return {LeaseOutcome::held_by_other, it->second.holder, false};
+  }
+  // An expired lease still in the table ends here; its end was not yet published.
+  leases_.erase(it);
+  count_.store(leases_.size());
+  return {LeaseOutcome::granted, {}, true};
+}
+
+std::optional<std::string> LeaseTable::blocking_holder(HandKey hand,
+                                                       std::string_view client) const {
+  if (count_.load(std::memory_order_relaxed) == 0) return std::nullopt;
+  const TimePoint now = clock_.now();
+  std::lock_guard lock(mutex_);
+  const Lease* lease = live_locked(hand, now);
+  if (lease == nullptr || lease->holder == client) return std::nullopt;
+  return lease->holder;
+}
+
+std::optional<std::string> LeaseTable::blocking_holder_on_bus(std::uint16_t bus,
+                                                              std::string_view client) const {
+  if (count_.load(std::memory_order_relaxed) == 0) return std::nullopt;
+  const TimePoint now = clock_.now();
+  std::lock_guard lock(mutex_);
+  for (auto it = leases_.lower_bound(HandKey{bus, 0}); it != leases_.end() && it->first.bus == bus;
+       ++it) {
+    if (it->second.expires > now && it->second.holder != client) return it->second.holder;
+  }
+  return std::nullopt;
+}
+
+std::string LeaseTable::holder(HandKey hand) const {
+  if (count_.load(std::memory_order_relaxed) == 0) return {};
+  const TimePoint now = clock_.now();
+  std::lock_guard lock(mutex_);
+  const Lease* lease = live_locked(hand, now);
+  return lease != nullptr ? lease->holder : std::string{};
+}
+
+std::vector<EndedLease> LeaseTable::expire() {
+  const TimePoint now = clock_.now();
+  std::vector<EndedLease> ended;
+  std::lock_guard lock(mutex_);
+  for (auto it = leases_.begin(); it != leases_.end();) {
+    if (it->second.expires <= now) {
+      ended.push_back({it->first, std::move(it->second.holder)});
+      it = leases_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  count_.store(leases_.size());
+  return ended;
+}
+
+std::vector<EndedLease> LeaseTable::drop_client(std::string_view participant_id) {
+  const std::string wanted = canonical_client_id(participant_id);
+  std::vector<EndedLease> ended;
+  if (wanted.empty()) return ended;
+  std::lock_guard lock(mutex_);
+  for (auto it = leases_.begin(); it != leases_.end();) {
+    if (canonical_client_id(it->second.holder) == wanted) {
+      ended.push_back({it->first, std::move(it->second.holder)});
+      it = leases_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  count_.store(leases_.size());
+  return ended;
+}
+
+std::optional<TimePoint> LeaseTable::next_expiry() const {
+  std::lock_guard lock(mutex_);
+  std::optional<TimePoint> earliest;
+  for (const auto& [hand, lease] : leases_) {
+    if (!earliest || lease.expires < *earliest) earliest = lease.expires;
+  }
+  return earliest;
+}
+
+}  // namespace dh3::dds

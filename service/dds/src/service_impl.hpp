@@ -1,0 +1,263 @@
+#pragma once
+// Service::Impl, shared by the files that implement it: service.cpp (set-up,
+// start, stop, tear-down), service_publishing.cpp (statuses, events, service
+// info), service_requests.cpp (requests and their replies) and
+// service_leases.cpp (control leases and their timer).
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <condition_variable>
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+#include <mutex>
+#include <thread>
+
+#include "dh3/dds/conversions.hpp"
+#include "dh3/dds/hand_directory.hpp"
+#include "dh3/dds/lease_table.hpp"
+#include "dh3/dds/request_validation.hpp"
+#include "dh3/dds/service.hpp"
+#include "dh3_idl/dh3PubSubTypes.h"
+#include "dh3_participant_setup.hpp"
+#include "dh3_qos.hpp"
+
+namespace dh3::dds {
+namespace fdds = eprosima::fastdds::dds;
+
+/// What a reply echoes from its request.
+struct ReplyHeader {
+  std::string client_id;
+  std::uint64_t request_seq = 0;
+  msg::HandAddress hand;
+  msg::CommandType command = msg::INITIALIZE;
+};
+
+inline msg::CommandReply make_reply(const ReplyHeader& header, msg::ResultCode code,
+                                    std::string message = {}) {
+  msg::CommandReply reply;
+  reply.client_id(header.client_id);
+  reply.request_seq(header.request_seq);
+  reply.hand(header.hand);
+  reply.command(header.command);
+  reply.code(code);
+  reply.message(std::move(message));
+  return reply;
+}
+
+inline std::string hand_text(std::string_view bus, std::uint8_t can_id) {
+  return "hand " + std::to_string(can_id) + " on bus '" + std::string(bus) + "'";
+}
+
+class Service::Impl {
+ public:
+  Impl(ServiceOptions options, const Clock& clock)
+      : options_(std::move(options)), clock_(clock), leases_(clock) {}
+  ~Impl() {
+    stop();
+    // Schedulers go first: a scheduler that never ran may still report its
+    // hands offline while it shuts down, and that needs the writers.
+    for (auto& bus : buses_) bus->scheduler.reset();
+    destroy_dds();
+  }
+
+  Result<void, std::string> init(std::vector<BusSetup> setups);
+  Result<void, std::string> start();
+  void stop();
+  [[nodiscard]] std::vector<hand::BusMetrics> metrics() const {
+    std::vector<hand::BusMetrics> out;
+    for (const auto& bus : buses_) out.push_back(bus->scheduler->metrics());
+    return out;
+  }
+
+ private:
+  /// Forwards one bus's scheduler callbacks, tagged with the bus.
+  class BusObserver final : public hand::HandObserver {
+   public:
+    BusObserver(Impl& impl, std::uint16_t bus) : impl_(impl), bus_(bus) {}
+    void on_state(const hand::HandState& state) override { impl_.on_state(bus_, state); }
+    // The same values, read again: republished so that read_at_ns shows it.
+    void on_fresh(const hand::HandState& state) override { impl_.on_state(bus_, state); }
+    void on_event(const hand::HandEvent& event) override { impl_.on_event(bus_, event); }
+    void on_link(bus::LinkState state) override { impl_.on_link(bus_, state); }
+    void on_batch_end(std::uint8_t can_id) override { impl_.send_held_status(bus_, can_id); }
+
+   private:
+    Impl& impl_;
+    std::uint16_t bus_;
+  };
+
+  class RequestListener final : public fdds::DataReaderListener {
+   public:
+    explicit RequestListener(Impl& impl) : impl_(impl) {}
+    void on_data_available(fdds::DataReader* reader) override { impl_.on_requests(*reader); }
+
+   private:
+    Impl& impl_;
+  };
+
+  class ParticipantListener final : public fdds::DomainParticipantListener {
+   public:
+    explicit ParticipantListener(Impl& impl) : impl_(impl) {}
+    void on_participant_discovery(
+        fdds::DomainParticipant* /*participant*/,
+        eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
+      using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo;
+      if (info.status == Status::REMOVED_PARTICIPANT ||
+          info.status == Status::DROPPED_PARTICIPANT) {
+        impl_.on_participant_left(contract::client_id_for(info.info.m_guid.guidPrefix),
+                                  info.status == Status::DROPPED_PARTICIPANT);
+      }
+    }
+
+   private:
+    Impl& impl_;
+  };
+
+  /// What only the DDS side knows of a hand: its status samples. Its state is
+  /// the driver's; each sample is filled from the state the bus reports.
+  ///
+  /// A sample is prepared (update_seq, lease holder, time) and then sent. A
+  /// state the bus loop reports is held, prepared but not sent, until the end
+  /// of its batch (HandObserver::on_batch_end): the commands that ended with
+  /// it are answered first, their replies carrying the held sample
+  /// (CommandReply.status), so a state-changing command's reply does not wait
+  /// for a status sample to be written. An event of the hand sends a held
+  /// sample first: statuses still go out before the events they explain.
+  struct HandSlot {
+    std::uint64_t update_seq = 0;
+    bool announced = false;  ///< the service info lists it
+    bool written = false;    ///< `sample` was filled from a reported state
+    bool held = false;       ///< `sample` is prepared and not sent yet
+    msg::HandStatus sample;  ///< the last sample, reused for every sample of this hand
+  };
+
+  struct BusRuntime {
+    std::string name;
+    std::string spec;
+    std::unique_ptr<BusObserver> observer;
+    std::unique_ptr<hand::BusScheduler> scheduler;
+    std::atomic<bool> link_up{false};
+    /// Orders the status samples of this bus's hands: the bus thread and lease
+    /// changes both publish, and the last sample written must be the newest.
+    std::mutex status_mutex;
+    std::array<std::unique_ptr<HandSlot>, 256> hands{};
+    msg::HandEvent event_sample;  ///< reused; under status_mutex
+  };
+
+  struct PendingScan {
+    ReplyHeader header;
+    std::atomic<bool> answered{false};
+  };
+
+  // Scheduler callbacks (bus threads).
+  void on_state(std::uint16_t bus, const hand::HandState& state);
+  void on_event(std::uint16_t bus, const hand::HandEvent& event);
+  void on_link(std::uint16_t bus, bus::LinkState state);
+
+  // Requests (DDS listener thread).
+  void on_requests(fdds::DataReader& reader);
+  void handle_request(msg::CommandRequest& request);
+  void submit_command(const ValidRequest& valid, ReplyHeader header);
+  void start_scan(const ValidRequest& valid, ReplyHeader header);
+  void handle_lease(const ValidRequest& valid, const ReplyHeader& header);
+  void finish_scan(const std::shared_ptr<PendingScan>& scan, msg::ResultCode code,
+                   const std::vector<std::uint8_t>& found, std::string message);
+  void write_reply(msg::CommandReply& reply);
+  /// Copies the hand's last prepared status sample into the reply (sent or
+  /// held); leaves the reply's empty (update_seq 0) if the hand has none.
+  void attach_status(msg::CommandReply& reply, std::uint16_t bus, std::uint8_t can_id);
+
+  // Leases.
+  void on_participant_left(const std::string& participant_id, bool dropped);
+  void lease_timer_loop();
+  void wake_lease_timer();
+
+  // Publishing.
+  HandSlot& slot_locked(BusRuntime& bus, std::uint8_t can_id);
+  /// `hold`: prepare the sample and leave it for send_held_status().
+  void on_state_locked(std::uint16_t bus, const hand::HandState& state, bool hold);
+  /// Gives the slot's sample its lease holder, next update_seq and time.
+  void prepare_status_locked(std::uint16_t bus, std::uint8_t can_id, HandSlot& slot);
+  void send_status_locked(std::uint16_t bus, std::uint8_t can_id, HandSlot& slot);
+  /// prepare_status_locked() and send_status_locked().
+  void write_status_locked(std::uint16_t bus, std::uint8_t can_id, HandSlot& slot);
+  /// Sends the hand's held sample, if any (the end of a batch, or of a lease change).
+  void send_held_status(std::uint16_t bus, std::uint8_t can_id);
+  /// A hand-layer (steady) time on the wall clock, ns since the epoch; 0 for "never".
+  [[nodiscard]] std::uint64_t wall_clock_ns_of(TimePoint time) const;
+  void republish_status(HandKey hand);
+  /// A new sample of the hand (its lease holder changed), held: copied into
+  /// `reply` for the reply to go first; send_held_status() sends it after.
+  void hold_republished_status(HandKey hand, msg::CommandReply& reply);
+  void publish_info();
+
+  // Set-up: each step names the entity it could not create.
+  Result<void, std::string> create_writers();
+  Result<void, std::string> create_request_reader();
+  [[nodiscard]] std::string cannot_create(const std::string& what) const;
+
+  void destroy_dds();
+
+  ServiceOptions options_;
+  const Clock& clock_;
+  HandDirectory directory_;
+  LeaseTable leases_;
+  std::vector<std::unique_ptr<BusRuntime>> buses_;
+  std::uint64_t started_ns_ = wall_clock_ns();
+  std::atomic<std::uint64_t> event_seq_{0};
+
+  ParticipantListener participant_listener_{*this};
+  RequestListener request_listener_{*this};
+  /// The participant, its topics, publisher and subscriber (null until init()
+  /// has made them); the writers and the reader below are made on them and
+  /// deleted with them.
+  std::unique_ptr<contract::Participant> participant_;
+  fdds::Topic* status_topic_ = nullptr;
+  fdds::Topic* event_topic_ = nullptr;
+  fdds::Topic* info_topic_ = nullptr;
+  fdds::Topic* request_topic_ = nullptr;
+  fdds::Topic* reply_topic_ = nullptr;
+  fdds::DataWriter* status_writer_ = nullptr;
+  /// Status is keyed, and the generated type computes a sample's key in one
+  /// buffer of its own: two buses' threads writing at once would mix up their
+  /// hands' instances (ThreadSanitizer found it). Bus status mutexes only
+  /// order one bus's samples, so writes to this writer take this as well.
+  std::mutex status_write_mutex_;
+  fdds::DataWriter* event_writer_ = nullptr;
+  fdds::DataWriter* info_writer_ = nullptr;
+  fdds::DataWriter* reply_writer_ = nullptr;
+  fdds::DataReader* request_reader_ = nullptr;
+
+  std::mutex info_mutex_;
+
+  /// Held while requests are dispatched; stop() takes it to know none is in flight.
+  std::mutex dispatch_mutex_;
+  bool stopping_ = false;        ///< under dispatch_mutex_
+  msg::CommandRequest request_;  ///< reused by the listener thread
+
+  std::mutex scans_mutex_;
+  std::vector<std::shared_ptr<PendingScan>> scans_;
+
+  std::mutex lease_timer_mutex_;
+  std::condition_variable lease_timer_cv_;
+  std::uint64_t lease_timer_generation_ = 0;  ///< under lease_timer_mutex_
+  bool lease_timer_stop_ = false;             ///< under lease_timer_mutex_
+  std::thread lease_timer_;
+
+  bool started_ = false;
+  bool stopped_ = false;
+};
+
+}  // namespace dh3::dds

@@ -1,0 +1,52 @@
+// Control leases: a client that leaves the domain loses its leases at once,
+// the others end when their time runs out (the lease timer thread).
+
+#include "service_impl.hpp"
+
+namespace dh3::dds {
+using contract::TopicRole;
+using eprosima::fastrtps::types::ReturnCode_t;
+
+// ---------------------------------------------------------------------------
+// Leases
+
+void Service::Impl::on_participant_left(const std::string& participant_id, bool dropped) {
+  for (const auto& ended : leases_.drop_client(participant_id)) {
+    spdlog::info("{}: lease of '{}' ended, its participant {} the domain",
+                 hand_text(buses_[ended.hand.bus]->name, ended.hand.can_id), ended.holder,
+                 dropped ? "dropped out of" : "left");
+    republish_status(ended.hand);
+  }
+}
+
+void Service::Impl::wake_lease_timer() {
+  {
+    std::lock_guard lock(lease_timer_mutex_);
+    ++lease_timer_generation_;
+  }
+  lease_timer_cv_.notify_all();
+}
+
+void Service::Impl::lease_timer_loop() {
+  std::unique_lock lock(lease_timer_mutex_);
+  while (!lease_timer_stop_) {
+    const std::uint64_t seen = lease_timer_generation_;
+    const auto woken = [&] { return lease_timer_stop_ || lease_timer_generation_ != seen; };
+    if (const auto next = leases_.next_expiry()) {
+      // The lease table's clock is the steady clock in a running service.
+      lease_timer_cv_.wait_until(lock, *next, woken);
+    } else {
+      lease_timer_cv_.wait(lock, woken);
+    }
+    if (lease_timer_stop_) break;
+    lock.unlock();
+    for (const auto& ended : leases_.expire()) {
+      spdlog::info("{}: lease of '{}' expired",
+                   hand_text(buses_[ended.hand.bus]->name, ended.hand.can_id), ended.holder);
+      republish_status(ended.hand);
+    }
+    lock.lock();
+  }
+}
+
+}  // namespace dh3::dds

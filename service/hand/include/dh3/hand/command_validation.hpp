@@ -1,0 +1,29 @@
+#pragma once
+// Checks a command before anything is queued: out-of-range values never reach
+// the bus (docs/protocol-notes.md reading 12). Pure: safe from any thread.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "dh3/base/result.hpp"
+#include "dh3/hand/hand_types.hpp"
+
+namespace dh3::hand {
+
+struct ValidationFailure {
+  CommandError error = CommandError::invalid_argument;
+  std::string message;  ///< what is wrong and what was expected
+};
+
+/// Fine when the command may be queued for the hand with `can_id`.
+/// ID 0 ("whichever hand is there", reading 10) only reads or sets the CAN ID.
+/// CAN ID and baud-rate writes need `allow_admin`.
+[[nodiscard]] Result<void, ValidationFailure> validate(std::uint8_t can_id, const Command& command,
+                                                       bool allow_admin);
+
+/// True for the registers whose write only takes effect after a reboot and
+/// which reply only once stored (reading 6).
+[[nodiscard]] bool is_admin_register(protocol::Register reg);
+
+}  // namespace dh3::hand

@@ -1,0 +1,664 @@
+#include "dh3/hand/bus_scheduler.hpp"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <map>
+#include <mutex>
+#include <thread>
+
+#include "dh3/hand/command_validation.hpp"
+#include "dh3/protocol/codec.hpp"
+#include "hand_counters.hpp"
+#include "hand_driver.hpp"
+
+namespace dh3::hand {
+namespace {
+
+/// The longest the loop sleeps in receive() with nothing due, so that a
+/// reconnecting backend is retried and stop() is noticed promptly.
+constexpr Duration kMaxIdleWait = std::chrono::milliseconds(100);
+
+/// An 8-byte CAN 2.0A frame with worst-case bit stuffing.
+constexpr double kWorstCaseBitsPerFrame = 135.0;
+/// Requests the line budget may catch up with after an idle moment.
+constexpr int kLineBurst = 4;
+
+bus::CanFrame to_frame(const protocol::Message& message) {
+  bus::CanFrame frame;
+  frame.id = message.hand_id;
+  frame.length = 8;
+  const auto payload = protocol::encode_payload(message);
+  std::copy(payload.begin(), payload.end(), frame.data.begin());
+  return frame;
+}
+
+}  // namespace
+
+class BusScheduler::Impl {
+ public:
+  Impl(std::string bus_name, std::unique_ptr<bus::Bus> bus, std::vector<HandConfig> hands,
+       SchedulerOptions options, const Clock& clock, HandObserver& observer)
+      : name_(std::move(bus_name)),
+        bus_(std::move(bus)),
+        options_(options),
+        clock_(clock),
+        observer_(observer),
+        roster_(hands),
+        context_{options_, observer_, name_, roster_, unexpected_},
+        discover_(hands.empty()) {
+    if (bus_->bit_rate() > 0 && options_.max_line_load > 0.0) {
+      // A request and its reply, worst-case bit stuffing, at the allowed load.
+      const double seconds = 2.0 * kWorstCaseBitsPerFrame / static_cast<double>(bus_->bit_rate()) /
+                             options_.max_line_load;
+      line_spacing_ = std::chrono::duration_cast<Duration>(std::chrono::duration<double>(seconds));
+    }
+    bit_rate_ = bus_->bit_rate();
+    link_up_ = bus_->link_state() == bus::LinkState::up;
+    link_.store(bus_->link_state());
+    const TimePoint now = clock_.now();
+    for (HandConfig& hand : hands) {
+      if (hand.can_id == 0 || drivers_[hand.can_id]) continue;
+      add_driver(std::move(hand), now)->publish_now(now);
+    }
+    next_discovery_at_ = now;
+  }
+
+  ~Impl() {
+    for (auto& counters : hand_counters_) delete counters.load();
+  }
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
+
+  // ---- any thread ----------------------------------------------------------
+
+  void submit(std::uint8_t can_id, Command command, Completion done) {
+    if (auto valid = validate(can_id, command, options_.allow_admin); !valid) {
+      spdlog::debug("{}/{}: refused {}: {}", name_, can_id, to_string(command.kind),
+                    valid.error().message);
+      refuse(can_id, command, done, valid.error().error);
+      return;
+    }
+    if (can_id != 0 && !roster_.knows(can_id)) {
+      refuse(can_id, command, done, CommandError::unknown_hand);
+      return;
+    }
+    if (queued_[can_id].fetch_add(1) >= static_cast<int>(options_.queue_capacity)) {
+      queued_[can_id].fetch_sub(1);
+      refuse(can_id, command, done, CommandError::busy);
+      return;
+    }
+    {
+      std::unique_lock lock(inbox_mutex_);
+      if (!stopped_) {
+        inbox_.push_back(
+            Submitted{can_id, HandDriver::Job{std::move(command), std::move(done), clock_.now()}});
+        lock.unlock();
+        bus_->wake();
+        return;
+      }
+    }
+    queued_[can_id].fetch_sub(1);
+    refuse(can_id, command, done, CommandError::cancelled);
+  }
+
+  void request_scan(ScanCompletion done) {
+    {
+      std::lock_guard lock(inbox_mutex_);
+      if (!stopped_) {
+        scan_requests_.push_back(std::move(done));
+        bus_->wake();
+        return;
+      }
+    }
+    done({});
+  }
+
+  std::vector<HandState> state() const { return roster_.published(); }
+  const HandRoster& roster() const { return roster_; }
+
+  SchedulerCounters counters() const {
+    SchedulerCounters out{frames_sent_.load(), frames_received_.load(), unexpected_.load(), 0, 0,
+                          bus_errors_.load(),  reconnects_.load()};
+    // Retries and timeouts are counted per hand only; the bus's are their sum.
+    for (const auto& slot : hand_counters_) {
+      if (const HandCounters* hand = slot.load(std::memory_order_acquire)) {
+        out.retries += hand->retries();
+        out.timeouts += hand->timeouts();
+      }
+    }
+    return out;
+  }
+
+  BusMetrics metrics() const {
+    BusMetrics out;
+    out.bus = name_;
+    out.link_up = link_.load() == bus::LinkState::up;
+    out.counters = counters();
+    out.bit_rate = bit_rate_;
+    out.recent_frames_per_second = recent_frames_.frames_per_second();
+    out.diagnostics = bus_->diagnostics();
+    if (bit_rate_ > 0) {
+      out.line_load_percent =
+          100.0 * out.recent_frames_per_second * kBitsPerFrame / static_cast<double>(bit_rate_);
+    }
+    if (const HandCounters* anonymous = hand_counters_[0].load(std::memory_order_acquire)) {
+      HandMetrics& hand = out.hands.emplace_back();
+      anonymous->snapshot(hand);
+    }
+    for (const HandState& state : state()) {
+      HandMetrics& hand = out.hands.emplace_back();
+      hand.can_id = state.can_id;
+      hand.name = state.name;
+      hand.online = state.online;
+      if (const HandCounters* counted =
+              hand_counters_[state.can_id].load(std::memory_order_acquire)) {
+        counted->snapshot(hand);
+      }
+    }
+    return out;
+  }
+
+  const std::string& name() const { return name_; }
+  bus::LinkState link_state() const { return link_.load(); }
+
+  void start() {
+    if (running_.exchange(true)) return;
+    thread_ = std::thread([this] { run(); });
+  }
+
+  void stop() {
+    if (running_.exchange(false)) {
+      bus_->wake();
+      if (thread_.joinable()) thread_.join();
+    }
+    std::vector<Submitted> leftover;
+    std::vector<ScanCompletion> scans;
+    {
+      std::lock_guard lock(inbox_mutex_);
+      if (stopped_) return;
+      stopped_ = true;
+      leftover.swap(inbox_);
+      scans.swap(scan_requests_);
+    }
+    const TimePoint now = clock_.now();
+    for (Submitted& item : leftover) {
+      queued_[item.can_id].fetch_sub(1);
+      refuse(item.can_id, item.job.command, item.job.done, CommandError::cancelled);
+    }
+    for (std::uint8_t id : order_) drivers_[id]->shut_down(now);
+    finish_scan();
+    for (ScanCompletion& done : scans) done({});
+  }
+
+  // ---- counting (any thread) -------------------------------------------------
+
+  HandCounters& counters_for(std::uint8_t can_id) {
+    HandCounters* counters = hand_counters_[can_id].load(std::memory_order_acquire);
+    if (counters) return *counters;
+    auto fresh = std::make_unique<HandCounters>();
+    if (hand_counters_[can_id].compare_exchange_strong(counters, fresh.get(),
+                                                       std::memory_order_acq_rel)) {
+      return *fresh.release();
+    }
+    return *counters;  // another thread was first
+  }
+
+  /// A command that ends before any driver has it. Commands to hands that do
+  /// not exist are not counted: no hand's figures should grow from them.
+  void refuse(std::uint8_t can_id, const Command& command, Completion& done, CommandError error) {
+    if (can_id == 0 || roster_.knows(can_id))
+      counters_for(can_id).count_command(command, fail(error));
+    done(fail(error));
+  }
+
+  // ---- loop thread ---------------------------------------------------------
+
+  void step() { pass(Duration::zero()); }
+
+  TimePoint next_wakeup() const {
+    const TimePoint now = clock_.now();
+    std::optional<TimePoint> earliest;
+    auto consider = [&](TimePoint t) {
+      if (!earliest || t < *earliest) earliest = t;
+    };
+    if (link_up_) {
+      for (std::uint8_t id : order_) {
+        if (auto t = drivers_[id]->next_wakeup()) consider(line_allows(*t) ? *t : line_next_at_);
+      }
+      if (scan_) {
+        if (scan_->next_id <= 255) consider(scan_->next_probe_at);
+        for (const auto& [id, probe] : scan_->pending) consider(probe.deadline);
+      } else if (discover_ && options_.discovery_interval > Duration::zero()) {
+        consider(next_discovery_at_);
+      }
+    }
+    return earliest.value_or(now + kMaxIdleWait);
+  }
+
+ private:
+  struct Submitted {
+    std::uint8_t can_id = 0;
+    HandDriver::Job job;
+  };
+
+  /// A probe of IDs 1-255 for hands nobody configured.
+  struct Scan {
+    std::vector<ScanCompletion> waiting;
+    int next_id = 1;
+    TimePoint next_probe_at{};
+    struct Probe {
+      TimePoint sent{};
+      TimePoint deadline{};
+    };
+    std::map<std::uint8_t, Probe> pending;  ///< probed, not answered yet
+  };
+
+  HandDriver* add_driver(HandConfig config, TimePoint now) {
+    const std::uint8_t id = config.can_id;
+    drivers_[id] = std::make_unique<HandDriver>(std::move(config), context_, queued_[id],
+                                                counters_for(id), now, id == 0);
+    order_.push_back(id);
+    roster_.add(id);
+    return drivers_[id].get();
+  }
+
+  void run() {
+    spdlog::debug("{}: loop started on {}", name_, bus_->spec());
+    while (running_.load()) {
+      const Duration wait =
+          std::clamp(next_wakeup() - clock_.now(), Duration::zero(), kMaxIdleWait);
+      pass(wait);
+    }
+  }
+
+  void pass(Duration wait) {
+    frames_.clear();
+    const auto received = bus_->receive(frames_, wait);
+    const TimePoint now = clock_.now();
+    recent_frames_.roll(now);
+    recent_frames_.count(frames_.size());
+    if (!received && received.error() == bus::BusError::io_error) bus_errors_.fetch_add(1);
+    if (!received && received.error() == bus::BusError::link_down) {
+      if (link_up_) on_link_down(now);
+    } else if (!link_up_ && bus_->link_state() == bus::LinkState::up) {
+      on_link_up(now);
+    }
+    drain_inbox(now);
+    for (const bus::CanFrame& frame : frames_) on_frame(frame, now);
+    for (std::uint8_t id : order_) drivers_[id]->on_time(now);
+    scan_on_time(now);
+    send_due(now);
+  }
+
+  void drain_inbox(TimePoint now) {
+    std::vector<Submitted> items;
+    std::vector<ScanCompletion> scans;
+    {
+      std::lock_guard lock(inbox_mutex_);
+      items.swap(inbox_);
+      scans.swap(scan_requests_);
+    }
+    for (Submitted& item : items) {
+      if (!link_up_) {
+        queued_[item.can_id].fetch_sub(1);
+        refuse(item.can_id, item.job.command, item.job.done, CommandError::bus_down);
+        continue;
+      }
+      HandDriver* driver = drivers_[item.can_id].get();
+      if (!driver) driver = add_driver(HandConfig{item.can_id, {}}, now);  // ID 0
+      driver->enqueue(std::move(item.job), now);
+    }
+    for (ScanCompletion& done : scans) {
+      if (!link_up_) {
+        done({});
+        continue;
+      }
+      if (!scan_) start_scan(now);
+      scan_->waiting.push_back(std::move(done));
+    }
+  }
+
+  void on_frame(const bus::CanFrame& frame, TimePoint now) {
+    frames_received_.fetch_add(1);
+    if (frame.id > 0xFF || frame.length != protocol::kPayloadSize) {
+      unexpected(fmt::format("frame with id 0x{:X} and length {}", frame.id, frame.length));
+      return;
+    }
+    const auto id = static_cast<std::uint8_t>(frame.id);
+    const auto message = protocol::decode_payload(id, frame.data);
+    if (!message) {
+      unexpected(
+          fmt::format("undecodable frame from {}: {}", id, protocol::to_string(message.error())));
+      return;
+    }
+    if (HandDriver* driver = drivers_[id].get()) {
+      if (!driver->on_frame(*message, now)) unexpected(protocol::describe(*message));
+      return;
+    }
+    if (scan_ && message->reg == protocol::reg::kFirmwareVersion) {
+      if (const auto probe = scan_->pending.find(id); probe != scan_->pending.end()) {
+        spdlog::info("{}: found a hand with CAN ID {}", name_, id);
+        HandDriver* found = add_driver(HandConfig{id, {}}, now);
+        // The probe was this hand's first frame: its own reads keep the interval to it.
+        found->hold_sends_until(probe->second.sent + options_.frame_spacing());
+        scan_->pending.erase(probe);
+        found->on_discovered(*message, now);
+        return;
+      }
+    }
+    unexpected(protocol::describe(*message));
+  }
+
+  void unexpected(const std::string& what) {
+    const auto count = unexpected_.fetch_add(1) + 1;
+    // Counted always; logged sparingly, so a babbling device cannot flood the log.
+    if (count <= 10 || count % 1000 == 0) {
+      spdlog::warn("{}: unexpected frame ({} so far): {}", name_, count, what);
+    }
+  }
+
+  void send_due(TimePoint pass_started) {
+    if (!link_up_) return;
+    reserve_for_id_zero(pass_started);
+    const std::size_t n = order_.size();
+    for (std::size_t k = 0; k < n; ++k) {
+      // The pass may have spent milliseconds on replies, status and events
+      // before it got here: pace on the time of each send, not of the pass.
+      const TimePoint now = clock_.now();
+      const std::size_t index = (rr_ + k) % n;
+      if (!line_allows(now)) {
+        rr_ = index;  // this hand goes first when the line has room again
+        return;
+      }
+      const std::uint8_t id = order_[index];
+      if (id == 0 && !id_zero_may_send(now)) continue;
+      HandDriver& driver = *drivers_[id];
+      const auto message = driver.next_frame(now);
+      if (!message) continue;
+      const auto sent = bus_->send(to_frame(*message));
+      if (sent) {
+        frames_sent_.fetch_add(1);
+        recent_frames_.count(1);
+        line_used(now);
+        // The interval counts from when the frame left, which is after now.
+        const TimePoint left = clock_.now();
+        driver.hold_sends_until(left + options_.frame_spacing());
+        last_sent_[id] = left;
+        if (id == 0) id_zero_sent(left);
+        continue;
+      }
+      driver.unsend();
+      if (sent.error() == bus::BusError::link_down) {
+        on_link_down(now);
+        return;
+      }
+      if (sent.error() != bus::BusError::would_block) {
+        bus_errors_.fetch_add(1);
+        spdlog::warn("{}: could not send {}: {}", name_, protocol::describe(*message),
+                     bus::to_string(sent.error()));
+      }
+      rr_ = index;  // this hand goes first when the bus takes frames again
+      return;
+    }
+    // Round robin: a different hand leads every pass, so none is always last.
+    if (n > 0) rr_ = (rr_ + 1) % n;
+    send_probes(clock_.now());
+  }
+
+  // ---- pacing across senders ------------------------------------------------
+  //
+  // Each driver paces its own frames (SchedulerOptions::frame_spacing()). Two
+  // kinds of frame reach a hand from elsewhere: the scan's discovery probes
+  // (handled where a probe is answered) and frames to ID 0, which every hand on
+  // the bus receives. A frame to ID 0 therefore waits until no hand, and no
+  // probe, had a frame within the interval, and every hand and the scan wait the
+  // interval after it. While it waits, the others are held, so it cannot starve
+  // behind hands that keep polling.
+
+  void reserve_for_id_zero(TimePoint now) {
+    HandDriver* id_zero = drivers_[0].get();
+    if (!id_zero || !id_zero->has_command_frame()) {
+      id_zero_slot_.reset();
+      return;
+    }
+    if (id_zero_slot_) return;
+    TimePoint slot = std::max({now, id_zero->paced_until(), others_clear_at()});
+    id_zero_slot_ = slot;
+    id_zero->hold_sends_until(slot);
+    for (std::uint8_t id : order_) {
+      if (id != 0) drivers_[id]->hold_sends_until(slot + options_.frame_spacing());
+    }
+  }
+
+  /// When the interval since the last frame to any hand (or probe) has passed.
+  [[nodiscard]] TimePoint others_clear_at() const {
+    TimePoint clear{};
+    for (std::uint8_t id : order_) {
+      if (id != 0 && last_sent_[id]) clear = std::max(clear, *last_sent_[id]);
+    }
+    if (last_probe_at_) clear = std::max(clear, *last_probe_at_);
+    return clear + options_.frame_spacing();
+  }
+
+  [[nodiscard]] bool id_zero_may_send(TimePoint now) {
+    if (now >= others_clear_at()) return true;
+    id_zero_slot_.reset();  // something went out after all (a delayed send): reserve again
+    return false;
+  }
+
+  void id_zero_sent(TimePoint now) {
+    id_zero_slot_.reset();
+    for (std::uint8_t id : order_) {
+      if (id != 0) drivers_[id]->hold_sends_until(now + options_.frame_spacing());
+    }
+  }
+
+  /// Probes wait while a frame to ID 0 waits, and the interval after one.
+  [[nodiscard]] TimePoint probes_allowed_at() const {
+    TimePoint allowed{};
+    if (last_sent_[0]) allowed = *last_sent_[0] + options_.frame_spacing();
+    if (id_zero_slot_) allowed = std::max(allowed, *id_zero_slot_ + options_.frame_spacing());
+    return allowed;
+  }
+
+  // ---- line budget -----------------------------------------------------------
+
+  [[nodiscard]] bool line_allows(TimePoint now) const {
+    return line_spacing_ == Duration::zero() || line_next_at_ <= now;
+  }
+  void line_used(TimePoint now) {
+    if (line_spacing_ == Duration::zero()) return;
+    line_next_at_ = std::max(line_next_at_, now - kLineBurst * line_spacing_) + line_spacing_;
+  }
+
+  // ---- discovery -------------------------------------------------------------
+
+  void start_scan(TimePoint now) {
+    scan_.emplace();
+    scan_->next_probe_at = now;
+    spdlog::debug("{}: probing CAN IDs 1-255 for hands", name_);
+  }
+
+  void send_probes(TimePoint now) {
+    if (!scan_) return;
+    if (const TimePoint allowed = probes_allowed_at(); now < allowed) {
+      scan_->next_probe_at = std::max(scan_->next_probe_at, allowed);
+      return;
+    }
+    while (scan_->next_id <= 255 && now >= scan_->next_probe_at && line_allows(now)) {
+      const auto id = static_cast<std::uint8_t>(scan_->next_id);
+      if (drivers_[id]) {
+        ++scan_->next_id;  // known hands answer their own polls
+        continue;
+      }
+      const auto probe = protocol::make_read(id, protocol::reg::kFirmwareVersion);
+      const auto sent = bus_->send(to_frame(probe));
+      if (!sent) {
+        if (sent.error() == bus::BusError::link_down) on_link_down(now);
+        if (sent.error() == bus::BusError::io_error) bus_errors_.fetch_add(1);
+        return;  // would_block: the next pass tries this ID again
+      }
+      frames_sent_.fetch_add(1);
+      recent_frames_.count(1);
+      line_used(now);
+      const TimePoint left = clock_.now();
+      last_probe_at_ = left;
+      scan_->pending[id] = Scan::Probe{left, left + options_.reply_timeout};
+      ++scan_->next_id;
+      scan_->next_probe_at = now + options_.probe_spacing;
+      if (options_.probe_spacing > Duration::zero()) return;
+    }
+  }
+
+  void scan_on_time(TimePoint now) {
+    if (!scan_) {
+      if (discover_ && link_up_ && now >= next_discovery_at_ &&
+          (options_.discovery_interval > Duration::zero() || !discovered_once_)) {
+        start_scan(now);
+      }
+      return;
+    }
+    std::erase_if(scan_->pending, [&](const auto& entry) { return now >= entry.second.deadline; });
+    if (scan_->next_id > 255 && scan_->pending.empty()) {
+      finish_scan();
+      discovered_once_ = true;
+      next_discovery_at_ = now + options_.discovery_interval;
+    }
+  }
+
+  void finish_scan() {
+    if (!scan_) return;
+    std::vector<std::uint8_t> found;
+    for (std::uint8_t id : order_) {
+      if (id != 0 && drivers_[id]->state().online) found.push_back(id);
+    }
+    std::sort(found.begin(), found.end());
+    auto waiting = std::move(scan_->waiting);
+    scan_.reset();
+    spdlog::debug("{}: scan found {} hands", name_, found.size());
+    for (ScanCompletion& done : waiting) done(found);
+  }
+
+  // ---- link ------------------------------------------------------------------
+
+  void on_link_down(TimePoint now) {
+    link_up_ = false;
+    link_.store(bus::LinkState::down);
+    spdlog::warn("{}: bus down ({})", name_, bus_->spec());
+    observer_.on_link(bus::LinkState::down);
+    for (std::uint8_t id : order_) drivers_[id]->on_link_down(now);
+    finish_scan();
+  }
+
+  void on_link_up(TimePoint now) {
+    reconnects_.fetch_add(1);
+    link_up_ = true;
+    link_.store(bus::LinkState::up);
+    spdlog::info("{}: bus up ({})", name_, bus_->spec());
+    observer_.on_link(bus::LinkState::up);
+    for (std::uint8_t id : order_) drivers_[id]->on_link_up(now);
+    if (discover_) next_discovery_at_ = now;
+  }
+
+  std::string name_;
+  std::unique_ptr<bus::Bus> bus_;
+  SchedulerOptions options_;
+  const Clock& clock_;
+  HandObserver& observer_;
+
+  std::atomic<std::uint64_t> frames_sent_{0};
+  std::atomic<std::uint64_t> frames_received_{0};
+  std::atomic<std::uint64_t> unexpected_{0};
+  std::atomic<std::uint64_t> bus_errors_{0};
+  std::atomic<std::uint64_t> reconnects_{0};
+  /// The set of hands and their published states (hand_roster.hpp).
+  HandRoster roster_;
+  DriverContext context_;
+  /// Per hand; created on first use (from any thread), never removed.
+  std::array<std::atomic<HandCounters*>, 256> hand_counters_{};
+  std::uint32_t bit_rate_ = 0;
+  RecentFrames recent_frames_{clock_.now()};
+
+  // Read by submit() on any thread; written by the loop.
+  std::array<std::atomic<int>, 256> queued_{};
+  std::atomic<bus::LinkState> link_{bus::LinkState::down};
+
+  std::mutex inbox_mutex_;
+  std::vector<Submitted> inbox_;
+  std::vector<ScanCompletion> scan_requests_;
+  bool stopped_ = false;
+
+  // Loop thread only.
+  std::array<std::unique_ptr<HandDriver>, 256> drivers_{};
+  std::vector<std::uint8_t> order_;
+  std::size_t rr_ = 0;
+  bool link_up_ = false;
+  bool discover_ = false;
+  bool discovered_once_ = false;
+  TimePoint next_discovery_at_{};
+  std::optional<Scan> scan_;
+  std::vector<bus::CanFrame> frames_;
+  /// When a frame last went out to each CAN ID (ID 0 included), and the last probe.
+  std::array<std::optional<TimePoint>, 256> last_sent_{};
+  std::optional<TimePoint> last_probe_at_;
+  /// A frame to ID 0 waits for this time; the others are held past it.
+  std::optional<TimePoint> id_zero_slot_;
+  Duration line_spacing_{};  ///< zero: no line budget
+  TimePoint line_next_at_{};
+
+  std::atomic<bool> running_{false};
+  std::thread thread_;
+};
+
+BusScheduler::BusScheduler(std::string bus_name, std::unique_ptr<bus::Bus> bus,
+                           std::vector<HandConfig> hands, SchedulerOptions options,
+                           const Clock& clock, HandObserver& observer)
+    : impl_(std::make_unique<Impl>(std::move(bus_name), std::move(bus), std::move(hands), options,
+                                   clock, observer)) {}
+
+BusScheduler::~BusScheduler() {
+  impl_->stop();
+}
+
+void BusScheduler::submit(std::uint8_t can_id, Command command, Completion done) {
+  impl_->submit(can_id, std::move(command), std::move(done));
+}
+void BusScheduler::request_scan(ScanCompletion done) {
+  impl_->request_scan(std::move(done));
+}
+std::vector<HandState> BusScheduler::state() const {
+  return impl_->state();
+}
+const HandRoster& BusScheduler::roster() const {
+  return impl_->roster();
+}
+SchedulerCounters BusScheduler::counters() const {
+  return impl_->counters();
+}
+BusMetrics BusScheduler::metrics() const {
+  return impl_->metrics();
+}
+const std::string& BusScheduler::name() const {
+  return impl_->name();
+}
+bus::LinkState BusScheduler::link_state() const {
+  return impl_->link_state();
+}
+void BusScheduler::start() {
+  impl_->start();
+}
+void BusScheduler::stop() {
+  impl_->stop();
+}
+void BusScheduler::step() {
+  impl_->step();
+}
+TimePoint BusScheduler::next_wakeup() const {
+  return impl_->next_wakeup();
+}
+
+}  // namespace dh3::hand

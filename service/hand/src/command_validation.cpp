@@ -1,0 +1,86 @@
+#include "dh3/hand/command_validation.hpp"
+
+#include <fmt/format.h>
+
+namespace dh3::hand {
+namespace {
+
+Failure<ValidationFailure> invalid(std::string message) {
+  return fail(ValidationFailure{CommandError::invalid_argument, std::move(message)});
+}
+
+Result<void, ValidationFailure> check_value(protocol::Register reg, std::int32_t value,
+                                            std::string_view what) {
+  const auto range = protocol::write_range(reg);
+  if (range && !range->contains(value)) {
+    return invalid(
+        fmt::format("{} {} is out of range (expected {}-{})", what, value, range->min, range->max));
+  }
+  return {};
+}
+
+}  // namespace
+
+bool is_admin_register(protocol::Register reg) {
+  return reg == protocol::reg::kCanId || reg == protocol::reg::kBaudRate;
+}
+
+Result<void, ValidationFailure> validate(std::uint8_t can_id, const Command& command,
+                                         bool allow_admin) {
+  namespace reg = protocol::reg;
+  if (command.timeout && *command.timeout <= Duration::zero()) {
+    return invalid("timeout must be positive");
+  }
+  if (can_id == 0) {
+    const bool can_id_register = (command.kind == CommandKind::read_register ||
+                                  command.kind == CommandKind::write_register) &&
+                                 command.reg == reg::kCanId;
+    if (!can_id_register) {
+      return invalid(
+          "CAN ID 0 addresses whichever hand is there: only reading or setting the CAN ID");
+    }
+  }
+  switch (command.kind) {
+    case CommandKind::initialize:
+    case CommandKind::stop:
+      return {};
+    case CommandKind::move_to:
+      return check_value(reg::kPosition, command.value, "position");
+    case CommandKind::release:
+      return check_value(reg::kPosition, command.value, "release position");
+    case CommandKind::rotate_to:
+      return check_value(reg::kRotation, command.value, "rotation");
+    case CommandKind::set_closing_force:
+      return check_value(reg::kClosingForce, command.value, "closing force");
+    case CommandKind::set_opening_force:
+      return check_value(reg::kOpeningForce, command.value, "opening force");
+    case CommandKind::grasp:
+      return check_value(reg::kClosingForce, command.value, "grasp force");
+    case CommandKind::read_register:
+      if (!protocol::is_known(command.reg)) {
+        return invalid(
+            fmt::format("register 0x{:04X} is not in the DH-3 register map", command.reg.code()));
+      }
+      return {};
+    case CommandKind::write_register: {
+      if (const auto written = protocol::check_write(command.reg, command.value); !written) {
+        const auto range = protocol::write_range(command.reg);
+        if (written.error() == protocol::RegisterError::out_of_range && range) {
+          return invalid(fmt::format("{} {} is out of range (expected {}-{})",
+                                     protocol::name(command.reg), command.value, range->min,
+                                     range->max));
+        }
+        return invalid(fmt::format("cannot write register 0x{:04X}: {}", command.reg.code(),
+                                   protocol::to_string(written.error())));
+      }
+      if (is_admin_register(command.reg) && !allow_admin) {
+        return invalid(fmt::format("writing {} is administrative and not allowed on this bus",
+                                   protocol::name(command.reg)));
+      }
+      return {};
+    }
+  }
+  return invalid("unknown command");
+}
+
+}  // namespace dh3::hand

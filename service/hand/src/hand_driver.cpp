@@ -1,0 +1,411 @@
+// HandDriver: commands in, the hand's lifecycle (online, offline, link loss,
+// shutdown), time (timeouts, deadlines, wake-ups) and reporting.
+
+#include "hand_driver.hpp"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+
+#include "dh3/hand/command_validation.hpp"
+
+namespace dh3::hand {
+namespace {
+
+namespace reg = protocol::reg;
+using protocol::Register;
+
+/// Read afresh whenever a hand comes online.
+constexpr Register kRefresh[] = {reg::kInitialize,    reg::kClosingForce, reg::kOpeningForce,
+                                 reg::kPosition,      reg::kGripStatus,   reg::kRotation,
+                                 reg::kRotationStatus};
+
+}  // namespace
+
+HandDriver::HandDriver(HandConfig config, DriverContext& context, std::atomic<int>& queued,
+                       HandCounters& counters, TimePoint now, bool anonymous)
+    : context_(context),
+      options_(context.options),
+      queued_(queued),
+      counters_(counters),
+      anonymous_(anonymous),
+      link_(Offline{now}),
+      next_send_at_(now) {
+  state_.can_id = config.can_id;
+  state_.name = std::move(config.name);
+  state_.updated_at = now;
+}
+
+std::string HandDriver::label() const {
+  return state_.name.empty()
+             ? fmt::format("{}/{}", context_.bus_name, state_.can_id)
+             : fmt::format("{}/{} ({})", context_.bus_name, state_.can_id, state_.name);
+}
+
+// ---------------------------------------------------------------------------
+// Commands in
+
+void HandDriver::enqueue(Job job, TimePoint now) {
+  const Command& command = job.command;
+  if (command.kind == CommandKind::stop) {
+    // Stop goes first and ends every motion not yet under way.
+    cancel_motion(true, true);
+    queue_.push_front(std::move(job));
+  } else {
+    // A newer motion supersedes the queued ones of the same axis (the hand
+    // itself would do the same: "position command can be interrupted").
+    cancel_motion(moves_fingers(command), moves_rotation(command));
+    queue_.push_back(std::move(job));
+  }
+  flush(now);
+}
+
+void HandDriver::cancel_motion(bool fingers, bool rotation) {
+  if (!fingers && !rotation) return;
+  for (auto it = queue_.begin(); it != queue_.end();) {
+    const bool superseded =
+        (fingers && moves_fingers(it->command)) || (rotation && moves_rotation(it->command));
+    if (superseded) {
+      complete(*it, fail(CommandError::cancelled));
+      queued_.fetch_sub(1);
+      it = queue_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  if (active_ && !active_->motion_sent &&
+      ((fingers && moves_fingers(active_->job.command)) ||
+       (rotation && moves_rotation(active_->job.command)))) {
+    // Its frame in flight, if any, still gets its reply; the job is over.
+    finish_active(fail(CommandError::cancelled));
+  }
+  if (fingers) finish_motion_waiter(fail(CommandError::cancelled));
+}
+
+Duration HandDriver::reply_timeout_for(const Job& job) const {
+  const Command& command = job.command;
+  if (command.kind == CommandKind::write_register && is_admin_register(command.reg)) {
+    return options_.admin_reply_timeout;
+  }
+  return options_.reply_timeout;
+}
+
+// ---------------------------------------------------------------------------
+// Lifecycle
+
+Initializing* HandDriver::initializing() {
+  Online* on = online();
+  return on ? std::get_if<Initializing>(&on->init) : nullptr;
+}
+
+const Initializing* HandDriver::initializing() const {
+  const Online* on = online();
+  return on ? std::get_if<Initializing>(&on->init) : nullptr;
+}
+
+bool HandDriver::init_known() const {
+  const Online* on = online();
+  return on && !std::holds_alternative<InitUnknown>(on->init);
+}
+
+void HandDriver::set_init(InitState init) {
+  Online* on = online();
+  if (!on) return;  // known only while the hand answers
+  if (std::holds_alternative<Initialized>(init)) state_.initialized = true;
+  if (std::holds_alternative<NotInitialized>(init) || std::holds_alternative<Initializing>(init)) {
+    state_.initialized = false;
+  }
+  on->init = init;
+}
+
+PollPlan HandDriver::poll_plan() const {
+  // Status 0 also means "default" (after power-on or initialization), so only
+  // motions we commanded count as moving.
+  PollActivity activity;
+  if (finger_motion_) {
+    activity.fingers = finger_motion_->closing ? FingerActivity::closing : FingerActivity::opening;
+  } else if (state_.grip == GripState::caught) {
+    activity.fingers = FingerActivity::holding;
+  }
+  activity.rotating = rotation_motion_.has_value();
+  activity.initializing = initializing() != nullptr;
+  return plan_polls(activity,
+                    PollIntervals{options_.poll_interval_watch, options_.poll_interval_moving,
+                                  options_.poll_interval_idle});
+}
+
+void HandDriver::on_answer(TimePoint now) {
+  consecutive_timeouts_ = 0;
+  state_.read_at = now;
+  if (online() || anonymous_) return;
+  Online fresh;
+  fresh.refresh.assign(std::begin(kRefresh), std::end(kRefresh));
+  link_ = std::move(fresh);
+  state_.online = true;
+  emit(EventKind::online, now, state_.firmware_version);
+}
+
+void HandDriver::lose_link(TimePoint now, LinkLoss loss, const std::string& why) {
+  in_flight_.reset();
+  resend_.reset();
+  finger_motion_.reset();
+  rotation_motion_.reset();
+  end_of_motion_.read_due = false;
+  end_of_motion_.recheck_arrival = false;
+  end_of_rotation_.read_due = false;
+  end_of_rotation_.recheck_arrival = false;
+  emit_ending_event(now);
+  emit_rotation_event(now);
+  const bool was_online = online() != nullptr;
+  // Probed again after the probe interval; a returning link probes at once.
+  link_ = Offline{now + options_.offline_probe_interval};
+  state_.online = false;
+  switch (loss) {
+    case LinkLoss::unanswered:
+      set_error(CommandError::timeout, why);
+      break;
+    case LinkLoss::bus_down:
+      set_error(CommandError::bus_down, why);
+      break;
+    case LinkLoss::shutdown:
+      break;
+  }
+  if (was_online && !anonymous_) {
+    emit(EventKind::offline, now, loss == LinkLoss::unanswered ? consecutive_timeouts_ : 0, why);
+  }
+  fail_everything(loss == LinkLoss::unanswered ? CommandError::timeout
+                  : loss == LinkLoss::bus_down ? CommandError::bus_down
+                                               : CommandError::cancelled);
+}
+
+void HandDriver::on_link_down(TimePoint now) {
+  lose_link(now, LinkLoss::bus_down, "bus down");
+  flush(now);
+}
+
+void HandDriver::on_link_up(TimePoint now) {
+  consecutive_timeouts_ = 0;
+  // Probe at once, but not sooner than the pacing allows after the last frame
+  // sent before the link went down (next_send_at_ is kept).
+  if (auto* offline = std::get_if<Offline>(&link_)) offline->next_probe_at = now;
+  flush(now);
+}
+
+void HandDriver::shut_down(TimePoint now) {
+  lose_link(now, LinkLoss::shutdown, "service stopping");
+  flush(now);
+}
+
+// ---------------------------------------------------------------------------
+// Time
+
+void HandDriver::on_time(TimePoint now) {
+  if (in_flight_ && now >= in_flight_->deadline) on_timeout(now);
+  on_init_deadlines(now);
+  if (motion_waiter_ && now >= motion_waiter_->deadline) {
+    set_error(CommandError::timeout, fmt::format("{} did not end (caught or arrived) in time",
+                                                 to_string(motion_waiter_->job.command.kind)));
+    finish_motion_waiter(fail(CommandError::timeout));
+  }
+  // Commands with their own timeout that are still waiting for their turn.
+  for (auto it = queue_.begin(); it != queue_.end();) {
+    if (it->command.timeout && now >= it->submitted + *it->command.timeout) {
+      complete(*it, fail(CommandError::timeout));
+      queued_.fetch_sub(1);
+      it = queue_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  flush(now);
+}
+
+void HandDriver::on_init_deadlines(TimePoint now) {
+  if (const Initializing* init = initializing(); init && now >= init->deadline) {
+    set_init(NotInitialized{});
+    const std::string why = fmt::format(
+        "initialization did not finish within {} ms",
+        std::chrono::duration_cast<std::chrono::milliseconds>(options_.init_timeout).count());
+    emit(EventKind::init_failed, now, 0, why);
+    set_error(CommandError::failed, why);
+    finish_init_waiter(fail(CommandError::failed));
+  }
+  if (init_waiter_ && now >= init_waiter_->deadline) {
+    set_error(CommandError::timeout, "initialization did not finish within the command's timeout");
+    finish_init_waiter(fail(CommandError::timeout));
+  }
+}
+
+void HandDriver::on_timeout(TimePoint now) {
+  const InFlight lost = *in_flight_;
+  in_flight_.reset();
+  counters_.count_timeout();
+  ++consecutive_timeouts_;
+
+  if (lost.retryable && lost.attempts <= options_.max_retries) {
+    InFlight again = lost;
+    ++again.attempts;
+    resend_ = again;
+    counters_.count_retry();
+  } else if (lost.purpose == Purpose::job && active_) {
+    set_error(CommandError::timeout, fmt::format("no answer to {} after {} tries",
+                                                 protocol::describe(lost.message), lost.attempts));
+    finish_active(fail(CommandError::timeout));
+  } else if (lost.purpose == Purpose::confirm_position) {
+    end_of_motion_.recheck_arrival = false;  // the status is read again anyway
+    on_position_confirmed(now);              // with the position as last read
+  } else if (lost.purpose == Purpose::confirm_rotation) {
+    end_of_rotation_.recheck_arrival = false;
+    on_rotation_confirmed(now);
+  }
+  // Polls and probes are simply read again later.
+  if (online() && !anonymous_ && consecutive_timeouts_ >= options_.offline_after_timeouts) {
+    lose_link(now, LinkLoss::unanswered,
+              fmt::format("{} requests in a row went unanswered", consecutive_timeouts_));
+  }
+}
+
+std::optional<TimePoint> HandDriver::next_wakeup() const {
+  std::optional<TimePoint> earliest;
+  auto consider = [&](TimePoint t) {
+    if (!earliest || t < *earliest) earliest = t;
+  };
+  const Initializing* init = initializing();
+  if (in_flight_) {
+    consider(in_flight_->deadline);
+  } else {
+    if (has_command_frame()) consider(next_send_at_);
+    if (anonymous_) {
+      // never polled or probed
+    } else if (const auto* offline = std::get_if<Offline>(&link_)) {
+      consider(std::max(next_send_at_, offline->next_probe_at));
+    } else if (const Online* on = online(); end_of_motion_.read_due || end_of_rotation_.read_due ||
+                                            (init && init->check_now) || !on->refresh.empty()) {
+      consider(next_send_at_);
+    } else {
+      if (auto due = next_poll_due(poll_plan(), on->poll.last_read)) {
+        consider(std::max(next_send_at_, *due));
+      }
+      if (init) consider(std::max(next_send_at_, init->next_check_at));
+    }
+  }
+  if (init) consider(init->deadline);
+  if (init_waiter_) consider(init_waiter_->deadline);
+  if (motion_waiter_) consider(motion_waiter_->deadline);
+  for (const Job& job : queue_) {
+    if (job.command.timeout) consider(job.submitted + *job.command.timeout);
+  }
+  return earliest;
+}
+
+// ---------------------------------------------------------------------------
+// Finishing and reporting
+
+void HandDriver::finish_active(const CommandResult& result) {
+  if (!active_) return;
+  complete(active_->job, result);
+  active_.reset();
+}
+
+void HandDriver::finish_init_waiter(const CommandResult& result) {
+  if (!init_waiter_) return;
+  complete(init_waiter_->job, result);
+  init_waiter_.reset();
+}
+
+void HandDriver::finish_motion_waiter(const CommandResult& result) {
+  if (!motion_waiter_) return;
+  complete(motion_waiter_->job, result);
+  motion_waiter_.reset();
+}
+
+void HandDriver::fail_everything(CommandError error) {
+  if (active_) finish_active(fail(error));
+  while (!queue_.empty()) {
+    complete(queue_.front(), fail(error));
+    queued_.fetch_sub(1);
+    queue_.pop_front();
+  }
+  finish_init_waiter(fail(error));
+  finish_motion_waiter(fail(error));
+}
+
+void HandDriver::complete(Job& job, const CommandResult& result) {
+  counters_.count_command(job.command, result);
+  if (job.done) pending_completions_.emplace_back(std::move(job.done), result);
+}
+
+void HandDriver::set_error(CommandError error, std::string message) {
+  state_.last_error = error;
+  state_.last_error_message = std::move(message);
+}
+
+void HandDriver::emit_ending_event(TimePoint now) {
+  if (!end_of_motion_.event) return;
+  const PendingEvent event = *end_of_motion_.event;
+  end_of_motion_.event.reset();
+  emit(event.kind, now, event.value);
+}
+
+void HandDriver::emit_rotation_event(TimePoint now) {
+  if (!end_of_rotation_.event) return;
+  const PendingEvent event = *end_of_rotation_.event;
+  end_of_rotation_.event.reset();
+  std::string message;
+  if (event.kind == EventKind::rotation_blocked) {
+    message = fmt::format("rotation blocked at {} on the way to {}", state_.rotation,
+                          state_.rotation_target);
+  }
+  emit(event.kind, now, event.value, std::move(message), state_.rotation, state_.rotation_target);
+}
+
+void HandDriver::emit(EventKind kind, TimePoint now, std::int32_t value, std::string message,
+                      std::optional<std::int32_t> position, std::optional<std::int32_t> target) {
+  if (anonymous_) return;
+  HandEvent event;
+  event.kind = kind;
+  event.can_id = state_.can_id;
+  event.time = now;
+  event.position = position.value_or(state_.position);
+  event.target = target.value_or(state_.target_position);
+  event.value = value;
+  event.message = std::move(message);
+  spdlog::info("{}: {}{}{}", label(), to_string(kind), event.message.empty() ? "" : ": ",
+               event.message);
+  pending_events_.push_back(std::move(event));
+}
+
+void HandDriver::publish_now(TimePoint now) {
+  if (anonymous_) return;
+  ever_published_ = false;
+  flush(now);
+}
+
+void HandDriver::flush(TimePoint now) {
+  bool reported = true;
+  if (!anonymous_ && (!ever_published_ || context_.roster.differs_from_published(state_))) {
+    ever_published_ = true;
+    ++state_.sequence;
+    state_.updated_at = now;
+    published_read_at_ = state_.read_at;
+    context_.roster.publish(state_);
+    context_.observer.on_state(state_);
+  } else if (!anonymous_ && state_.read_at >= published_read_at_ + options_.poll_interval_idle) {
+    published_read_at_ = state_.read_at;
+    context_.roster.publish(state_);  // the same fields, read again
+    context_.observer.on_fresh(state_);
+  } else {
+    reported = false;
+  }
+  // Callbacks may call back into the scheduler (submit): take the lists first.
+  auto events = std::move(pending_events_);
+  pending_events_.clear();
+  for (const HandEvent& event : events) context_.observer.on_event(event);
+  auto completions = std::move(pending_completions_);
+  pending_completions_.clear();
+  for (auto& [done, result] : completions) done(result);
+  if (reported) context_.observer.on_batch_end(state_.can_id);
+}
+
+}  // namespace dh3::hand

@@ -1,0 +1,215 @@
+#pragma once
+// One DH-3 hand as the bus loop drives it: its link (offline -> online, and back
+// after consecutive timeouts, link loss or shutdown), its initialization, its
+// command queue, the one frame it has in flight, its status poller and the
+// detection of the events a user cares about. The states are the types of
+// hand_driver_states.hpp; what a status value means is status_reading.hpp.
+// Loop thread only; the scheduler decides when the hand may send and hands it
+// the replies addressed to it.
+//
+// How it reads what the hand says (docs/protocol-notes.md readings 1-3, 9):
+// - A reply matches the frame in flight on (hand, function, sub-function); any
+//   other frame is unexpected, except an 0x0802 frame while initializing with
+//   the feedback (0x0801) enabled, which is the unsolicited "initialization
+//   finished" signal and is confirmed by reading 0x0802.
+// - Grip and rotation status values: see status_reading.hpp.
+// - Before any motion command, the hand's initialization flag (0x0802) is read
+//   if it is not known yet, so a command right after start-up is not refused
+//   for lack of knowledge.
+//
+// The code is split by job: hand_driver.cpp (commands in, lifecycle, time,
+// reporting), hand_driver_sending.cpp (which frame goes next, the steps of each
+// command), hand_driver_receiving.cpp (replies and what they change).
+
+#include <atomic>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <optional>
+#include <string>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "dh3/bus/bus.hpp"
+#include "dh3/hand/bus_scheduler.hpp"
+#include "dh3/hand/hand_driver_states.hpp"
+#include "dh3/hand/hand_roster.hpp"
+#include "dh3/hand/hand_types.hpp"
+#include "dh3/protocol/codec.hpp"
+#include "hand_counters.hpp"
+
+namespace dh3::hand {
+
+/// What a driver needs from its scheduler. Shared by every hand of a bus.
+struct DriverContext {
+  const SchedulerOptions& options;
+  HandObserver& observer;
+  std::string bus_name;
+  /// The bus's hands and their published states, which other threads read.
+  HandRoster& roster;
+  std::atomic<std::uint64_t>& unexpected_frames;
+};
+
+class HandDriver {
+ public:
+  /// `queued` counts this hand's commands that wait for their turn; submit()
+  /// raises it on the caller's thread, the driver lowers it as they leave the
+  /// queue. `anonymous`: ID 0, used only to read or set the CAN ID of whichever
+  /// hand is there; it is never polled, probed or reported. `counters`: this
+  /// hand's, owned by the scheduler.
+  HandDriver(HandConfig config, DriverContext& context, std::atomic<int>& queued,
+             HandCounters& counters, TimePoint now, bool anonymous = false);
+
+  using Job = DriverJob;
+
+  /// Adds a command (already validated and counted in `queued`).
+  void enqueue(Job job, TimePoint now);
+
+  /// The frame to send now, if this hand has one and its pacing allows; it is
+  /// then in flight until a reply matches it or it times out.
+  [[nodiscard]] std::optional<protocol::Message> next_frame(TimePoint now);
+  /// The frame returned by next_frame() could not be sent (would_block): it
+  /// is offered again on the next call.
+  void unsend();
+  /// Sends nothing before `until` (the scheduler's pacing across senders: a
+  /// discovery probe it sent itself, a frame to ID 0 that this hand received).
+  void hold_sends_until(TimePoint until);
+  /// The earliest time this hand's pacing lets it send again.
+  [[nodiscard]] TimePoint paced_until() const { return next_send_at_; }
+  /// It has a command frame (or a re-send) ready to go once its pacing allows.
+  [[nodiscard]] bool has_command_frame() const;
+
+  /// A frame from this hand's CAN ID. Returns false if it matched nothing.
+  bool on_frame(const protocol::Message& message, TimePoint now);
+  /// Timeouts, retries, deadlines of waiting commands, poll schedule.
+  void on_time(TimePoint now);
+
+  /// The bus went down: everything pending ends with BUS_DOWN, hand offline.
+  void on_link_down(TimePoint now);
+  /// The bus is back: probe the hand at once.
+  void on_link_up(TimePoint now);
+  /// Shutdown: everything pending ends with CANCELLED, hand offline.
+  void shut_down(TimePoint now);
+
+  /// When this hand next needs the loop (send due, deadline), if ever.
+  [[nodiscard]] std::optional<TimePoint> next_wakeup() const;
+  [[nodiscard]] const HandState& state() const { return state_; }
+  [[nodiscard]] std::uint8_t can_id() const { return state_.can_id; }
+  [[nodiscard]] bool anonymous() const { return anonymous_; }
+
+  /// Publishes the current state (a configured hand, before it answered).
+  void publish_now(TimePoint now);
+  /// A discovery probe (firmware-version read) sent by the scheduler was
+  /// answered by this new hand: it is online, its state is read afresh.
+  void on_discovered(const protocol::Message& reply, TimePoint now);
+
+ private:
+  // Sending (hand_driver_sending.cpp).
+  [[nodiscard]] std::optional<protocol::Message> job_frame(TimePoint now);
+  [[nodiscard]] std::optional<protocol::Message> initialize_frame(TimePoint now,
+                                                                  InitializeStep step);
+  [[nodiscard]] std::optional<protocol::Message> grasp_frame(TimePoint now, GraspStep step);
+  [[nodiscard]] std::optional<protocol::Message> stop_frame(TimePoint now, StopStep step);
+  [[nodiscard]] std::optional<protocol::Message> background_frame(TimePoint now);
+  [[nodiscard]] std::optional<protocol::Message> online_frame(Online& online, TimePoint now);
+  void start_next_job(TimePoint now);
+  protocol::Message send(protocol::Message message, Purpose purpose, TimePoint now, bool retryable,
+                         Duration reply_timeout);
+  protocol::Message send_job(protocol::Message message, TimePoint now);
+  void finger_motion_sent(std::int32_t target, bool gripping);
+  void rotation_motion_sent(std::int32_t target);
+
+  // Receiving (hand_driver_receiving.cpp).
+  void on_reply(const InFlight& sent, const protocol::Message& reply, TimePoint now);
+  void on_job_reply(const protocol::Message& sent, const protocol::Message& reply, TimePoint now);
+  /// A write's echo; false if the hand refused it (the job then failed).
+  bool on_write_echo(const protocol::Message& sent, const protocol::Message& reply, TimePoint now);
+  /// The next step of the active job after its frame was answered.
+  void advance_job(const protocol::Message& reply, TimePoint now);
+  void advance_stop(StopStep& step, const protocol::Message& reply);
+  void apply_read(protocol::Register reg, const protocol::Message& reply, TimePoint now);
+  void on_grip_status(std::int32_t status, TimePoint now, bool may_recheck = true);
+  void on_rotation_status(std::int32_t status, TimePoint now, bool may_recheck = true);
+  void on_rotation_confirmed(TimePoint now);
+  void on_initialized_flag(std::int32_t value, TimePoint now);
+  void on_position_confirmed(TimePoint now);
+  void finger_motion_ended(GripState grip, EventKind event, TimePoint now);
+
+  // Lifecycle and time (hand_driver.cpp).
+  void on_answer(TimePoint now);
+  void on_timeout(TimePoint now);
+  void on_init_deadlines(TimePoint now);
+  /// The one reset path: going offline, link loss and shutdown.
+  void lose_link(TimePoint now, LinkLoss loss, const std::string& why);
+  void set_init(InitState init);
+  [[nodiscard]] Online* online() { return std::get_if<Online>(&link_); }
+  [[nodiscard]] const Online* online() const { return std::get_if<Online>(&link_); }
+  [[nodiscard]] Initializing* initializing();
+  [[nodiscard]] const Initializing* initializing() const;
+  [[nodiscard]] bool init_known() const;
+  /// What to poll how often, from what the hand is doing now.
+  [[nodiscard]] PollPlan poll_plan() const;
+
+  // Finishing and reporting (hand_driver.cpp).
+  void cancel_motion(bool fingers, bool rotation);
+  void finish_active(const CommandResult& result);
+  void finish_init_waiter(const CommandResult& result);
+  void finish_motion_waiter(const CommandResult& result);
+  void fail_everything(CommandError error);
+  void emit_ending_event(TimePoint now);
+  void emit_rotation_event(TimePoint now);
+  void emit(EventKind kind, TimePoint now, std::int32_t value = 0, std::string message = {},
+            std::optional<std::int32_t> position = {}, std::optional<std::int32_t> target = {});
+  /// Counts the job's result and queues its completion for flush().
+  void complete(Job& job, const CommandResult& result);
+  void set_error(CommandError error, std::string message);
+  /// Publishes the state if it changed, then the events, then the completions,
+  /// so that whoever hears of an event or a result finds the state behind it.
+  void flush(TimePoint now);
+  [[nodiscard]] Duration reply_timeout_for(const Job& job) const;
+  [[nodiscard]] std::string label() const;
+
+  DriverContext& context_;
+  const SchedulerOptions& options_;
+  std::atomic<int>& queued_;
+  HandCounters& counters_;
+  bool anonymous_;
+  /// The hand's state, owned here on the loop thread; what other threads see is
+  /// the copy it publishes to the roster (DriverContext::roster). `online` and
+  /// `initialized` mirror link_ (initialized: as last known while unknown).
+  HandState state_;
+  bool ever_published_ = false;
+  /// read_at of the last state told to the observer (on_state or on_fresh).
+  TimePoint published_read_at_{};
+
+  Link link_;
+  int consecutive_timeouts_ = 0;
+
+  // Commands.
+  std::deque<Job> queue_;
+  std::optional<ActiveJob> active_;
+  std::optional<InitWaiter> init_waiter_;
+  std::optional<MotionWaiter> motion_waiter_;
+
+  // Frames.
+  std::optional<InFlight> in_flight_;
+  std::optional<InFlight> resend_;  ///< timed out (or not sent), to be sent again
+  TimePoint next_send_at_{};
+
+  // Motions. The epoch counts finger position writes sent.
+  std::optional<FingerMotion> finger_motion_;
+  std::optional<RotationMotion> rotation_motion_;
+  std::uint64_t finger_epoch_ = 0;
+  bool hold_untouched_ = false;  ///< holding a catch, no finger command sent since
+  EndOfMotion end_of_motion_;
+  EndOfRotation end_of_rotation_;
+  /// Status values outside the document, reported once per axis.
+  std::int32_t last_undefined_grip_status_ = 0;
+  std::int32_t last_undefined_rotation_status_ = 0;
+
+  std::vector<HandEvent> pending_events_;
+  std::vector<std::pair<Completion, CommandResult>> pending_completions_;
+};
+
+}  // namespace dh3::hand

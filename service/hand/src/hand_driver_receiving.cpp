@@ -1,0 +1,326 @@
+// HandDriver: the frames a hand sends (replies, the unsolicited "initialization
+// finished" frame) and what they change: the state, the active command's next
+// step, the motions and the events.
+
+#include <fmt/format.h>
+
+#include "dh3/hand/status_reading.hpp"
+#include "hand_driver.hpp"
+
+namespace dh3::hand {
+namespace {
+
+namespace reg = protocol::reg;
+using protocol::Message;
+using protocol::Register;
+
+CommandResult ok(std::int32_t value, GraspOutcome grasp = GraspOutcome::none) {
+  return CommandSuccess{value, grasp};
+}
+
+}  // namespace
+
+bool HandDriver::on_frame(const Message& message, TimePoint now) {
+  if (in_flight_ && in_flight_->message.reg == message.reg) {
+    // Matched on (hand, function, sub-function); the read/write byte is not
+    // compared (docs/protocol-notes.md reading 1).
+    const InFlight sent = *in_flight_;
+    in_flight_.reset();
+    counters_.observe_round_trip(now - sent.sent);
+    on_answer(now);
+    on_reply(sent, message, now);
+    flush(now);
+    return true;
+  }
+  if (Initializing* init = initializing();
+      init && message.reg == reg::kInitialize && online()->init_feedback_enabled) {
+    // The unsolicited "initialization finished" frame (reading 3): confirm it.
+    on_answer(now);
+    init->check_now = true;
+    flush(now);
+    return true;
+  }
+  return false;
+}
+
+void HandDriver::on_discovered(const Message& reply, TimePoint now) {
+  on_answer(now);
+  apply_read(reply.reg, reply, now);
+  flush(now);
+}
+
+void HandDriver::on_reply(const InFlight& sent, const Message& reply, TimePoint now) {
+  switch (sent.purpose) {
+    case Purpose::job:
+      on_job_reply(sent.message, reply, now);
+      return;
+    case Purpose::probe:
+    case Purpose::refresh:
+    case Purpose::poll:
+    case Purpose::init_check:
+      apply_read(reply.reg, reply, now);
+      return;
+    case Purpose::confirm_position:
+      apply_read(reply.reg, reply, now);
+      if (end_of_motion_.recheck_arrival) {
+        end_of_motion_.recheck_arrival = false;
+        on_grip_status(static_cast<std::int32_t>(FingerStatus::arrived), now, false);
+        end_of_motion_.read_due = false;  // this read is where the fingers stopped
+      }
+      on_position_confirmed(now);
+      return;
+    case Purpose::confirm_rotation:
+      apply_read(reply.reg, reply, now);
+      if (end_of_rotation_.recheck_arrival) {
+        end_of_rotation_.recheck_arrival = false;
+        on_rotation_status(static_cast<std::int32_t>(RotationStatus::arrived), now, false);
+        end_of_rotation_.read_due = false;  // this read is where the rotation stopped
+      }
+      on_rotation_confirmed(now);
+      return;
+  }
+}
+
+void HandDriver::on_rotation_confirmed(TimePoint now) {
+  emit_rotation_event(now);
+}
+
+void HandDriver::on_position_confirmed(TimePoint now) {
+  emit_ending_event(now);
+  if (motion_waiter_ && motion_waiter_->outcome) {
+    finish_motion_waiter(ok(state_.position, *motion_waiter_->outcome));
+  }
+}
+
+void HandDriver::apply_read(Register r, const Message& reply, TimePoint now) {
+  if (r == reg::kPosition) {
+    state_.position = reply.data;
+    if (finger_motion_) finger_motion_->position_read = true;
+  } else if (r == reg::kGripStatus) {
+    on_grip_status(protocol::status_value(reply), now);
+  } else if (r == reg::kRotation) {
+    state_.rotation = reply.data;
+  } else if (r == reg::kRotationStatus) {
+    on_rotation_status(protocol::status_value(reply), now);
+  } else if (r == reg::kClosingForce) {
+    state_.closing_force = reply.data;
+  } else if (r == reg::kOpeningForce) {
+    state_.opening_force = reply.data;
+  } else if (r == reg::kFirmwareVersion) {
+    state_.firmware_version = reply.data;
+  } else if (r == reg::kInitialize) {
+    on_initialized_flag(reply.data, now);
+  } else if (r == reg::kInitFeedback) {
+    if (Online* on = online())
+      on->init_feedback_enabled = reply.data == protocol::kInitFeedbackEnabled;
+  }
+}
+
+// ---------------------------------------------------------------------------
+// Commands
+
+void HandDriver::on_job_reply(const Message& sent, const Message& reply, TimePoint now) {
+  if (sent.access == protocol::Access::write) {
+    if (!on_write_echo(sent, reply, now)) return;
+  } else {
+    apply_read(sent.reg, reply, now);
+  }
+  if (active_) advance_job(reply, now);  // else: cancelled while its frame was in flight
+}
+
+bool HandDriver::on_write_echo(const Message& sent, const Message& reply, TimePoint now) {
+  // The hand echoes what it applied; 0x0801 answers its new value, 0xA5.
+  if (sent.reg != reg::kInitFeedback && reply.data != sent.data) {
+    const std::string why = fmt::format("hand answered {} to a write of {} = {}", reply.data,
+                                        protocol::name(sent.reg), sent.data);
+    emit(EventKind::fault, now, reply.data, why);
+    if (active_) {
+      set_error(CommandError::failed, why);
+      finish_active(fail(CommandError::failed));
+    }
+    return false;
+  }
+  if (sent.reg == reg::kClosingForce) state_.closing_force = reply.data;
+  if (sent.reg == reg::kOpeningForce) state_.opening_force = reply.data;
+  if (sent.reg == reg::kInitFeedback) {
+    if (Online* on = online()) on->init_feedback_enabled = true;
+  }
+  if (sent.reg == reg::kInitialize) {
+    // Initialization (re)started: not initialized until 0x0802 reads 1.
+    set_init(Initializing{now + options_.init_timeout, now + options_.poll_interval_moving});
+    finger_motion_.reset();
+    rotation_motion_.reset();
+  }
+  return true;
+}
+
+void HandDriver::advance_job(const Message& reply, TimePoint now) {
+  ActiveJob& job = *active_;
+  const Command& command = job.job.command;
+  if (job.check_initialized_first) {
+    job.check_initialized_first = false;
+    if (state_.initialized) return;  // on to the command's own frames
+    if (command.kind == CommandKind::stop) {
+      finish_active(ok(state_.position));  // nothing moves before initialization
+    } else {
+      set_error(CommandError::not_initialized,
+                fmt::format("{} before initialization", to_string(command.kind)));
+      finish_active(fail(CommandError::not_initialized));
+    }
+    return;
+  }
+  if (auto* step = std::get_if<InitializeStep>(&job.step); step) {
+    if (*step == InitializeStep::enable_feedback) {
+      *step = InitializeStep::start;
+      return;
+    }
+    // Echoed: never re-sent from here on; wait for the hand to finish.
+    finish_init_waiter(fail(CommandError::cancelled));
+    const TimePoint deadline = now + command.timeout.value_or(options_.init_timeout);
+    if (Initializing* init = initializing()) init->deadline = deadline;
+    init_waiter_ = InitWaiter{std::move(job.job), deadline};
+    active_.reset();
+    return;
+  }
+  if (auto* step = std::get_if<GraspStep>(&job.step); step && *step == GraspStep::set_force) {
+    *step = GraspStep::close;
+    return;
+  }
+  if (auto* step = std::get_if<StopStep>(&job.step); step) {
+    advance_stop(*step, reply);
+    return;
+  }
+  if (command.kind == CommandKind::grasp || command.kind == CommandKind::release) {
+    finish_motion_waiter(fail(CommandError::cancelled));
+    const TimePoint deadline = now + command.timeout.value_or(options_.motion_timeout);
+    motion_waiter_ = MotionWaiter{std::move(job.job), deadline, finger_epoch_, std::nullopt};
+    active_.reset();
+    return;
+  }
+  if (command.kind == CommandKind::read_register &&
+      (command.reg == reg::kGripStatus || command.reg == reg::kRotationStatus)) {
+    finish_active(ok(protocol::status_value(reply)));
+    return;
+  }
+  finish_active(ok(reply.data));
+}
+
+void HandDriver::advance_stop(StopStep& step, const Message& reply) {
+  switch (step) {
+    case StopStep::read_position:
+      active_->held = reply.data;
+      state_.position = reply.data;
+      step = StopStep::hold_position;
+      return;
+    case StopStep::hold_position:
+      step = StopStep::read_rotation;
+      return;
+    case StopStep::read_rotation:
+      active_->held = reply.data;
+      state_.rotation = reply.data;
+      step = StopStep::hold_rotation;
+      return;
+    case StopStep::hold_rotation:
+      finish_active(ok(state_.position));
+      return;
+  }
+}
+
+// ---------------------------------------------------------------------------
+// Initialization and status
+
+void HandDriver::on_initialized_flag(std::int32_t value, TimePoint now) {
+  if (initializing()) {
+    if (value != 1) return;
+    set_init(Initialized{});
+    emit(EventKind::initialized, now, value);
+    finish_init_waiter(ok(value));
+    return;
+  }
+  if (value == 1) {
+    set_init(Initialized{});
+    return;
+  }
+  const bool was_initialized = state_.initialized;
+  set_init(NotInitialized{});
+  if (was_initialized && online()) {
+    emit(EventKind::fault, now, value,
+         "the hand reports it is not initialized any more (was it power-cycled?)");
+  }
+}
+
+void HandDriver::on_grip_status(std::int32_t status, TimePoint now, bool may_recheck) {
+  const GripReading reading =
+      read_grip_status(status, FingerView{state_.grip, finger_motion_, hold_untouched_,
+                                          state_.position, last_undefined_grip_status_});
+  if (reading.stale && may_recheck && status == static_cast<std::int32_t>(FingerStatus::arrived)) {
+    // The grip status is watched more often than the position is polled, so a
+    // 2 usually comes before a position near the target: read it now.
+    end_of_motion_.recheck_arrival = true;
+    end_of_motion_.read_due = true;
+    return;
+  }
+  if (reading.hold_starts) hold_untouched_ = true;
+  if (reading.motion_ended) {
+    finger_motion_ended(*reading.grip, *reading.event, now);
+    return;
+  }
+  if (reading.grip) state_.grip = *reading.grip;
+  if (reading.event == EventKind::dropped) {
+    emit(EventKind::dropped, now, status,
+         fmt::format("object lost at position {} while holding", state_.position));
+  } else if (reading.event == EventKind::fault) {
+    last_undefined_grip_status_ = status;
+    emit(EventKind::fault, now, status,
+         fmt::format("grip status {} is not one the document defines", status));
+  }
+}
+
+void HandDriver::finger_motion_ended(GripState grip, EventKind event, TimePoint now) {
+  state_.grip = grip;
+  // The position was read before the status that ended the motion, so it may
+  // be a poll old: the event waits for a fresh read of where the fingers stopped.
+  // Not when a read during this motion found them at the target and the status
+  // says they stopped without a catch: they stopped there, and the frame a
+  // further read takes would only delay the event.
+  const bool stopped_at_target = event != EventKind::grasped && finger_motion_ &&
+                                 finger_motion_->position_read &&
+                                 state_.position == finger_motion_->target;
+  finger_motion_.reset();
+  // A grasp is explained by the force it holds with; an arrival by its status.
+  end_of_motion_.event =
+      PendingEvent{event, event == EventKind::grasped ? state_.closing_force : 2};
+  end_of_motion_.read_due = !stopped_at_target;
+  if (motion_waiter_ && motion_waiter_->epoch == finger_epoch_ && !motion_waiter_->outcome) {
+    // The result carries where the fingers stopped, after the same read.
+    motion_waiter_->outcome = grip == GripState::caught      ? GraspOutcome::grasped
+                              : grip == GripState::no_object ? GraspOutcome::missed
+                                                             : GraspOutcome::none;
+  }
+  if (stopped_at_target) on_position_confirmed(now);
+}
+
+void HandDriver::on_rotation_status(std::int32_t status, TimePoint now, bool may_recheck) {
+  const RotationReading reading = read_rotation_status(
+      status, RotationView{rotation_motion_, state_.rotation, last_undefined_rotation_status_});
+  if (reading.stale && may_recheck) {
+    // The rotation status is watched more often than the rotation is polled.
+    end_of_rotation_.recheck_arrival = true;
+    end_of_rotation_.read_due = true;
+    return;
+  }
+  if (reading.motion_ended) rotation_motion_.reset();
+  if (reading.state) state_.rotation_state = *reading.state;
+  if (reading.event == EventKind::rotation_arrived ||
+      reading.event == EventKind::rotation_blocked) {
+    // Reported once a fresh read says where the rotation stopped (as for fingers).
+    end_of_rotation_.event = PendingEvent{*reading.event, status};
+    end_of_rotation_.read_due = true;
+  } else if (reading.event == EventKind::fault) {
+    last_undefined_rotation_status_ = status;
+    emit(EventKind::fault, now, status,
+         fmt::format("rotation status {} is not one the document defines", status));
+  }
+}
+
+}  // namespace dh3::hand

@@ -1,0 +1,250 @@
+// HandDriver: which frame goes next (a command's step, a re-send, a probe, a
+// confirming read, a poll), and the motions that sending starts.
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "dh3/hand/command_validation.hpp"
+#include "hand_driver.hpp"
+
+namespace dh3::hand {
+namespace {
+
+namespace reg = protocol::reg;
+using protocol::Message;
+using protocol::Register;
+
+}  // namespace
+
+std::optional<Message> HandDriver::next_frame(TimePoint now) {
+  if (in_flight_ || now < next_send_at_) return std::nullopt;
+  if (resend_) {
+    InFlight again = *resend_;
+    resend_.reset();
+    again.sent = now;
+    again.deadline = now + again.reply_timeout;
+    in_flight_ = again;
+    next_send_at_ = now + options_.frame_spacing();
+    return again.message;
+  }
+  if (auto frame = job_frame(now)) {
+    flush(now);
+    return frame;
+  }
+  auto frame = anonymous_ ? std::nullopt : background_frame(now);
+  flush(now);
+  return frame;
+}
+
+void HandDriver::unsend() {
+  if (!in_flight_) return;
+  resend_ = *in_flight_;
+  next_send_at_ = in_flight_->sent;
+  in_flight_.reset();
+}
+
+void HandDriver::hold_sends_until(TimePoint until) {
+  next_send_at_ = std::max(next_send_at_, until);
+}
+
+bool HandDriver::has_command_frame() const {
+  return !in_flight_ && (resend_ || active_ || !queue_.empty());
+}
+
+Message HandDriver::send(Message message, Purpose purpose, TimePoint now, bool retryable,
+                         Duration reply_timeout) {
+  in_flight_ = InFlight{message, purpose, now, now + reply_timeout, reply_timeout, 1, retryable};
+  next_send_at_ = now + options_.frame_spacing();
+  return message;
+}
+
+// ---------------------------------------------------------------------------
+// Commands
+
+void HandDriver::start_next_job(TimePoint now) {
+  while (!active_ && !queue_.empty()) {
+    Job job = std::move(queue_.front());
+    queue_.pop_front();
+    queued_.fetch_sub(1);
+    if (job.command.timeout && now >= job.submitted + *job.command.timeout) {
+      complete(job, fail(CommandError::timeout));
+      continue;
+    }
+    const CommandKind kind = job.command.kind;
+    ActiveJob next{std::move(job), first_step(kind)};
+    if (needs_initialization(next.job.command)) {
+      if (!init_known()) {
+        next.check_initialized_first = true;
+      } else if (!state_.initialized) {
+        if (kind == CommandKind::stop) {
+          // Nothing moves before initialization: there is nothing to stop.
+          complete(next.job, CommandSuccess{state_.position, GraspOutcome::none});
+        } else {
+          set_error(CommandError::not_initialized,
+                    fmt::format("{} before initialization", to_string(kind)));
+          complete(next.job, fail(CommandError::not_initialized));
+        }
+        continue;
+      }
+    }
+    active_ = std::move(next);
+  }
+}
+
+Message HandDriver::send_job(Message message, TimePoint now) {
+  const bool retryable =
+      // CAN ID and baud rate reply only once stored: a re-send would store twice.
+      !(message.access == protocol::Access::write && is_admin_register(message.reg));
+  return send(message, Purpose::job, now, retryable, reply_timeout_for(active_->job));
+}
+
+std::optional<Message> HandDriver::job_frame(TimePoint now) {
+  start_next_job(now);
+  if (!active_) return std::nullopt;
+  const std::uint8_t id = state_.can_id;
+  const Command& command = active_->job.command;
+  if (active_->check_initialized_first)
+    return send_job(protocol::make_read(id, reg::kInitialize), now);
+
+  switch (command.kind) {
+    case CommandKind::initialize:
+      return initialize_frame(now, std::get<InitializeStep>(active_->step));
+    case CommandKind::grasp:
+      return grasp_frame(now, std::get<GraspStep>(active_->step));
+    case CommandKind::stop:
+      return stop_frame(now, std::get<StopStep>(active_->step));
+    case CommandKind::move_to:
+      finger_motion_sent(command.value, command.value == 0);
+      return send_job(protocol::make_write(id, reg::kPosition, command.value), now);
+    case CommandKind::release:
+      finger_motion_sent(command.value, false);
+      return send_job(protocol::make_write(id, reg::kPosition, command.value), now);
+    case CommandKind::rotate_to:
+      rotation_motion_sent(command.value);
+      return send_job(protocol::make_write(id, reg::kRotation, command.value), now);
+    case CommandKind::set_closing_force:
+      return send_job(protocol::make_write(id, reg::kClosingForce, command.value), now);
+    case CommandKind::set_opening_force:
+      return send_job(protocol::make_write(id, reg::kOpeningForce, command.value), now);
+    case CommandKind::read_register:
+      return send_job(protocol::make_read(id, command.reg), now);
+    case CommandKind::write_register:
+      if (command.reg == reg::kPosition) finger_motion_sent(command.value, command.value == 0);
+      if (command.reg == reg::kRotation) rotation_motion_sent(command.value);
+      return send_job(protocol::make_write(id, command.reg, command.value), now);
+  }
+  return std::nullopt;
+}
+
+std::optional<Message> HandDriver::initialize_frame(TimePoint now, InitializeStep step) {
+  // The document's frames: enable the feedback, then initialize (data 0).
+  const std::uint8_t id = state_.can_id;
+  switch (step) {
+    case InitializeStep::enable_feedback:
+      return send_job(protocol::make_write(id, reg::kInitFeedback, 0), now);
+    case InitializeStep::start:
+      return send_job(protocol::make_write(id, reg::kInitialize, 0), now);
+  }
+  return std::nullopt;
+}
+
+std::optional<Message> HandDriver::grasp_frame(TimePoint now, GraspStep step) {
+  const std::uint8_t id = state_.can_id;
+  switch (step) {
+    case GraspStep::set_force:
+      return send_job(protocol::make_write(id, reg::kClosingForce, active_->job.command.value),
+                      now);
+    case GraspStep::close:
+      finger_motion_sent(0, true);
+      return send_job(protocol::make_write(id, reg::kPosition, 0), now);
+  }
+  return std::nullopt;
+}
+
+std::optional<Message> HandDriver::stop_frame(TimePoint now, StopStep step) {
+  // Read where the fingers and the rotation are, and make that their target.
+  const std::uint8_t id = state_.can_id;
+  switch (step) {
+    case StopStep::read_position:
+      return send_job(protocol::make_read(id, reg::kPosition), now);
+    case StopStep::hold_position:
+      finger_motion_sent(active_->held, false);
+      return send_job(protocol::make_write(id, reg::kPosition, active_->held), now);
+    case StopStep::read_rotation:
+      return send_job(protocol::make_read(id, reg::kRotation), now);
+    case StopStep::hold_rotation:
+      rotation_motion_sent(active_->held);
+      return send_job(protocol::make_write(id, reg::kRotation, active_->held), now);
+  }
+  return std::nullopt;
+}
+
+// ---------------------------------------------------------------------------
+// Probes and reads of the hand's own state
+
+std::optional<Message> HandDriver::background_frame(TimePoint now) {
+  if (Online* on = online()) return online_frame(*on, now);
+  auto& offline = std::get<Offline>(link_);
+  if (now < offline.next_probe_at) return std::nullopt;
+  offline.next_probe_at = now + options_.offline_probe_interval;
+  return send(protocol::make_read(state_.can_id, reg::kFirmwareVersion), Purpose::probe, now, false,
+              options_.reply_timeout);
+}
+
+std::optional<Message> HandDriver::online_frame(Online& on, TimePoint now) {
+  const std::uint8_t id = state_.can_id;
+  if (end_of_motion_.read_due) {
+    end_of_motion_.read_due = false;
+    return send(protocol::make_read(id, reg::kPosition), Purpose::confirm_position, now, true,
+                options_.reply_timeout);
+  }
+  if (end_of_rotation_.read_due) {
+    end_of_rotation_.read_due = false;
+    return send(protocol::make_read(id, reg::kRotation), Purpose::confirm_rotation, now, true,
+                options_.reply_timeout);
+  }
+  Initializing* init = std::get_if<Initializing>(&on.init);
+  if (init && (init->check_now || now >= init->next_check_at)) {
+    init->check_now = false;
+    init->next_check_at = now + options_.poll_interval_moving;
+    return send(protocol::make_read(id, reg::kInitialize), Purpose::init_check, now, false,
+                options_.reply_timeout);
+  }
+  if (!on.refresh.empty()) {
+    const Register r = on.refresh.front();
+    on.refresh.pop_front();
+    return send(protocol::make_read(id, r), Purpose::refresh, now, true, options_.reply_timeout);
+  }
+  PollSchedule& poll = on.poll;
+  const std::optional<std::size_t> next =
+      next_poll(poll_plan(), poll.last_read, poll.previous, now);
+  if (!next) return std::nullopt;
+  poll.last_read[*next] = now;
+  poll.previous = next;
+  return send(protocol::make_read(id, kPolledRegisters[*next]), Purpose::poll, now, false,
+              options_.reply_timeout);
+}
+
+// ---------------------------------------------------------------------------
+// Motions started by sending
+
+void HandDriver::finger_motion_sent(std::int32_t target, bool gripping) {
+  if (active_) active_->motion_sent = true;
+  // A grasp or release waiting for the previous motion to end is superseded.
+  finish_motion_waiter(fail(CommandError::cancelled));
+  ++finger_epoch_;
+  finger_motion_ = FingerMotion{target, gripping, state_.position < 0 || target < state_.position};
+  hold_untouched_ = false;
+  state_.target_position = target;
+  state_.grip = GripState::moving;
+}
+
+void HandDriver::rotation_motion_sent(std::int32_t target) {
+  if (active_) active_->motion_sent = true;
+  rotation_motion_ = RotationMotion{target};
+  state_.rotation_target = target;
+  state_.rotation_state = RotationState::moving;
+}
+
+}  // namespace dh3::hand

@@ -1,0 +1,89 @@
+#include "dh3/hand/poll_policy.hpp"
+
+#include <algorithm>
+
+namespace dh3::hand {
+namespace {
+
+enum Index : std::size_t { position, grip_status, rotation, rotation_status, initialize };
+
+std::optional<TimePoint> due_at(const PollPlan& plan, const PollTimes& last_read, std::size_t i) {
+  if (!plan.period[i]) return std::nullopt;
+  if (!last_read[i]) return TimePoint::min();
+  return *last_read[i] + *plan.period[i];
+}
+
+std::optional<Duration> fastest_period(const PollPlan& plan) {
+  std::optional<Duration> fastest;
+  for (const auto& period : plan.period) {
+    if (period && (!fastest || *period < *fastest)) fastest = period;
+  }
+  return fastest;
+}
+
+}  // namespace
+
+PollPlan plan_polls(const PollActivity& activity, const PollIntervals& intervals) {
+  PollPlan plan;
+  // A hand at rest: everything now and then, its initialization flag included,
+  // so that a hand that rebooted (and lost its initialization) is noticed.
+  plan.period.fill(intervals.idle);
+  const auto faster = [&](Index i, Duration period) {
+    plan.period[i] = std::min(*plan.period[i], period);
+  };
+  if (activity.initializing) {
+    // Calibrating: read as while moving; the flag has its own check.
+    plan.period[initialize].reset();
+    for (Index i : {position, grip_status, rotation, rotation_status}) faster(i, intervals.moving);
+  }
+  switch (activity.fingers) {
+    case FingerActivity::idle:
+      break;
+    case FingerActivity::holding:
+      faster(grip_status, intervals.watch);
+      break;
+    case FingerActivity::closing:
+    case FingerActivity::opening:
+      faster(grip_status, intervals.watch);
+      faster(position, intervals.moving);
+      break;
+  }
+  if (activity.rotating) {
+    faster(rotation_status, intervals.watch);
+    faster(rotation, intervals.moving);
+  }
+  return plan;
+}
+
+std::optional<std::size_t> next_poll(const PollPlan& plan, const PollTimes& last_read,
+                                     std::optional<std::size_t> previous, TimePoint now) {
+  const std::optional<Duration> fastest = fastest_period(plan);
+  if (!fastest) return std::nullopt;
+  const bool previous_was_slow =
+      previous && plan.period[*previous] && *plan.period[*previous] > *fastest;
+  std::optional<std::size_t> best;
+  std::optional<TimePoint> best_due;
+  for (std::size_t i = 0; i < kPolledCount; ++i) {
+    const std::optional<TimePoint> due = due_at(plan, last_read, i);
+    if (!due || *due > now) continue;
+    if (previous_was_slow && *plan.period[i] > *fastest) continue;
+    if (!best_due || *due < *best_due) {
+      best = i;
+      best_due = due;
+    }
+  }
+  if (best || !previous_was_slow) return best;
+  // No fast register is due: the slow ones need not wait.
+  return next_poll(plan, last_read, std::nullopt, now);
+}
+
+std::optional<TimePoint> next_poll_due(const PollPlan& plan, const PollTimes& last_read) {
+  std::optional<TimePoint> earliest;
+  for (std::size_t i = 0; i < kPolledCount; ++i) {
+    const std::optional<TimePoint> due = due_at(plan, last_read, i);
+    if (due && (!earliest || *due < *earliest)) earliest = due;
+  }
+  return earliest;
+}
+
+}  // namespace dh3::hand

@@ -1,0 +1,327 @@
+#include "dh3/metrics/metrics_exporter.hpp"
+
+#include <arpa/inet.h>
+#include <prometheus/client_metric.h>
+#include <prometheus/collectable.h>
+#include <prometheus/exposer.h>
+#include <prometheus/metric_family.h>
+#include <prometheus/text_serializer.h>
+
+#include <charconv>
+#include <exception>
+#include <initializer_list>
+#include <limits>
+
+namespace dh3::metrics {
+namespace {
+
+using prometheus::ClientMetric;
+using prometheus::MetricFamily;
+using prometheus::MetricType;
+
+MetricFamily family(std::string name, std::string help, MetricType type) {
+  MetricFamily out;
+  out.name = std::move(name);
+  out.help = std::move(help);
+  out.type = type;
+  return out;
+}
+
+ClientMetric& add(MetricFamily& family, std::vector<ClientMetric::Label> labels) {
+  ClientMetric& metric = family.metric.emplace_back();
+  metric.label = std::move(labels);
+  return metric;
+}
+
+void add_counter(MetricFamily& family, std::vector<ClientMetric::Label> labels,
+                 std::uint64_t value) {
+  add(family, std::move(labels)).counter.value = static_cast<double>(value);
+}
+
+void add_gauge(MetricFamily& family, std::vector<ClientMetric::Label> labels, double value) {
+  add(family, std::move(labels)).gauge.value = value;
+}
+
+std::vector<ClientMetric::Label> hand_labels(const std::string& bus, const hand::HandMetrics& h) {
+  return {{"bus", bus}, {"hand", std::to_string(h.can_id)}, {"name", h.name}};
+}
+
+void add_histogram(MetricFamily& family, std::vector<ClientMetric::Label> labels,
+                   const hand::RoundTripHistogram& histogram) {
+  ClientMetric::Histogram& out = add(family, std::move(labels)).histogram;
+  std::uint64_t cumulative = 0;
+  for (std::size_t i = 0; i < hand::kRoundTripBuckets.size(); ++i) {
+    cumulative += histogram.counts[i];
+    out.bucket.push_back(
+        {cumulative, std::chrono::duration<double>(hand::kRoundTripBuckets[i]).count()});
+  }
+  cumulative += histogram.counts.back();
+  out.bucket.push_back({cumulative, std::numeric_limits<double>::infinity()});
+  out.sample_count = cumulative;
+  out.sample_sum = histogram.sum_seconds;
+}
+
+/// Moves the families that have samples into `out`.
+void take_filled(std::initializer_list<MetricFamily*> families, std::vector<MetricFamily>& out) {
+  for (MetricFamily* f : families) {
+    if (!f->metric.empty()) out.push_back(std::move(*f));
+  }
+}
+
+/// The per-hand series.
+struct HandFamilies {
+  MetricFamily commands =
+      family("dh3_hand_commands_total", "Commands that reached the hand layer, by type and result",
+             MetricType::Counter);
+  MetricFamily timeouts =
+      family("dh3_hand_timeouts_total", "Frames to the hand not answered within their deadline",
+             MetricType::Counter);
+  MetricFamily retries =
+      family("dh3_hand_retries_total", "Frames re-sent after a timeout", MetricType::Counter);
+  MetricFamily round_trip =
+      family("dh3_hand_round_trip_seconds",
+             "Time from a frame sent to the hand to its matching reply", MetricType::Histogram);
+  MetricFamily online =
+      family("dh3_hand_online", "1 while the hand answers, 0 otherwise", MetricType::Gauge);
+
+  void add(const std::string& bus, const hand::HandMetrics& h) {
+    for (const hand::CommandTally& tally : h.commands) {
+      auto labels = hand_labels(bus, h);
+      labels.push_back({"type", std::string(command_type_name(tally.kind, tally.reg))});
+      labels.push_back({"result", std::string(result_name(tally.error))});
+      add_counter(commands, std::move(labels), tally.count);
+    }
+    add_counter(timeouts, hand_labels(bus, h), h.timeouts);
+    add_counter(retries, hand_labels(bus, h), h.retries);
+    add_histogram(round_trip, hand_labels(bus, h), h.round_trip);
+    if (h.online) add_gauge(online, hand_labels(bus, h), *h.online ? 1.0 : 0.0);
+  }
+  void take(std::vector<MetricFamily>& out) {
+    take_filled({&commands, &timeouts, &retries, &round_trip, &online}, out);
+  }
+};
+
+/// The per-bus series every backend has.
+struct BusFamilies {
+  MetricFamily sent = family("dh3_bus_frames_sent_total", "CAN frames sent", MetricType::Counter);
+  MetricFamily received =
+      family("dh3_bus_frames_received_total", "CAN frames received", MetricType::Counter);
+  MetricFamily errors = family("dh3_bus_errors_total",
+                               "Frames nobody waited for (kind=unexpected_frame) and sends or "
+                               "receives the bus refused on a live link (kind=bus_error)",
+                               MetricType::Counter);
+  MetricFamily reconnects =
+      family("dh3_bus_reconnects_total", "Link down to up transitions", MetricType::Counter);
+  MetricFamily link_up = family("dh3_bus_link_up", "1 while the link is up", MetricType::Gauge);
+  MetricFamily load = family("dh3_bus_load_percent",
+                             "Frames sent and received over the last 5 s, at 111 bits each (no "
+                             "stuff bits), in percent of the bus's bit rate",
+                             MetricType::Gauge);
+
+  void add(const hand::BusMetrics& bus) {
+    const std::vector<ClientMetric::Label> bus_label{{"bus", bus.bus}};
+    add_counter(sent, bus_label, bus.counters.frames_sent);
+    add_counter(received, bus_label, bus.counters.frames_received);
+    add_counter(errors, {{"bus", bus.bus}, {"kind", "unexpected_frame"}},
+                bus.counters.unexpected_frames);
+    add_counter(errors, {{"bus", bus.bus}, {"kind", "bus_error"}}, bus.counters.bus_errors);
+    add_counter(reconnects, bus_label, bus.counters.reconnects);
+    add_gauge(link_up, bus_label, bus.link_up ? 1.0 : 0.0);
+    if (bus.line_load_percent) add_gauge(load, bus_label, *bus.line_load_percent);
+  }
+  void take(std::vector<MetricFamily>& out) {
+    take_filled({&sent, &received, &errors, &reconnects, &link_up, &load}, out);
+  }
+};
+
+/// What only a backend on a CAN controller (SocketCAN) sees.
+struct ControllerFamilies {
+  MetricFamily error_frames =
+      family("dh3_bus_error_frames_total", "Error frames the CAN controller reported, by kind",
+             MetricType::Counter);
+  MetricFamily bus_off = family(
+      "dh3_bus_off", "1 while the CAN controller is bus-off (the link is down)", MetricType::Gauge);
+  MetricFamily overflow =
+      family("dh3_bus_rx_overflow_drops_total",
+             "Frames the kernel dropped because the receive queue was full", MetricType::Counter);
+  MetricFamily ignored = family("dh3_bus_frames_ignored_total",
+                                "Frames no DH-3 hand sends that reached the service (the kernel "
+                                "filter keeps most of them out unseen)",
+                                MetricType::Counter);
+
+  void add(const std::string& bus, const bus::BusDiagnostics& seen) {
+    if (!seen.sees_controller) return;
+    const std::vector<ClientMetric::Label> bus_label{{"bus", bus}};
+    for (std::size_t i = 0; i < bus::kErrorFrameKinds; ++i) {
+      const auto kind = static_cast<bus::ErrorFrameKind>(i);
+      add_counter(error_frames, {{"bus", bus}, {"kind", std::string(to_string(kind))}},
+                  seen.error_frames[i]);
+    }
+    add_gauge(bus_off, bus_label, seen.bus_off ? 1.0 : 0.0);
+    add_counter(overflow, bus_label, seen.rx_overflow_drops);
+    add_counter(ignored, bus_label, seen.frames_ignored);
+  }
+  void take(std::vector<MetricFamily>& out) {
+    take_filled({&error_frames, &bus_off, &overflow, &ignored}, out);
+  }
+};
+
+std::vector<MetricFamily> families(const std::vector<hand::BusMetrics>& buses) {
+  HandFamilies hands;
+  BusFamilies bus_families;
+  ControllerFamilies controllers;
+  for (const hand::BusMetrics& bus : buses) {
+    bus_families.add(bus);
+    controllers.add(bus.bus, bus.diagnostics);
+    for (const hand::HandMetrics& h : bus.hands) hands.add(bus.bus, h);
+  }
+  std::vector<MetricFamily> out;
+  hands.take(out);
+  bus_families.take(out);
+  controllers.take(out);
+  return out;
+}
+
+class Collector final : public prometheus::Collectable {
+ public:
+  explicit Collector(Source source) : source_(std::move(source)) {}
+  std::vector<MetricFamily> Collect() const override { return families(source_()); }
+
+ private:
+  Source source_;
+};
+
+struct ListenAddress {
+  std::string host;  ///< as given, brackets included for IPv6
+  int port = 0;
+};
+
+Result<ListenAddress, std::string> parse_listen_address(std::string_view address) {
+  const auto bad = [&](const std::string& why) {
+    return fail("metrics address '" + std::string(address) + "' " + why);
+  };
+  const auto colon = address.rfind(':');
+  if (colon == std::string_view::npos || colon == 0) {
+    return bad("is not HOST:PORT (e.g. 127.0.0.1:9464, 0.0.0.0:9464 or [::1]:9464)");
+  }
+  const std::string_view host = address.substr(0, colon);
+  const std::string_view port_text = address.substr(colon + 1);
+  int port = -1;
+  const auto [end, error] =
+      std::from_chars(port_text.data(), port_text.data() + port_text.size(), port);
+  if (port_text.empty() || error != std::errc{} || end != port_text.data() + port_text.size() ||
+      port < 0 || port > 65535) {
+    return bad("has no port in 0-65535 after the last ':'");
+  }
+  in6_addr parsed{};
+  const bool ipv6 =
+      host.size() > 2 && host.front() == '[' && host.back() == ']' &&
+      inet_pton(AF_INET6, std::string(host.substr(1, host.size() - 2)).c_str(), &parsed) == 1;
+  const bool ipv4 = inet_pton(AF_INET, std::string(host).c_str(), &parsed) == 1;
+  if (!ipv4 && !ipv6) {
+    return bad("does not start with an IPv4 address or a bracketed IPv6 address");
+  }
+  return ListenAddress{std::string(host), port};
+}
+
+}  // namespace
+
+std::string render(const std::vector<hand::BusMetrics>& buses) {
+  return prometheus::TextSerializer().Serialize(families(buses));
+}
+
+std::string_view command_type_name(hand::CommandKind kind, protocol::Register reg) {
+  using hand::CommandKind;
+  switch (kind) {
+    case CommandKind::initialize:
+      return "INITIALIZE";
+    case CommandKind::move_to:
+      return "MOVE";
+    case CommandKind::set_closing_force:
+      return "SET_CLOSING_FORCE";
+    case CommandKind::set_opening_force:
+      return "SET_OPENING_FORCE";
+    case CommandKind::rotate_to:
+      return "ROTATE";
+    case CommandKind::read_register:
+      return "READ_REGISTER";
+    case CommandKind::write_register:
+      if (reg == protocol::reg::kCanId) return "SET_CAN_ID";
+      if (reg == protocol::reg::kBaudRate) return "SET_BAUD_RATE";
+      if (reg == protocol::reg::kInitFeedback) return "ENABLE_INIT_FEEDBACK";
+      return "WRITE_REGISTER";
+    case CommandKind::grasp:
+      return "GRASP";
+    case CommandKind::release:
+      return "RELEASE";
+    case CommandKind::stop:
+      return "STOP";
+  }
+  return "UNKNOWN_COMMAND";
+}
+
+std::string_view result_name(std::optional<hand::CommandError> error) {
+  if (!error) return "OK";
+  using hand::CommandError;
+  switch (*error) {
+    case CommandError::invalid_argument:
+      return "INVALID_ARGUMENT";
+    case CommandError::unknown_hand:
+      return "UNKNOWN_HAND";
+    case CommandError::timeout:
+      return "TIMEOUT";
+    case CommandError::bus_down:
+      return "BUS_DOWN";
+    case CommandError::busy:
+      return "BUSY";
+    case CommandError::not_initialized:
+      return "NOT_INITIALIZED";
+    case CommandError::cancelled:
+      return "CANCELLED";
+    case CommandError::failed:
+      return "FAILED";
+  }
+  return "FAILED";
+}
+
+Result<void, std::string> check_listen_address(std::string_view address) {
+  auto parsed = parse_listen_address(address);
+  if (!parsed) return fail(std::move(parsed).error());
+  return {};
+}
+
+class Exporter::Impl {
+ public:
+  std::shared_ptr<Collector> collector;
+  std::unique_ptr<prometheus::Exposer> exposer;
+  std::string address;
+};
+
+Result<std::unique_ptr<Exporter>, std::string> Exporter::start(const std::string& address,
+                                                               Source source) {
+  auto parsed = parse_listen_address(address);
+  if (!parsed) return fail(parsed.error());
+  auto impl = std::make_unique<Impl>();
+  impl->collector = std::make_shared<Collector>(std::move(source));
+  try {
+    // One serving thread: scrapes are rare and each only copies counters.
+    impl->exposer = std::make_unique<prometheus::Exposer>(address, 1);
+  } catch (const std::exception& error) {
+    return fail("cannot serve metrics on " + address + ": " + error.what() +
+                " (is the port in use, or the address not one of this host's?)");
+  }
+  const auto ports = impl->exposer->GetListeningPorts();
+  if (ports.empty()) return fail("cannot serve metrics on " + address + ": no port was bound");
+  impl->exposer->RegisterCollectable(impl->collector);
+  impl->address = parsed->host + ":" + std::to_string(ports.front());
+  return std::unique_ptr<Exporter>(new Exporter(std::move(impl)));
+}
+
+Exporter::Exporter(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Exporter::~Exporter() = default;
+
+const std::string& Exporter::address() const {
+  return impl_->address;
+}
+
+}  // namespace dh3::metrics
