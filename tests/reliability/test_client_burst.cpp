@@ -52,7 +52,7 @@ TEST(ClientBurst, ClientsStartedTogetherInOneProcessAreAllAnswered) {
       if (reply) {
         answered.fetch_add(1);
       } else {
-        failures[static_cast<std::size_t>(i)] = to_string(reply.code) + ": " + reply.message;
+        failures[static_cast<std::size_t>(i)] = std::string(to_string(reply.code)) + ": " + reply.message;
       }
     });
   }
