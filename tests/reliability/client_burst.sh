@@ -55,14 +55,14 @@ for _ in $(seq 1 "$busy"); do
   pids+=($!)
 done
 
-# Every client waits on one barrier, so they start within a few milliseconds.
-mkfifo "$work/go"
+# Every client waits for one file to appear, so they start within a few
+# milliseconds of each other.
 client_pids=()
 for i in $(seq 1 "$clients"); do
   s=$(((i - 1) % services + 1))
   hand=$(((i - 1) % 3 + 1))
   (
-    read -r _ <"$work/go"
+    until [[ -e $work/go ]]; do sleep 0.005; done
     started=$(date +%s%N)
     rc=0
     "$ctl_bin" --domain "$domain" --timeout 30 read "$prefix-$s/bus0/$hand" position \
@@ -71,9 +71,8 @@ for i in $(seq 1 "$clients"); do
   ) &
   client_pids+=($!)
 done
-# One writer releases every reader of the barrier at once.
 sleep 0.5
-: >"$work/go"
+touch "$work/go"
 wait "${client_pids[@]}" || true
 for pid in "${pids[@]:services}"; do kill "$pid" 2>/dev/null || true; done
 

@@ -173,7 +173,8 @@ TEST(Config, SimulatorSettingsOnlyOnSimBuses) {
 // and the command line's over it.
 TEST(Config, SharedMemoryIsOffUnlessAskedForAndTheCommandLineDecides) {
   EXPECT_FALSE(default_config().participant.shared_memory);
-  auto from_file = parse_config("dds:\n  shared_memory: true\n", "cell.yaml");
+  auto from_file =
+      parse_config("dds:\n  shared_memory: true\nbuses:\n  - spec: sim\n", "cell.yaml");
   ASSERT_TRUE(from_file.ok()) << from_file.error().message;
   EXPECT_TRUE(from_file->participant.shared_memory);
 
