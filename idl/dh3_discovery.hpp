@@ -1,7 +1,8 @@
 #pragma once
-// Applies a list of Fast DDS discovery servers (dh3_discovery_servers.hpp:
-// which servers, from configuration or ROS_DISCOVERY_SERVER) to a
-// participant's QoS: it becomes a discovery CLIENT of each.
+// How a participant discovers the others. With discovery servers
+// (dh3_discovery_servers.hpp: from configuration or ROS_DISCOVERY_SERVER) it
+// becomes a discovery CLIENT of each. Without, simple discovery, in which a
+// client of dh3 may hear services only (hear_services_only below).
 //
 //   auto servers = dh3::contract::choose_discovery_servers(config.discovery_servers);
 //   if (!servers) return fail(servers.error());
@@ -12,12 +13,19 @@
 #include <fastdds/rtps/common/Locator.h>
 #include <fastrtps/utils/IPLocator.h>
 
+#include <cstdint>
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 #include <vector>
 
 #include "dh3_discovery_servers.hpp"
 
 namespace dh3::contract {
+
+/// How often a participant that hears services only repeats its announcement:
+/// the longest a service that starts after it waits to be found by it. Fast
+/// DDS's default is 3 s; services receive one small sample a second per
+/// client.
+inline const eprosima::fastrtps::Duration_t announcement_period{1, 0};
 
 /// Makes the participant a discovery CLIENT of `servers`; with none it is left
 /// alone (simple discovery). False only if Fast DDS has no prefix for an id,
@@ -39,6 +47,44 @@ namespace dh3::contract {
     discovery.m_DiscoveryServers.push_back(remote);
   }
   return true;
+}
+
+/// Simple discovery for a participant that needs services, not its fellow
+/// clients: it announces itself to the domain's discovery multicast group as
+/// usual, but does not listen to that group, so it learns of a participant
+/// only when that one answers its announcement directly, as every participant
+/// that listens to the group does (dh3-service among them). Clients thus
+/// never discover each other.
+///
+/// Why: Fast DDS 2.9's simple discovery sends its announcement again to every
+/// participant it knows each time it finds a new one, so N participants that
+/// start together exchange on the order of N^3 messages: 128 dh3ctl started
+/// at once on two cores spent 0.73 s of CPU each, 36 times what one alone
+/// spends (issue 23). Hearing services only makes it services x clients.
+///
+/// The price: a service that starts after the client is found when it hears
+/// the client's next periodic announcement (`announcement_period`), not its
+/// own first one.
+inline void hear_services_only(eprosima::fastdds::dds::DomainParticipantQos& qos,
+                               std::uint32_t domain) {
+  namespace rtps = eprosima::fastrtps::rtps;
+  auto& builtin = qos.wire_protocol().builtin;
+  // A unicast locator of port 0 on any address: Fast DDS fills in the
+  // participant's own metatraffic port and the whitelisted interfaces. With
+  // it given, Fast DDS adds no multicast locator of its own.
+  rtps::Locator_t unicast;
+  unicast.kind = LOCATOR_KIND_UDPv4;
+  builtin.metatrafficUnicastLocatorList.clear();
+  builtin.metatrafficUnicastLocatorList.push_back(unicast);
+  builtin.metatrafficMulticastLocatorList.clear();
+  // Announcements still go to the group the services listen to.
+  rtps::Locator_t group;
+  group.kind = LOCATOR_KIND_UDPv4;
+  rtps::IPLocator::setIPv4(group, 239, 255, 0, 1);
+  group.port = qos.wire_protocol().port.getMulticastPort(domain);
+  builtin.initialPeersList.clear();
+  builtin.initialPeersList.push_back(group);
+  builtin.discovery_config.leaseDuration_announcementperiod = announcement_period;
 }
 
 }  // namespace dh3::contract

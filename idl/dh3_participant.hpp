@@ -4,14 +4,25 @@
 //
 // The default is loopback only: a service on a robot cell's controller that is
 // not told which network to use stays on the machine. Give `interfaces` (the
-// IPv4 addresses of the NICs to use, or "*" for all) to reach other hosts, and
-// `udp_only` where participants do not share /dev/shm (containers, namespaces).
+// IPv4 addresses of the NICs to use, or "*" for all) to reach other hosts.
+//
+// UDP only unless `shared_memory` is asked for. Fast DDS 2.9 (Debian 12's
+// libfastrtps2.9) has a shared-memory listener that stops receiving for good
+// once its port holds a message from a process that has since exited: it
+// opens the sender's segment before taking the message off the queue, the
+// open fails, and it retries the same message forever (fixed upstream in
+// Fast DDS 2.12.1, "SHM transport: ignore non-existing segment on pop"). Any
+// dh3ctl that exits while the service, or another client, has not yet read
+// what it sent can make that participant deaf (issue 23; the README's "Which
+// transport setup when" gives the evidence, BENCHMARKS.md section 1 the round
+// trip over both).
 
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 #include <fastdds/rtps/common/GuidPrefix_t.hpp>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -21,9 +32,13 @@ namespace dh3::contract {
 struct TransportOptions {
   /// IPv4 addresses of the interfaces to use; empty = loopback only; {"*"} = all.
   std::vector<std::string> interfaces;
-  /// No shared-memory transport: everything goes over UDP.
-  bool udp_only = false;
+  /// Also Fast DDS's shared-memory transport between processes on one host
+  /// (see above for why it is off by default).
+  bool shared_memory = false;
 };
+
+/// How many ports a participant tries for each of its receive locators.
+inline constexpr std::uint32_t kPortTries = 250;
 
 inline eprosima::fastdds::dds::DomainParticipantQos participant_qos(
     const std::string& participant_name, const TransportOptions& options) {
@@ -43,7 +58,14 @@ inline eprosima::fastdds::dds::DomainParticipantQos participant_qos(
     if (udp->interfaceWhiteList.empty()) udp->interfaceWhiteList.push_back("127.0.0.1");
   }
   transport.user_transports.push_back(udp);
-  if (!options.udp_only) {
+  // A participant whose port is taken tries the next one, 2 further on, this
+  // many times: Fast DDS's 100 leaves the 101st participant of a domain on a
+  // host without a unicast port (128 dh3ctl at once: the last ones never found
+  // the service; issue 23). Past about 120 the ports reach into the next
+  // domain id's range, which a host running that many participants should
+  // leave unused.
+  qos.wire_protocol().builtin.mutation_tries = kPortTries;
+  if (options.shared_memory) {
     transport.user_transports.push_back(std::make_shared<rtps::SharedMemTransportDescriptor>());
   }
   return qos;

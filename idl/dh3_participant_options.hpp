@@ -17,13 +17,22 @@ struct ParticipantOptions {
   int domain = 0;
   /// IPv4 addresses of the interfaces to use; empty = loopback only; {"*"} = all.
   std::vector<std::string> interfaces;
-  /// No shared-memory transport: everything over UDP (containers, namespaces).
+  /// UDP only: the default (dh3_participant.hpp says why). Kept so that
+  /// configurations and command lines that ask for it keep working; it
+  /// contradicts shared_memory.
   bool udp_only = false;
+  /// Also the shared-memory transport between processes on one host. Needs a
+  /// Fast DDS with the listener fix of 2.12.1 (dh3_participant.hpp).
+  bool shared_memory = false;
+  /// With simple discovery, find services but not fellow clients
+  /// (dh3_discovery.hpp, hear_services_only): for the client library. A
+  /// service leaves it off, or no such client would find it.
+  bool hear_services_only = false;
   /// Fast DDS discovery servers as "HOST[:PORT]" (dh3_discovery_servers.hpp);
   /// empty: ROS_DISCOVERY_SERVER's if set, unless an XML profile decides.
   std::vector<std::string> discovery_servers;
   /// A Fast DDS XML profiles file: the participant QoS comes from its profile
-  /// `xml_profile` (or its default profile) instead of interfaces/udp_only.
+  /// `xml_profile` (or its default profile) instead of interfaces, udp_only and shared_memory.
   std::string xml_profile_file;
   std::string xml_profile;
   /// DDS Security with the credentials of `security_identity` in this

@@ -65,16 +65,19 @@ make_participant_qos(const ParticipantOptions& options, SetupReport& report) {
     }
     if (qos.name().to_string().empty()) qos.name(options.name);
     // The profile decides the transports; say so rather than ignore silently.
-    if (!options.interfaces.empty() || options.udp_only) {
+    if (!options.interfaces.empty() || options.udp_only || options.shared_memory) {
       report.warnings.emplace_back(
-          "the XML profile decides the transports: interfaces and udp_only are ignored");
+          "the XML profile decides the transports: interfaces, udp_only and shared_memory "
+          "are ignored");
     }
   } else if (!options.xml_profile.empty()) {
     return fail("an XML profile name needs the XML profiles file that defines it");
+  } else if (options.udp_only && options.shared_memory) {
+    return fail("udp_only and shared_memory contradict each other: give one of them");
   } else {
     TransportOptions transport;
     transport.interfaces = options.interfaces;
-    transport.udp_only = options.udp_only;
+    transport.shared_memory = options.shared_memory;
     qos = participant_qos(options.name, transport);
   }
   // The configured servers; without, ROS_DISCOVERY_SERVER's, unless an XML
@@ -88,6 +91,9 @@ make_participant_qos(const ParticipantOptions& options, SetupReport& report) {
   }
   for (const auto& server : *servers) {
     report.notes.push_back("discovery server " + server.to_string());
+  }
+  if (options.hear_services_only && servers->empty() && options.xml_profile_file.empty()) {
+    hear_services_only(qos, static_cast<std::uint32_t>(options.domain));
   }
   if (!options.security_dir.empty()) {
     if (has_property(qos, "dds.sec.auth.plugin")) {

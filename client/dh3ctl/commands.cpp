@@ -384,7 +384,10 @@ void declare_global_options(CLI::App& app, Globals& g) {
   app.add_option("-i,--interface", g.client.interfaces,
                  "IPv4 address of a network interface for DDS (repeatable), or * for all; "
                  "default loopback only");
-  app.add_flag("--udp-only", g.client.udp_only, "no shared-memory transport, UDP only");
+  app.add_flag("--udp-only", g.client.udp_only, "UDP only, no shared memory (the default)");
+  app.add_flag("--shared-memory", g.client.shared_memory,
+               "also Fast DDS's shared-memory transport on this host (needs Fast DDS 2.12.1 or "
+               "later)");
   app.add_option("--xml", g.client.xml_profile_file,
                  "Fast DDS XML profiles file (its participant profile "
                  "replaces --interface and --udp-only)")

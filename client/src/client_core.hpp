@@ -207,6 +207,10 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   void write_request(std::uint64_t seq, const msg::CommandRequest& request);
   void run(Actions& actions);
   [[nodiscard]] Reply expired_locked(const Pending& pending) const;
+  /// Says in each NO_REPLY among `expired` whether the services' request
+  /// readers acknowledged every request written, so a caller knows whether
+  /// the service may have run it (`mutex_` not held: it asks the writer).
+  void tell_acknowledgment(std::vector<std::pair<Done, Reply>>& expired) const;
   // Following services (service_tracker.cpp).
   void on_match(std::multiset<std::string>& set, const std::string& prefix, bool matched);
 

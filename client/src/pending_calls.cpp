@@ -144,6 +144,7 @@ void ClientCore::io_loop() {
     }
     if (!expired.empty()) {
       lock.unlock();
+      tell_acknowledgment(expired);
       for (auto& [done, reply] : expired) done(std::move(reply));
       lock.lock();
       continue;  // state may have changed while unlocked
@@ -178,6 +179,24 @@ Reply ClientCore::expired_locked(const Pending& pending) const {
   return make_reply(Code::no_service, "no service '" + service + "' found on DDS domain " +
                                           std::to_string(options_.domain) + within + " (" + what +
                                           " not sent)");
+}
+
+void ClientCore::tell_acknowledgment(std::vector<std::pair<Done, Reply>>& expired) const {
+  const auto no_reply = [](const auto& call) { return call.second.code == Code::no_reply; };
+  if (std::none_of(expired.begin(), expired.end(), no_reply)) return;
+  // Per writer, not per sample (Fast DDS 2.9 has no per-sample ack status):
+  // "acknowledged" is certain, "not acknowledged" may stem from another
+  // request or another service's reader, so it only says "may not".
+  const bool acknowledged =
+      dds_->request_writer->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(0, 0)) ==
+      eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
+  for (auto& call : expired) {
+    if (!no_reply(call)) continue;
+    call.second.message += acknowledged
+                               ? "; the service acknowledged the request, so it may have run"
+                               : "; the service has not acknowledged the request, so it may "
+                                 "not have received it";
+  }
 }
 
 void ClientCore::run(Actions& actions) {

@@ -67,6 +67,7 @@ int run_client(int domain, const std::string& service, int hand_id, int count, b
   options.domain = domain;
   options.participant_name = "dh3-bench-cell-client";
   options.udp_only = udp_only;
+  options.shared_memory = !udp_only;  // "shm": not the default since issue 23
   Client client(options);
   auto hand = client.wait_for_hand(service + "/bus0/" + std::to_string(hand_id), 60s);
   if (!hand) {

@@ -17,7 +17,7 @@
 // The responders always run in another process: participants in one process
 // would use Fast DDS's intraprocess delivery and bypass the transport.
 //
-// Service overhead: dh3's Service in this process (shared memory), traced
+// Service overhead: dh3's Service in this process (default transports), traced
 // (dds::ServiceOptions::test_seam_tracer) and with its bus wrapped to timestamp frames,
 // driven by a dh3::Client in a child process. Reports the time from a request
 // sample's take to its frame on the bus, and from the echo's arrival to the
@@ -149,6 +149,7 @@ Measured client_round_trips(int domain, const std::string& service, bool udp_onl
   options.domain = domain;
   options.participant_name = "dh3-bench-client";
   options.udp_only = udp_only;
+  options.shared_memory = !udp_only;  // the "shm" rows: not the default since issue 23
   Client client(options);
   auto hand = client.wait_for_hand(service + "/bus0/1", 30s);
   if (!hand) {

@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # The shared-memory pitfall of the README's deployment section, with two real
 # containers of the image on the host's network (traffic kept on loopback):
-# dh3-service with Fast DDS's default transports (shared memory on) and a
-# dh3ctl client, each with its own IPC namespace (podman's default, so its own
-# /dev/shm). Fast DDS takes them to be on one host (same addresses) and sends
-# the data through shared memory the other cannot see: no status ever
-# arrives. The two ways out work: `--ipc=host` for both, or the service UDP
-# only.
+# dh3-service and a dh3ctl client that both ask for Fast DDS's shared memory
+# (--shared-memory), each with its own IPC namespace (podman's default, so its
+# own /dev/shm). Fast DDS takes them to be on one host (same addresses) and
+# sends the data through shared memory the other cannot see: no status ever
+# arrives. `--ipc=host` for both is the way out; dh3's default transports (UDP
+# only since issue 23) never meet the pitfall.
 #
 #   test_shm_pitfall.sh SOURCE_DIR
 # Exit 77 (skipped) with the reason where no container engine can run.
@@ -27,12 +27,13 @@ status() {  # status TIMEOUT PODMAN_OPTION...: dh3ctl's status of the hand, in a
   local timeout=$1
   shift
   client --network=host "$@" --entrypoint dh3ctl "$image" --domain "$domain" --interface 127.0.0.1 \
-    --timeout "$timeout" status shm/bus0/1 >"$work/ctl.out" 2>&1
+    "${ctl_transport[@]}" --timeout "$timeout" status shm/bus0/1 >"$work/ctl.out" 2>&1
 }
 stop() { podman stop -t 30 "$run_id-$1" >/dev/null 2>&1; }
 
+ctl_transport=(--shared-memory)
 echo "== shared memory on, private IPC for each container"
-serve private -- || finish "shm pitfall"
+serve private -- --shared-memory || finish "shm pitfall"
 if status 15; then
   fail "private IPC, shared memory on: the client got the status (the pitfall is gone?)"
   sed 's/^/  /' "$work/ctl.out"
@@ -42,7 +43,7 @@ fi
 stop private
 
 echo "== shared memory on, --ipc=host for both"
-serve ipc-host --ipc=host -- || finish "shm pitfall"
+serve ipc-host --ipc=host -- --shared-memory || finish "shm pitfall"
 if status 30 --ipc=host; then
   ok "--ipc=host: the client gets the status"
 else
@@ -50,12 +51,13 @@ else
 fi
 stop ipc-host
 
-echo "== the service UDP only, private IPC"
-serve udp -- --udp-only || finish "shm pitfall"
+ctl_transport=()
+echo "== the default transports (UDP only), private IPC"
+serve default -- || finish "shm pitfall"
 if status 30; then
-  ok "service UDP only: the client (default transports, private IPC) gets the status"
+  ok "default transports: the client (private IPC) gets the status"
 else
-  fail "service UDP only: no status"; sed 's/^/  /' "$work/ctl.out"
+  fail "default transports: no status"; sed 's/^/  /' "$work/ctl.out"
 fi
-stop udp
+stop default
 finish "shm pitfall"

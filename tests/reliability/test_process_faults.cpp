@@ -101,6 +101,30 @@ TEST(ServiceKilled, ClientsRunningThroughTheOutageRecoverWithoutRestarting) {
   for (const auto seq : outage) EXPECT_LE(first->reply_count(seq), 1U) << "request " << seq;
 }
 
+// A service that cannot read (stopped, here by SIGSTOP; a starved or wedged
+// process alike) never acknowledges the request: the caller is told so, not
+// just "no reply", and knows the command may not have reached the service.
+TEST(ServiceStopped, ARequestItNeverAcknowledgedIsReportedAsSuch) {
+  TempFile config(sim_bus_config());
+  ServiceProcess service({"--config", config.path(), "--log-level", "warn"});
+  ASSERT_TRUE(service.started());
+  ClientOptions options;
+  options.domain = test_domain();
+  Client library(options);
+  ASSERT_TRUE(library.connected()) << library.error();
+  ASSERT_TRUE(library.wait_for_service(service.name(), std::chrono::seconds(20)));
+  Hand hand = library.hand(HandAddress{service.name(), "bus0", 1});
+  ASSERT_TRUE(hand.read(reg::firmware_version, std::chrono::seconds(20)));
+
+  service.process().send_signal(SIGSTOP);
+  const Reply unread = hand.read(reg::position, std::chrono::seconds(2));
+  service.process().send_signal(SIGCONT);
+  EXPECT_EQ(unread.code, Code::no_reply) << unread.message;
+  EXPECT_THAT(unread.message, ::testing::HasSubstr("the service has not acknowledged the request"));
+  // Running again, it answers as before.
+  EXPECT_TRUE(hand.read(reg::firmware_version, std::chrono::seconds(20)));
+}
+
 /// dh3ctl processes are the clients that die: each asks hand 1-3 for its
 /// firmware version; the hands answer late, so the requests are pending at the
 /// service when the clients are killed.

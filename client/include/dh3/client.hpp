@@ -68,14 +68,21 @@ struct ClientOptions {
   std::string participant_name = "dh3-client";
   /// A Fast DDS XML profiles file. When given, its participant profile (the one
   /// named by `xml_profile`, or the file's default profile) decides the
-  /// participant's QoS and transports; `interfaces` and `udp_only` are ignored.
+  /// participant's QoS and transports; `interfaces`, `udp_only` and
+  /// `shared_memory` are ignored.
   std::string xml_profile_file;
   std::string xml_profile;
   /// IPv4 addresses of the network interfaces to use; empty = loopback only
   /// (the project's default: nothing leaves the machine unless asked); {"*"} = all.
   std::vector<std::string> interfaces;
-  /// No shared-memory transport: UDP only (containers, network namespaces).
+  /// UDP only, no shared memory: the default; kept for programs that ask for it.
   bool udp_only = false;
+  /// Also Fast DDS's shared-memory transport between processes on this host.
+  /// Off by default: Fast DDS 2.9 (Debian 12) has a shared-memory listener
+  /// that goes deaf for good once a peer that sent to it exits (fixed in Fast
+  /// DDS 2.12.1); UDP on loopback is not slower for dh3's samples
+  /// (BENCHMARKS.md). Contradicts udp_only.
+  bool shared_memory = false;
   /// Fast DDS discovery servers, each "HOST[:PORT]" (port 11811 by default);
   /// the n-th entry is the server started with id n, an empty entry skips an
   /// id. Empty: ROS_DISCOVERY_SERVER's servers if that is set, otherwise

@@ -314,7 +314,7 @@ class Client:
     def __init__(self, *, domain: int = 0, participant_name: str = "dh3-client",
                  xml_profile_file: str = "", xml_profile: str = "",
                  interfaces: list[str] = [], udp_only: bool = False,
-                 discovery_servers: list[str] = [], security_dir: str = "",
+                 shared_memory: bool = False, discovery_servers: list[str] = [], security_dir: str = "",
                  security_identity: str = "operator", default_timeout: float = 10.0) -> None: ...
     def close(self) -> None:
         """Leaves the domain: pending calls end NOT_CONNECTED, callbacks stop."""

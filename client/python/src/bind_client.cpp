@@ -24,6 +24,7 @@ using namespace pybind11::literals;
 std::unique_ptr<PyClient> make_client(int domain, std::string participant_name,
                                       std::string xml_profile_file, std::string xml_profile,
                                       std::vector<std::string> interfaces, bool udp_only,
+                                      bool shared_memory,
                                       std::vector<std::string> discovery_servers,
                                       std::string security_dir, std::string security_identity,
                                       double default_timeout) {
@@ -34,6 +35,7 @@ std::unique_ptr<PyClient> make_client(int domain, std::string participant_name,
   options.xml_profile = std::move(xml_profile);
   options.interfaces = std::move(interfaces);
   options.udp_only = udp_only;
+  options.shared_memory = shared_memory;
   options.discovery_servers = std::move(discovery_servers);
   options.security_dir = std::move(security_dir);
   options.security_identity = std::move(security_identity);
@@ -70,12 +72,13 @@ void def_life_cycle(py::class_<PyClient>& cls) {
   cls.def(py::init(&make_client), py::kw_only(), "domain"_a = 0,
           "participant_name"_a = "dh3-client", "xml_profile_file"_a = "", "xml_profile"_a = "",
           "interfaces"_a = std::vector<std::string>{}, "udp_only"_a = false,
-          "discovery_servers"_a = std::vector<std::string>{}, "security_dir"_a = "",
-          "security_identity"_a = "operator", "default_timeout"_a = 10.0,
+          "shared_memory"_a = false, "discovery_servers"_a = std::vector<std::string>{},
+          "security_dir"_a = "", "security_identity"_a = "operator", "default_timeout"_a = 10.0,
           "Joins the DDS domain. domain: 0-232. interfaces: IPv4 addresses of network "
-          "interfaces (empty: loopback only; [\"*\"]: all). udp_only: no shared-memory "
-          "transport. discovery_servers: \"HOST[:PORT]\" each. xml_profile_file/xml_profile: a "
-          "Fast DDS XML profile (replaces interfaces and udp_only). security_dir/"
+          "interfaces (empty: loopback only; [\"*\"]: all). udp_only: UDP only (the default). "
+          "shared_memory: also Fast DDS's shared-memory transport (needs Fast DDS 2.12.1 or "
+          "later). discovery_servers: \"HOST[:PORT]\" each. xml_profile_file/xml_profile: a "
+          "Fast DDS XML profile (replaces interfaces, udp_only and shared_memory). security_dir/"
           "security_identity: DDS Security credentials. default_timeout: seconds for calls "
           "given no timeout.")
       .def("close", &PyClient::close,

@@ -68,9 +68,12 @@ Result<void, std::string> Service::Impl::create_writers() {
   info_topic_ = topics.info;
   request_topic_ = topics.request;
   reply_topic_ = topics.reply;
-  const auto writer = [this](fdds::DataWriter*& out, fdds::Topic* topic,
-                             TopicRole role) -> Result<void, std::string> {
-    out = participant_->publisher().create_datawriter(topic, contract::writer_qos(role));
+  const auto writer = [this](fdds::DataWriter*& out, fdds::Topic* topic, TopicRole role,
+                             fdds::DataWriterListener* listener =
+                                 nullptr) -> Result<void, std::string> {
+    out = participant_->publisher().create_datawriter(
+        topic, contract::writer_qos(role), listener,
+        listener ? fdds::StatusMask::publication_matched() : fdds::StatusMask::none());
     if (out == nullptr) return fail(cannot_create("the writer of " + topic->get_name()));
     return {};
   };
@@ -83,7 +86,7 @@ Result<void, std::string> Service::Impl::create_writers() {
   if (auto created = writer(info_writer_, info_topic_, TopicRole::service_info); !created) {
     return created;
   }
-  return writer(reply_writer_, reply_topic_, TopicRole::reply);
+  return writer(reply_writer_, reply_topic_, TopicRole::reply, &reply_writer_listener_);
 }
 
 Result<void, std::string> Service::Impl::create_request_reader() {
@@ -161,6 +164,8 @@ void Service::Impl::stop() {
       }
     }
   }
+  // Replies still waiting for their reader go out now, to the writer's history.
+  for (auto& reply : reply_gate_.take_all()) publish_reply(reply);
   // Subscribers get the offline samples and last replies before we leave.
   const auto deadline = SteadyClock::now() + options_.shutdown_ack_timeout;
   for (fdds::DataWriter* writer : {status_writer_, reply_writer_, event_writer_}) {
@@ -180,6 +185,7 @@ void Service::Impl::stop() {
 void Service::Impl::destroy_dds() {
   if (participant_ == nullptr) return;
   if (request_reader_ != nullptr) request_reader_->set_listener(nullptr);
+  if (reply_writer_ != nullptr) reply_writer_->set_listener(nullptr);
   status_writer_ = event_writer_ = info_writer_ = reply_writer_ = nullptr;
   request_reader_ = nullptr;
   participant_.reset();  // its listener first, then everything it contains

@@ -14,6 +14,7 @@
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/DataWriterListener.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
@@ -27,6 +28,7 @@
 #include "dh3/dds/conversions.hpp"
 #include "dh3/dds/hand_directory.hpp"
 #include "dh3/dds/lease_table.hpp"
+#include "dh3/dds/reply_gate.hpp"
 #include "dh3/dds/request_validation.hpp"
 #include "dh3/dds/service.hpp"
 #include "dh3_idl/dh3PubSubTypes.h"
@@ -63,7 +65,10 @@ inline std::string hand_text(std::string_view bus, std::uint8_t can_id) {
 class Service::Impl {
  public:
   Impl(ServiceOptions options, const Clock& clock)
-      : options_(std::move(options)), clock_(clock), leases_(clock) {}
+      : options_(std::move(options)),
+        clock_(clock),
+        leases_(clock),
+        reply_gate_(clock, kReplyHoldLimit) {}
   ~Impl() {
     stop();
     // Schedulers go first: a scheduler that never ran may still report its
@@ -107,6 +112,23 @@ class Service::Impl {
     Impl& impl_;
   };
 
+  /// The reply writer's matches: a client's held replies go out when its
+  /// reader matches (ReplyGate). Fast DDS calls it without the writer's locks.
+  class ReplyWriterListener final : public fdds::DataWriterListener {
+   public:
+    explicit ReplyWriterListener(Impl& impl) : impl_(impl) {}
+    void on_publication_matched(fdds::DataWriter* /*writer*/,
+                                const fdds::PublicationMatchedStatus& status) override {
+      eprosima::fastrtps::rtps::GUID_t reader;
+      eprosima::fastrtps::rtps::iHandle2GUID(reader, status.last_subscription_handle);
+      impl_.on_reply_reader(contract::client_id_for(reader.guidPrefix),
+                            status.current_count_change > 0);
+    }
+
+   private:
+    Impl& impl_;
+  };
+
   class ParticipantListener final : public fdds::DomainParticipantListener {
    public:
     explicit ParticipantListener(Impl& impl) : impl_(impl) {}
@@ -114,8 +136,10 @@ class Service::Impl {
         fdds::DomainParticipant* /*participant*/,
         eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
       using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo;
-      if (info.status == Status::REMOVED_PARTICIPANT ||
-          info.status == Status::DROPPED_PARTICIPANT) {
+      if (info.status == Status::DISCOVERED_PARTICIPANT) {
+        impl_.reply_gate_.participant_joined(contract::client_id_for(info.info.m_guid.guidPrefix));
+      } else if (info.status == Status::REMOVED_PARTICIPANT ||
+                 info.status == Status::DROPPED_PARTICIPANT) {
         impl_.on_participant_left(contract::client_id_for(info.info.m_guid.guidPrefix),
                                   info.status == Status::DROPPED_PARTICIPANT);
       }
@@ -174,7 +198,13 @@ class Service::Impl {
   void handle_lease(const ValidRequest& valid, const ReplyHeader& header);
   void finish_scan(const std::shared_ptr<PendingScan>& scan, msg::ResultCode code,
                    const std::vector<std::uint8_t>& found, std::string message);
+  /// Writes the reply, or leaves it with the reply gate until the client's
+  /// reply reader has matched (`reply` is then moved from).
   void write_reply(msg::CommandReply& reply);
+  /// Writes the reply now, past the gate.
+  void publish_reply(msg::CommandReply& reply);
+  /// A reader of `client_id`'s participant matched (or left) the reply writer.
+  void on_reply_reader(const std::string& client_id, bool matched);
   /// Copies the hand's last prepared status sample into the reply (sent or
   /// held); leaves the reply's empty (update_seq 0) if the hand has none.
   void attach_status(msg::CommandReply& reply, std::uint16_t bus, std::uint8_t can_id);
@@ -210,16 +240,23 @@ class Service::Impl {
 
   void destroy_dds();
 
+  /// How long a reply waits for its client's reply reader to match before it
+  /// is written anyway: as long as a client waits for a reply at most.
+  static constexpr Duration kReplyHoldLimit =
+      std::chrono::milliseconds(limits::REQUEST_TIMEOUT_MAX_MS);
+
   ServiceOptions options_;
   const Clock& clock_;
   HandDirectory directory_;
   LeaseTable leases_;
+  ReplyGate reply_gate_;
   std::vector<std::unique_ptr<BusRuntime>> buses_;
   std::uint64_t started_ns_ = wall_clock_ns();
   std::atomic<std::uint64_t> event_seq_{0};
 
   ParticipantListener participant_listener_{*this};
   RequestListener request_listener_{*this};
+  ReplyWriterListener reply_writer_listener_{*this};
   /// The participant, its topics, publisher and subscriber (null until init()
   /// has made them); the writers and the reader below are made on them and
   /// deleted with them.

@@ -181,6 +181,21 @@ void Service::Impl::write_reply(msg::CommandReply& reply) {
                   result_code_name(reply.code()), reply.message());
   }
   if (reply_writer_ == nullptr) return;
+  const std::uint64_t seq = reply.request_seq();
+  const std::string client_id = reply.client_id();
+  if (reply_gate_.admit(reply) == GateOutcome::held) {
+    spdlog::debug("reply {}#{} held until the client's reply reader matches", client_id, seq);
+    wake_lease_timer();  // its deadline may now be the timer's next
+    return;
+  }
+  publish_reply(reply);
+}
+
+void Service::Impl::on_reply_reader(const std::string& client_id, bool matched) {
+  for (auto& reply : reply_gate_.reader_matched(client_id, matched)) publish_reply(reply);
+}
+
+void Service::Impl::publish_reply(msg::CommandReply& reply) {
   if (options_.test_seam_tracer)
     options_.test_seam_tracer(TracePoint::reply_writing, reply.request_seq());
   if (!reply_writer_->write(&reply)) {

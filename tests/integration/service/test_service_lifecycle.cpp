@@ -178,8 +178,8 @@ TEST(ServiceLifecycle, AnIgnoredOptionIsLoggedBesideTheFailureThatFollows) {
       run_to_exit("--domain " + std::to_string(test_domain()) + " --bus sim:1 --udp-only --xml " +
                   profiles.path() + " --profile dh3_missing_credentials");
   EXPECT_EQ(code, 1);
-  EXPECT_THAT(output, HasSubstr("the XML profile decides the transports: interfaces and "
-                                "udp_only are ignored"));
+  EXPECT_THAT(output, HasSubstr("the XML profile decides the transports: interfaces, "
+                                "udp_only and shared_memory are ignored"));
   EXPECT_THAT(output, HasSubstr("cannot create a DDS participant on domain " +
                                 std::to_string(test_domain()) +
                                 " (check the DDS Security credentials the XML profile names)"));

@@ -169,6 +169,37 @@ TEST(Config, SimulatorSettingsOnlyOnSimBuses) {
               HasSubstr("out of range (0-100)"));
 }
 
+// UDP alone unless shared memory is asked for (issue 23): the file's choice,
+// and the command line's over it.
+TEST(Config, SharedMemoryIsOffUnlessAskedForAndTheCommandLineDecides) {
+  EXPECT_FALSE(default_config().participant.shared_memory);
+  auto from_file =
+      parse_config("dds:\n  shared_memory: true\nbuses:\n  - spec: sim\n", "cell.yaml");
+  ASSERT_TRUE(from_file.ok()) << from_file.error().message;
+  EXPECT_TRUE(from_file->participant.shared_memory);
+
+  CommandLine udp;
+  udp.udp_only = true;
+  auto overridden = apply_command_line(*from_file, udp);
+  ASSERT_TRUE(overridden.ok()) << overridden.error().message;
+  EXPECT_FALSE(overridden->participant.shared_memory);
+  EXPECT_TRUE(overridden->participant.udp_only);
+
+  CommandLine shm;
+  shm.shared_memory = true;
+  auto asked = apply_command_line(default_config(), shm);
+  ASSERT_TRUE(asked.ok()) << asked.error().message;
+  EXPECT_TRUE(asked->participant.shared_memory);
+
+  CommandLine both;
+  both.udp_only = true;
+  both.shared_memory = true;
+  auto refused = apply_command_line(default_config(), both);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_THAT(refused.error().message,
+              AllOf(HasSubstr("--shared-memory"), HasSubstr("contradicts --udp-only")));
+}
+
 TEST(Config, CommandLineOverridesTheFile) {
   CommandLine line;
   line.name = "other";
@@ -288,6 +319,9 @@ TEST(Config, DdsDeploymentErrorsNameTheKeyAndTheLine) {
   EXPECT_THAT(parse_error("dds:\n  xml_profile_file: /nonexistent/dh3.xml\n"),
               AllOf(HasSubstr("cell.yaml:2:"), HasSubstr("dds.xml_profile_file"),
                     HasSubstr("/nonexistent/dh3.xml")));
+  EXPECT_THAT(parse_error("dds:\n  udp_only: true\n  shared_memory: true\n"),
+              AllOf(HasSubstr("cell.yaml:3:"), HasSubstr("dds.shared_memory"),
+                    HasSubstr("contradicts dds.udp_only")));
   EXPECT_THAT(parse_error("dds:\n  udp_only: true\n  xml_profile: dh3_udp\n"),
               AllOf(HasSubstr("cell.yaml:3:"), HasSubstr("needs dds.xml_profile_file")));
   EXPECT_THAT(

@@ -2,14 +2,23 @@
 // uses. Two participants made by it find each other on the contract's topics;
 // options it cannot honour are refused with a message saying which.
 
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
+#include <fastrtps/utils/IPLocator.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <condition_variable>
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
+#include <memory>
+#include <mutex>
+#include <set>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "dh3_participant_setup.hpp"
 #include "dh3_qos.hpp"
@@ -56,6 +65,128 @@ TEST(ParticipantSetup, TwoParticipantsFindEachOtherOnTheContractsTopics) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   EXPECT_EQ(matched.current_count, 1);
+}
+
+// The transports a participant announces: UDP alone unless shared memory is
+// asked for (dh3_participant.hpp: Fast DDS 2.9's shared-memory listener goes
+// deaf for good after a sender exits; issue 23).
+std::vector<std::string> transport_kinds(const ParticipantOptions& options) {
+  SetupReport report;
+  const auto qos = dh3::contract::make_participant_qos(options, report);
+  EXPECT_TRUE(qos.has_value()) << qos.error();
+  std::vector<std::string> kinds;
+  if (!qos) return kinds;
+  EXPECT_FALSE(qos->transport().use_builtin_transports);
+  for (const auto& transport : qos->transport().user_transports) {
+    if (std::dynamic_pointer_cast<eprosima::fastdds::rtps::UDPv4TransportDescriptor>(transport)) {
+      kinds.emplace_back("udp");
+    } else if (std::dynamic_pointer_cast<eprosima::fastdds::rtps::SharedMemTransportDescriptor>(
+                   transport)) {
+      kinds.emplace_back("shm");
+    } else {
+      kinds.emplace_back("other");
+    }
+  }
+  return kinds;
+}
+
+TEST(ParticipantSetup, TheDefaultTransportIsUdpAlone) {
+  EXPECT_THAT(transport_kinds(on_test_domain("setup")), ElementsAre("udp"));
+  ParticipantOptions udp_only = on_test_domain("setup");
+  udp_only.udp_only = true;
+  EXPECT_THAT(transport_kinds(udp_only), ElementsAre("udp"));
+}
+
+TEST(ParticipantSetup, SharedMemoryIsAddedOnlyWhenAskedFor) {
+  ParticipantOptions options = on_test_domain("setup");
+  options.shared_memory = true;
+  EXPECT_THAT(transport_kinds(options), ElementsAre("udp", "shm"));
+}
+
+TEST(ParticipantSetup, UdpOnlyAndSharedMemoryTogetherAreRefused) {
+  ParticipantOptions options = on_test_domain("setup");
+  options.udp_only = true;
+  options.shared_memory = true;
+  SetupReport report;
+  const auto participant = Participant::create(options, report);
+  ASSERT_FALSE(participant.has_value());
+  EXPECT_THAT(participant.error(), HasSubstr("udp_only and shared_memory contradict each other"));
+}
+
+TEST(ParticipantSetup, HearingServicesOnlyLeavesTheDiscoveryGroupButAnnouncesToIt) {
+  ParticipantOptions options = on_test_domain("setup");
+  options.hear_services_only = true;
+  SetupReport report;
+  const auto qos = dh3::contract::make_participant_qos(options, report);
+  ASSERT_TRUE(qos.has_value()) << qos.error();
+  const auto& builtin = qos->wire_protocol().builtin;
+  EXPECT_TRUE(builtin.metatrafficMulticastLocatorList.empty());
+  ASSERT_EQ(builtin.metatrafficUnicastLocatorList.size(), 1u);
+  ASSERT_EQ(builtin.initialPeersList.size(), 1u);
+  const auto& group = *builtin.initialPeersList.begin();
+  EXPECT_EQ(eprosima::fastrtps::rtps::IPLocator::toIPv4string(group), "239.255.0.1");
+  EXPECT_EQ(group.port, 7400u + 250u * static_cast<std::uint32_t>(options.domain));
+
+  // A discovery server or an XML profile decides discovery instead.
+  options.discovery_servers = {"127.0.0.1:11811"};
+  const auto with_server = dh3::contract::make_participant_qos(options, report);
+  ASSERT_TRUE(with_server.has_value()) << with_server.error();
+  EXPECT_TRUE(with_server->wire_protocol().builtin.initialPeersList.empty());
+}
+
+/// The names of the participants a participant discovered.
+class Discovered : public eprosima::fastdds::dds::DomainParticipantListener {
+ public:
+  void on_participant_discovery(
+      eprosima::fastdds::dds::DomainParticipant*,
+      eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
+    if (info.status != eprosima::fastrtps::rtps::ParticipantDiscoveryInfo::DISCOVERED_PARTICIPANT) {
+      return;
+    }
+    std::lock_guard lock(mutex_);
+    names_.insert(info.info.m_participantName.to_string());
+    changed_.notify_all();
+  }
+  bool wait_for(const std::string& name) {
+    std::unique_lock lock(mutex_);
+    return changed_.wait_for(lock, std::chrono::seconds(30),
+                             [&] { return names_.count(name) > 0; });
+  }
+  bool has(const std::string& name) {
+    std::lock_guard lock(mutex_);
+    return names_.count(name) > 0;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::set<std::string> names_;
+};
+
+// Two clients that hear services only both find the service and never each
+// other (issue 23: clients started together must not pay for each other).
+TEST(ParticipantSetup, ClientsThatHearServicesOnlyFindTheServiceButNotEachOther) {
+  SetupReport report;
+  Discovered at_service;
+  Discovered at_a;
+  Discovered at_b;
+  auto service = Participant::create(on_test_domain("hear-service"), report, &at_service);
+  ParticipantOptions a_options = on_test_domain("hear-a");
+  a_options.hear_services_only = true;
+  ParticipantOptions b_options = on_test_domain("hear-b");
+  b_options.hear_services_only = true;
+  auto a = Participant::create(a_options, report, &at_a);
+  auto b = Participant::create(b_options, report, &at_b);
+  ASSERT_TRUE(service.has_value() && a.has_value() && b.has_value());
+  EXPECT_TRUE(at_a.wait_for("hear-service"));
+  EXPECT_TRUE(at_b.wait_for("hear-service"));
+  EXPECT_TRUE(at_service.wait_for("hear-a"));
+  EXPECT_TRUE(at_service.wait_for("hear-b"));
+  // A negative needs a wait: two more announcement periods of each client,
+  // every one of which the service hears on the group.
+  std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+  EXPECT_FALSE(at_a.has("hear-b"));
+  EXPECT_FALSE(at_b.has("hear-a"));
 }
 
 TEST(ParticipantSetup, ADomainOutOfRangeIsRefused) {
@@ -128,8 +259,8 @@ TEST(ParticipantSetup, AWarningSurvivesALaterFailure) {
   ASSERT_FALSE(participant.has_value());
   EXPECT_THAT(participant.error(), HasSubstr("127.0.0.1:99999"));
   EXPECT_THAT(report.warnings,
-              ElementsAre(HasSubstr("the XML profile decides the transports: interfaces and "
-                                    "udp_only are ignored")));
+              ElementsAre(HasSubstr("the XML profile decides the transports: interfaces, "
+                                    "udp_only and shared_memory are ignored")));
 }
 
 }  // namespace

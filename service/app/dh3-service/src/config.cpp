@@ -259,8 +259,8 @@ class FileParser {
   void parse_dds(const YAML::Node& dds, ServiceConfig& config) const {
     expect_map(dds, "dds");
     check_keys(dds, "dds.",
-               {"interfaces", "udp_only", "discovery_servers", "xml_profile_file", "xml_profile",
-                "security"});
+               {"interfaces", "udp_only", "shared_memory", "discovery_servers", "xml_profile_file",
+                "xml_profile", "security"});
     if (auto list = dds["interfaces"]) {
       if (!list.IsSequence()) fail_at(list, "dds.interfaces", "expected a list of IPv4 addresses");
       for (std::size_t i = 0; i < list.size(); ++i) {
@@ -276,6 +276,12 @@ class FileParser {
       }
     }
     if (auto n = dds["udp_only"]) config.participant.udp_only = boolean(n, "dds.udp_only");
+    if (auto n = dds["shared_memory"]) {
+      config.participant.shared_memory = boolean(n, "dds.shared_memory");
+      if (config.participant.shared_memory && config.participant.udp_only) {
+        fail_at(n, "dds.shared_memory", "contradicts dds.udp_only: give one of them");
+      }
+    }
     if (auto list = dds["discovery_servers"]) {
       if (!list.IsSequence()) {
         fail_at(list, "dds.discovery_servers", "expected a list of HOST[:PORT] entries");
@@ -522,9 +528,15 @@ Applied apply_service_options(ServiceConfig& config, const CommandLine& line) {
   return {};
 }
 
-/// --udp-only, --interface, --discovery-server.
+/// --udp-only, --shared-memory, --interface, --discovery-server.
 Applied apply_transport_options(ServiceConfig& config, const CommandLine& line) {
-  if (line.udp_only) config.participant.udp_only = true;
+  if (line.udp_only && line.shared_memory) {
+    return option_error("--shared-memory", "contradicts --udp-only: give one of them");
+  }
+  if (line.udp_only || line.shared_memory) {
+    config.participant.udp_only = line.udp_only;
+    config.participant.shared_memory = line.shared_memory;
+  }
   if (!line.interfaces.empty()) {
     for (const auto& address : line.interfaces) {
       if (auto checked = check_interface(address); !checked)

@@ -80,7 +80,10 @@ dh3::Result<Invocation, EarlyExit> parse_command_line(int argc, char** argv) {
                  "IPv4 address of a network interface for DDS (repeatable), or * for all; "
                  "default loopback only")
       ->allow_extra_args(false);
-  cli.add_flag("--udp-only", line.udp_only, "no shared-memory transport, UDP only");
+  cli.add_flag("--udp-only", line.udp_only, "UDP only, no shared memory (the default)");
+  cli.add_flag("--shared-memory", line.shared_memory,
+               "also Fast DDS's shared-memory transport on this host (needs Fast DDS 2.12.1 or "
+               "later: 2.9's listener can go deaf after a peer exits)");
   cli.add_option("--discovery-server", line.discovery_servers,
                  "a Fast DDS discovery server as HOST[:PORT] (repeatable; the n-th is the "
                  "server with id n; replaces the file's); default: ROS_DISCOVERY_SERVER if set")

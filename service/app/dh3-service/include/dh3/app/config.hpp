@@ -11,7 +11,8 @@
 //   metrics: 127.0.0.1:9464    # Prometheus /metrics on HOST:PORT (port 0: any); default off
 //   dds:
 //     interfaces: [127.0.0.1]  # IPv4 addresses of the NICs, or ["*"]; default loopback only
-//     udp_only: false          # no shared memory (containers, namespaces)
+//     udp_only: true           # the default: UDP only (kept for older files)
+//     shared_memory: false     # also Fast DDS shared memory (needs Fast DDS >= 2.12.1)
 //     discovery_servers: [10.0.0.2:11811]  # HOST[:PORT]; n-th is `fastdds discovery -i n`
 //     xml_profile_file: /etc/dh3/fastdds.xml  # participant QoS from a Fast DDS XML file
 //     xml_profile: dh3_udp     # the participant profile in it (default: its default)
@@ -100,7 +101,7 @@ inline contract::ParticipantOptions service_participant() {
 struct ServiceConfig {
   std::string name = "dh3";
   /// `domain` and the `dds` keys: domain, interfaces (empty: loopback only),
-  /// udp_only, discovery servers (empty: ROS_DISCOVERY_SERVER if set, else
+  /// udp_only or shared_memory, discovery servers (empty: ROS_DISCOVERY_SERVER if set, else
   /// multicast discovery), XML profile (empty: the project's participant
   /// QoS), DDS Security (empty directory: none; identity "service").
   contract::ParticipantOptions participant = service_participant();
@@ -135,8 +136,9 @@ struct CommandLine {
   std::optional<int> domain;
   std::optional<std::string> log_level;
   bool allow_admin = false;
-  std::vector<std::string> interfaces;  ///< replace the file's when given
-  bool udp_only = false;
+  std::vector<std::string> interfaces;         ///< replace the file's when given
+  bool udp_only = false;                       ///< overrides the file's shared_memory
+  bool shared_memory = false;                  ///< overrides the file's udp_only
   std::vector<std::string> discovery_servers;  ///< replace the file's when given
   std::optional<std::string> xml_profile_file;
   std::optional<std::string> xml_profile;
