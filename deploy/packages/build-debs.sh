@@ -11,10 +11,13 @@
 #   libdh3client-dev  headers, the CMake package dh3client, example programs
 #   python3-dh3       the Python module dh3
 #
-# BUILD_DIR (default: build) is configured by CMake as the packages want it
-# (tests/run-all.sh's tree is: Release); the programs are built there if they
-# are not up to date, and nothing is compiled again for the packages: the
-# debian/ folder beside this script installs the tree with `cmake --install`.
+# BUILD_DIR (default: build) is the CMake tree the packages are made from
+# (tests/run-all.sh's is Release); one that does not exist yet is configured
+# as Release without the tests (build dependencies from
+# deploy/install-deps.sh --build). The
+# programs are built there if they are not up to date, and nothing is
+# compiled again for the packages: the debian/ folder beside this script
+# installs the tree with `cmake --install`.
 # The version is the project's (CMake's project VERSION, read from the tree)
 # followed by SUFFIX (e.g. +1: a higher version of the same tree, to try an
 # upgrade). The packages go to DIR (default: BUILD_DIR/debs); earlier dh3
@@ -30,17 +33,21 @@ while (($#)); do
   case $1 in
     --version-suffix) suffix=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
-    -h | --help) sed -n '2,24s/^# \{0,1\}//p' "$0"; exit 0 ;;
+    -h | --help) sed -n '2,26s/^# \{0,1\}//p' "$0"; exit 0 ;;
     -*) echo "build-debs: unknown option $1" >&2; exit 2 ;;
     *) [[ -z $build ]] || { echo "build-debs: one BUILD_DIR only" >&2; exit 2; }; build=$1; shift ;;
   esac
 done
-build=$(cd "${build:-build}" 2>/dev/null && pwd -P) || { echo "build-debs: no build tree ${build:-build}" >&2; exit 1; }
-out=${out:-$build/debs}
+build=${build:-build}
 say() { echo "build-debs: $*"; }
-
+if [[ ! -f $build/CMakeCache.txt ]]; then
+  say "configuring $build (Release)"
+  "$src/deploy/install-deps.sh" --build
+  cmake -S "$src" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DDH3_BUILD_TESTS=OFF >/dev/null
+fi
+build=$(cd "$build" && pwd -P)
+out=${out:-$build/debs}
 cache=$build/CMakeCache.txt
-[[ -f $cache ]] || { echo "build-debs: $build is not a CMake build tree (no CMakeCache.txt)" >&2; exit 1; }
 cached() { sed -n "s/^$1:[A-Z]*=//p" "$cache"; }
 version=$(cached CMAKE_PROJECT_VERSION)$suffix
 [[ $version =~ ^[0-9][A-Za-z0-9.+~]*$ ]] || { echo "build-debs: '$version' is not a native Debian version" >&2; exit 1; }
@@ -51,7 +58,7 @@ say "dh3 $version from $build ($(cached CMAKE_BUILD_TYPE) build)"
 # What the packages install, built if it is not up to date (a no-op after the
 # test command's build).
 cmake --build "$build" -j "${JOBS:-2}" --target dh3-service dh3-sim dh3ctl dh3client pick_loop \
-  event_watcher dh3_python >/dev/null
+  event_watcher dh3_python
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
