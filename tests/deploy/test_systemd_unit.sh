@@ -3,8 +3,8 @@
 # warning, keeps its hardening (`systemd-analyze security` exposure), has what
 # the issue asks for, and dh3-service serves requests under its
 # RestrictAddressFamilies= (emulated with seccomp by restrict_af, as systemd
-# does it: other families fail with EAFNOSUPPORT). Not run here: the unit
-# under a real systemd (no systemd as PID 1 on the build machines).
+# does it: other families fail with EAFNOSUPPORT). The unit under a real
+# systemd, as the Debian package installs it: tests/package/test_install.sh.
 #
 #   test_systemd_unit.sh SOURCE_DIR DH3_SERVICE DH3CTL RESTRICT_AF
 set -uo pipefail
