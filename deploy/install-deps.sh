@@ -8,6 +8,8 @@
 #   deploy/install-deps.sh --build    only what building the programs needs (the
 #                                     demo, the container image's build stage)
 #   deploy/install-deps.sh --runtime  only what the service and dh3ctl need to run
+#   deploy/install-deps.sh --packaging  only what deploy/packages/build-debs.sh needs
+#                                     to make the Debian packages from a built tree
 set -euo pipefail
 
 # libprometheus-cpp-*: dh3-service's Prometheus endpoint (--metrics).
@@ -22,6 +24,10 @@ build_pkgs=(
   prometheus-cpp-dev
   pybind11-dev python3-dev   # the Python module dh3 (client/python); skipped when missing
 )
+# deploy/packages/build-debs.sh (and so the package test): debhelper packs
+# the built tree, dh-python computes python3-dh3's dependencies, help2man
+# makes the man pages from --help, lintian checks the packages.
+packaging_pkgs=(debhelper dh-python help2man lintian)
 test_pkgs=(
   libgtest-dev libgmock-dev
   clang libclang-rt-14-dev   # libFuzzer targets (tests/fuzz)
@@ -38,8 +44,9 @@ test_pkgs=(
 case ${1:-} in
   --runtime) want=("${runtime_pkgs[@]}") ;;
   --build) want=("${build_pkgs[@]}") ;;
-  "") want=("${build_pkgs[@]}" "${test_pkgs[@]}") ;;
-  *) echo "usage: $0 [--build|--runtime]" >&2; exit 2 ;;
+  --packaging) want=("${packaging_pkgs[@]}") ;;
+  "") want=("${build_pkgs[@]}" "${test_pkgs[@]}" "${packaging_pkgs[@]}") ;;
+  *) echo "usage: $0 [--build|--runtime|--packaging]" >&2; exit 2 ;;
 esac
 
 missing=()

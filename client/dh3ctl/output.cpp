@@ -271,7 +271,9 @@ std::string status_line(const HandStatus& s) {
 std::string event_line(const HandEvent& e) {
   std::string out = e.hand.to_string();
   if (!e.name.empty()) out += " (" + e.name + ")";
-  out += " " + std::string(to_string(e.kind));
+  // Appended, not "literal" + std::string: GCC 12 warns falsely about that at -O3
+  // (-Wrestrict inside libstdc++'s string insert, GCC bugs 105329, 105651).
+  out.append(" ").append(to_string(e.kind));
   out += " position " + std::to_string(e.position) + " target " + std::to_string(e.target) +
          " value " + std::to_string(e.value);
   if (!e.message.empty()) out += ": " + e.message;
@@ -289,7 +291,9 @@ std::string service_line(const ServiceInfo& info) {
            (bus.link_up ? "up" : "down") + ", hands";
     if (bus.hands.empty()) out += " none";
     for (const auto& hand : bus.hands) {
-      out += " " + std::to_string(hand.can_id);
+      // Appended, not "literal" + std::string: GCC 12 warns falsely about that at -O3
+      // (-Wrestrict inside libstdc++'s string insert, GCC bugs 105329, 105651).
+      out.append(" ").append(std::to_string(hand.can_id));
       if (!hand.name.empty()) out += "(" + hand.name + ")";
     }
   }

@@ -2,7 +2,7 @@
 # Builds the dh3 container image with podman on a Debian 12 machine, from
 # Debian's packages alone (no image registry needed):
 #
-#   deploy/container/build-image.sh [--tag NAME] [--remake-base]
+#   deploy/container/build-image.sh [--tag NAME] [--remake-base] [--base-only]
 #
 # 1. installs podman and what it needs here (runc, uidmap, slirp4netns,
 #    fuse-overlayfs), mmdebstrap, and docker-compose (for the Compose file);
@@ -12,7 +12,8 @@
 #    them already (--remake-base makes them again);
 # 3. builds deploy/container/Dockerfile as NAME (default dh3:latest) in
 #    Docker's image format: the OCI format has no HEALTHCHECK and podman would
-#    drop it.
+#    drop it. --base-only stops after step 2: the package test
+#    (tests/package) builds its systemd image on the same base.
 #
 # Podman runs with deploy/container/containers.conf (CONTAINERS_CONF; set it
 # yourself to use another). Runs as root (re-runs itself through sudo).
@@ -21,11 +22,13 @@ here=$(cd "$(dirname "$0")" && pwd -P)
 src=$(cd "$here/../.." && pwd -P)
 tag=dh3:latest
 remake_base=0
+base_only=0
 while (($#)); do
   case $1 in
     --tag) tag=$2; shift 2 ;;
     --remake-base) remake_base=1; shift ;;
-    -h | --help) sed -n '2,20s/^# \{0,1\}//p' "$0"; exit 0 ;;
+    --base-only) base_only=1; shift ;;
+    -h | --help) sed -n '2,22s/^# \{0,1\}//p' "$0"; exit 0 ;;
     *) echo "build-image: unknown argument $1" >&2; exit 2 ;;
   esac
 done
@@ -133,6 +136,8 @@ if ((${#missing_tags[@]})); then
   done
   rm -rf "$work"
 fi
+
+((base_only)) && exit 0
 
 # 3. The image. --network=host: the build's apt reaches the archive as this
 # machine does.

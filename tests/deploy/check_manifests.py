@@ -67,11 +67,13 @@ def main():
     configs = {}  # label -> YAML text of a dh3-service config
     programs = set()  # programs the image must provide
 
-    for path in sorted(os.listdir(os.path.join(deploy, "config"))):
-        if path.endswith(".yaml"):
-            full = os.path.join(deploy, "config", path)
-            with open(full, encoding="utf-8") as f:
-                configs[full] = f.read()
+    # deploy/packages/dh3.yaml: the Debian package's /etc/dh3/dh3.yaml.
+    for folder in ("config", "packages"):
+        for path in sorted(os.listdir(os.path.join(deploy, folder))):
+            if path.endswith(".yaml"):
+                full = os.path.join(deploy, folder, path)
+                with open(full, encoding="utf-8") as f:
+                    configs[full] = f.read()
 
     dockerfile_uid = check_dockerfile(src, programs)
     check_compose(src, docs, configs, programs)

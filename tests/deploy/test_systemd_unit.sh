@@ -1,15 +1,15 @@
 #!/usr/bin/env bash
-# deploy/systemd/dh3-service.service: passes `systemd-analyze verify` with no
+# deploy/systemd/dh3.service: passes `systemd-analyze verify` with no
 # warning, keeps its hardening (`systemd-analyze security` exposure), has what
 # the issue asks for, and dh3-service serves requests under its
 # RestrictAddressFamilies= (emulated with seccomp by restrict_af, as systemd
-# does it: other families fail with EAFNOSUPPORT). Not run here: the unit
-# under a real systemd (no systemd as PID 1 on the build machines).
+# does it: other families fail with EAFNOSUPPORT). The unit under a real
+# systemd, as the Debian package installs it: tests/package/test_install.sh.
 #
 #   test_systemd_unit.sh SOURCE_DIR DH3_SERVICE DH3CTL RESTRICT_AF
 set -uo pipefail
 src=$1 service_bin=$(realpath "$2") ctl_bin=$3 restrict=$4
-unit=$src/deploy/systemd/dh3-service.service
+unit=$src/deploy/systemd/dh3.service
 work=$(mktemp -d)
 service_pid=
 cleanup() {
@@ -22,10 +22,10 @@ fail() { echo "FAILED: $*"; failures=$((failures + 1)); }
 ok() { echo "ok: $*"; }
 
 # verify checks that ExecStart's program exists: point it at the built one.
-sed "s|^ExecStart=/usr/local/bin/dh3-service |ExecStart=$service_bin |" "$unit" >"$work/dh3-service.service"
-grep -q "^ExecStart=$service_bin " "$work/dh3-service.service" ||
+sed "s|^ExecStart=/usr/local/bin/dh3-service |ExecStart=$service_bin |" "$unit" >"$work/dh3.service"
+grep -q "^ExecStart=$service_bin " "$work/dh3.service" ||
   fail "ExecStart does not start /usr/local/bin/dh3-service"
-if systemd-analyze verify "$work/dh3-service.service" >"$work/verify" 2>&1 && [[ ! -s $work/verify ]]; then
+if systemd-analyze verify "$work/dh3.service" >"$work/verify" 2>&1 && [[ ! -s $work/verify ]]; then
   ok "systemd-analyze verify: no errors, no warnings"
 else
   fail "systemd-analyze verify:"
@@ -33,7 +33,7 @@ else
 fi
 
 # Exposure 0 (fully locked down) to 10; keep it at or below 2.5.
-if systemd-analyze security --offline=yes --threshold=25 "$work/dh3-service.service" >"$work/security" 2>&1; then
+if systemd-analyze security --offline=yes --threshold=25 "$work/dh3.service" >"$work/security" 2>&1; then
   ok "systemd-analyze security: $(grep -o 'Overall exposure level.*' "$work/security")"
 else
   fail "systemd-analyze security: exposure above 2.5: $(grep -o 'Overall exposure level.*' "$work/security")"

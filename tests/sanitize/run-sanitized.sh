@@ -72,7 +72,7 @@ case $mode in
 esac
 
 echo "== $sanitize: configure and build in $build"
-cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDH3_SANITIZE="$sanitize" \
+cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDH3_WERROR=ON -DDH3_SANITIZE="$sanitize" \
   -DDH3_BUILD_PYTHON=OFF >/dev/null
 cmake --build "$build" -j "$jobs" --target "${targets[@]}"
 echo "== $sanitize: tests"

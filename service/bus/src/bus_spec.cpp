@@ -90,7 +90,10 @@ Result<BusSpec, std::string> parse_socketcan(std::string_view text, std::string_
     return c == '/' || c == ':' || c == ' ' || c == '\t' || c == '\n' || c == '\0';
   });
   if (!valid_chars || rest == "." || rest == "..") {
-    return dh3::fail(bad(text, "'" + std::string(rest) + "' is not a valid interface name"));
+    // Appended, not "literal" + std::string: GCC 12 warns falsely about that at -O3
+    // (-Wrestrict inside libstdc++'s string insert, GCC bugs 105329, 105651).
+    return dh3::fail(
+        bad(text, std::string("'").append(rest).append("' is not a valid interface name")));
   }
   BusSpec spec;
   spec.kind = BusKind::socketcan;
@@ -193,7 +196,9 @@ Result<BusSpec, std::string> parse_bus_spec(std::string_view text) {
   const std::string_view rest = has_colon ? text.substr(colon + 1) : std::string_view();
   if (scheme == "sim") return parse_sim(text, rest, has_colon);
   if (!has_colon && (scheme == "socketcan" || scheme == "tcp" || scheme == "serial")) {
-    return dh3::fail(bad(text, "'" + std::string(scheme) + "' needs an argument (" +
+    // Appended, not "literal" + std::string: GCC 12 warns falsely about that at -O3
+    // (-Wrestrict inside libstdc++'s string insert, GCC bugs 105329, 105651).
+    return dh3::fail(bad(text, std::string("'").append(scheme).append("' needs an argument (") +
                                    std::string(kExpectedAny) + ")"));
   }
   if (scheme == "socketcan") return parse_socketcan(text, rest);

@@ -271,7 +271,9 @@ std::string SimHost::execute(std::string_view command, SimTransport& transport) 
   }
   if (verb == "hands" && words.size() == 1) {
     std::string answer = "ok hands";
-    for (const std::uint8_t id : hands_.ids()) answer += " " + std::to_string(id);
+    // Appended, not "literal" + std::string: GCC 12 warns falsely about that at -O3
+    // (-Wrestrict inside libstdc++'s string insert, GCC bugs 105329, 105651).
+    for (const std::uint8_t id : hands_.ids()) answer.append(" ").append(std::to_string(id));
     return answer;
   }
   if (verb == "violations" && words.size() == 1) {
