@@ -13,7 +13,8 @@ commander: drives its own hand. Ready once its service is ready and the hand
   is known ({"ev": "ready"}). Commands nothing until SIGUSR1; then cycles
   initialize, move 50, grasp 40, release 100 and --reads register reads, one
   line per command ({"ev": "cmd", "cmd", "code", "ms"}), until SIGUSR2 (ends
-  the cycle, then {"ev": "stopped"}); SIGUSR1 starts it again. A failed
+  the cycle, then {"ev": "stopped"} with its command traffic so far);
+  SIGUSR1 starts it again. A failed
   command is recorded and the cycle goes on after a short pause, so a
   commander outlives a service that leaves and comes back.
 watcher: follows every status and event it receives and counts them, by its
@@ -22,9 +23,10 @@ watcher: follows every status and event it receives and counts them, by its
   hand of its cell between online and offline (by status and by event);
   SIGUSR1 writes the counts so far and each hand's online flag and read_at_ns
   ({"ev": "mark"}).
-oneshot: a client started with many others (the start-up storm): ready as a
-  commander, then one cycle; {"ev": "done", "ok": bool}; exit 0 only if every
-  command answered OK.
+oneshot: a client that joins a running plant, or starts with many others:
+  ready as a commander, then one cycle, then --linger seconds; {"ev": "done",
+  "ok": bool, and what reached it for its commands (own and other clients'
+  replies)}; exit 0 only if every command answered OK.
 SIGTERM (any role): {"ev": "exit"} and exit 0.
 """
 
@@ -95,6 +97,14 @@ def one_cycle(hand: dh3.Hand, reads: int) -> bool:
     return True
 
 
+def traffic(client: dh3.Client) -> dict:
+    """What reached this client for its commands: its own replies, and other
+    clients' replies that DDS delivered to it anyway."""
+    t = client.command_traffic()
+    return {"requests": t.requests_written, "own_replies": t.own_replies,
+            "foreign_replies": t.foreign_replies}
+
+
 def commander(args) -> int:
     commanding = threading.Event()
     stopping = threading.Event()
@@ -118,7 +128,7 @@ def commander(args) -> int:
             else:
                 time.sleep(0.2)  # a service away: try again, do not spin
         commanding.clear()
-        emit({"ev": "stopped", "cycles": cycles})
+        emit({"ev": "stopped", "cycles": cycles, **traffic(client)})
 
 
 def oneshot(args) -> int:
@@ -129,7 +139,10 @@ def oneshot(args) -> int:
         return 1
     emit({"ev": "ready"})
     ok = one_cycle(hand, args.reads)
-    emit({"ev": "done", "ok": ok})
+    # Replies kept for earlier clients (TRANSIENT_LOCAL) come as it joins;
+    # give them a moment to arrive before counting.
+    time.sleep(args.linger)
+    emit({"ev": "done", "ok": ok, **traffic(client)})
     return 0 if ok else 1
 
 
@@ -192,6 +205,8 @@ def main() -> int:
     parser.add_argument("--hands", type=int, default=8,
                         help="watcher: hands in its cell (ready once all are seen)")
     parser.add_argument("--reads", type=int, default=5, help="register reads per cycle")
+    parser.add_argument("--linger", type=float, default=0.0,
+                        help="oneshot: seconds to stay after its cycle before counting its traffic")
     parser.add_argument("-d", "--domain", type=int, default=0)
     parser.add_argument("-i", "--interface", action="append", default=[])
     parser.add_argument("--udp-only", action="store_true")

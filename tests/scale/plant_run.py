@@ -197,7 +197,29 @@ def run_one(bins, args, services, discovery):
         cmd["commands"] = command_stats(commanders, c0["t"], d["t"])
         cmd["load"] = plantlib.loadavg()
         result["commanding"] = cmd
-        result["exited_early"] = [p.name for p in plant.procs if not p.alive()]
+        for c in commanders:
+            plant_wait = time.time() + 60
+            while time.time() < plant_wait and not c.first("stopped"):
+                time.sleep(0.1)
+        stopped = [c.first("stopped") or {} for c in commanders]
+        result["commander_traffic"] = {
+            k: sum(r.get(k, 0) for r in stopped) for k in ("requests", "own_replies", "foreign_replies")}
+
+        # A client that joins the busy plant: how long until it is ready, and
+        # how many replies to other clients it is sent as it joins.
+        joiner = plant.start_oneshot("c01", f"{plant.cell(1)}/bus0/2", "late-joiner", linger=3.0)
+        end = time.time() + args.ready_deadline
+        while time.time() < end and joiner.popen.poll() is None:
+            time.sleep(0.2)
+        done, ready_rec = joiner.first("done") or {}, joiner.first("ready")
+        result["late_joiner"] = {
+            "ready_s": round(ready_rec["t"] - joiner.launched, 2) if ready_rec else None,
+            "ok": bool(done.get("ok")), "own_replies": done.get("own_replies"),
+            "foreign_replies": done.get("foreign_replies")}
+        log(f"   late joiner: ready in {result['late_joiner']['ready_s']} s, "
+            f"{done.get('foreign_replies')} replies to other clients reached it")
+        result["exited_early"] = [p.name for p in plant.procs
+                                  if not p.alive() and p is not joiner]
     result["load_after"] = plantlib.loadavg()
     return result
 
@@ -261,6 +283,14 @@ def print_tables(results):
             f"{wr.get('status_all', '-'):>18} {wr.get('status_cell', '-'):>5} {hr:>7.1f}   "
             f"{wc.get('status_all', '-'):>17} {wc.get('status_cell', '-'):>5} "
             f"{wc.get('events_all', '-'):>8} {hc:>7.1f}")
+    log("\nA client joining after the commanding (one cycle of cell01's hand 2), and the commanders")
+    log(f"{'setup':8} {'S x H':>7}  {'ready s':>7} {'ok':>3} {'replies to others sent to it':>28}   "
+        f"{'commanders: requests':>20} {'own replies':>11} {'others':>6}")
+    for r in results:
+        j, t = r["late_joiner"], r["commander_traffic"]
+        log(f"{r['discovery']:8} {r['services']:>3} x {r['hands']:<2}  {j['ready_s'] or '-':>7} "
+            f"{'yes' if j['ok'] else 'NO':>3} {j['foreign_replies'] if j['foreign_replies'] is not None else '-':>28}   "
+            f"{t['requests']:>20} {t['own_replies']:>11} {t['foreign_replies']:>6}")
 
 
 def main():
@@ -347,6 +377,8 @@ def check(results):
         if cmds["commands"] == 0 or cmds["failed"]:
             problems.append(f"{what}: {cmds['commands']} commands, {cmds['failed']} failed "
                             f"{cmds['codes']}")
+        if not r["late_joiner"]["ok"]:
+            problems.append(f"{what}: the late joiner failed")
         if r["exited_early"]:
             problems.append(f"{what}: ended early: {', '.join(r['exited_early'])}")
     return problems

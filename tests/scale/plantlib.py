@@ -463,8 +463,9 @@ class Plant:
         return self.start_python("commander", host, name or f"cmd-{hand_spec.replace('/', '-')}",
                                  "--hand", hand_spec, "--reads", reads)
 
-    def start_oneshot(self, host, hand_spec, name, reads=2):
-        return self.start_python("oneshot", host, name, "--hand", hand_spec, "--reads", reads)
+    def start_oneshot(self, host, hand_spec, name, reads=2, linger=0.0):
+        return self.start_python("oneshot", host, name, "--hand", hand_spec, "--reads", reads,
+                                 "--linger", linger)
 
     def start_watcher(self, host, cell, name=None):
         """A Python watcher of one cell, or of the whole plant (cell "all")."""
