@@ -43,7 +43,7 @@ def log(*args):
 
 
 def snapshot(plant):
-    return {"t": time.time(),
+    return {"t": time.time(), "machine": plantlib.machine_cpu(),
             "procs": {p.name: p.stat() for p in plant.procs},
             "net": plant.read_counters()}
 
@@ -81,8 +81,14 @@ def phase_costs(plant, a, b):
     hosts = {p: {"rx_Bps": rate(nb["ports"][p]["tx"] - na["ports"][p]["tx"]),
                  "tx_Bps": rate(nb["ports"][p]["rx"] - na["ports"][p]["rx"])} for p in ports}
     cpu_total = sum(v["cpu_pct"] for v in per_proc.values())
+    # What the machine did meanwhile, in % of one core: the plant's processes
+    # and everybody else's (the other engineers' builds on this machine).
+    busy = (b["machine"][0] - a["machine"][0]) / dt * 100.0
+    steal = (b["machine"][1] - a["machine"][1]) / dt * 100.0
+    machine = {"busy_pct": round(busy, 1), "others_pct": round(max(0.0, busy - cpu_total), 1),
+               "steal_pct": round(steal, 1), "cores": os.cpu_count()}
     return {"seconds": round(dt, 2), "by_kind": by_kind, "net": net, "hosts": hosts,
-            "cpu_pct_total": round(cpu_total, 2), "procs": per_proc}
+            "cpu_pct_total": round(cpu_total, 2), "machine": machine, "procs": per_proc}
 
 
 def watcher_rates(ma, mb, dt):
@@ -127,6 +133,7 @@ def run_one(bins, args, services, discovery):
         time.sleep(args.settle)
 
         # Every client at once.
+        at_start = snapshot(plant)
         t_start = time.time()
         clients, commanders, watchers = [], [], []
         measured = plant.start_watcher("c00", plant.cell(1), name="watch-cell01-measured")
@@ -155,6 +162,7 @@ def run_one(bins, args, services, discovery):
             if all(plant.ready_time(c) for c in clients):
                 break
             time.sleep(0.2)
+        startup = phase_costs(plant, at_start, snapshot(plant))
         ready = {c.name: plant.ready_time(c) for c in clients}
         latencies = [t - t_start for t in ready.values() if t]
         by_kind = {}
@@ -166,7 +174,8 @@ def run_one(bins, args, services, discovery):
             "max_s": round(max(latencies), 2) if latencies else None,
             "not_ready": [name for name, t in ready.items() if not t],
             "by_kind_max_s": {k: round(max(v), 2) for k, v in by_kind.items()},
-            "load": plantlib.loadavg()}
+            "load": plantlib.loadavg(), "machine": startup["machine"],
+            "plant_cpu_pct": startup["cpu_pct_total"]}
         log(f"   ready: p50 {result['ready']['p50_s']} s, max {result['ready']['max_s']} s, "
             f"not ready {len(result['ready']['not_ready'])}")
         time.sleep(args.settle)
@@ -230,16 +239,18 @@ def mib(kib):
 
 def print_tables(results):
     log("\nStart-up (clients started together once every service was up)")
-    log(f"{'setup':8} {'S x H':>7} {'clients':>7} {'ready p50':>9} {'max':>7} {'not ready':>9}  load")
+    log(f"{'setup':8} {'S x H':>7} {'clients':>7} {'ready p50':>9} {'max':>7} {'not ready':>9}  "
+        f"load  others' CPU %")
     for r in results:
         rd = r["ready"]
         log(f"{r['discovery']:8} {r['services']:>3} x {r['hands']:<2} {r['clients']:>7} "
             f"{rd['p50_s'] if rd['p50_s'] is not None else '-':>8}s {rd['max_s'] or '-':>6}s "
-            f"{len(rd['not_ready']):>9}  {r['load_before'][0]:.1f}")
+            f"{len(rd['not_ready']):>9}  {r['load_before'][0]:>4.1f}  {rd['machine']['others_pct']:>6.1f}")
     for phase, title in (("rest", "At rest"), ("commanding", "Commanding")):
-        log(f"\n{title}: CPU % of one core per process (mean / max) and RSS MiB (mean)")
+        log(f"\n{title}: CPU % of one core per process (mean / max) and RSS MiB (mean); the "
+            f"plant's processes together, and the machine's other processes meanwhile")
         log(f"{'setup':8} {'S x H':>7}  {'service':>14} {'commander py':>14} {'cell watch py':>14} "
-            f"{'plant watch py':>14} {'ctl events':>10} {'disc srv':>10} {'all procs':>9}")
+            f"{'plant watch py':>14} {'ctl events':>10} {'disc srv':>10} {'all procs':>9} {'others':>6}")
         for r in results:
             k = r[phase]["by_kind"]
 
@@ -253,7 +264,7 @@ def print_tables(results):
             log(f"{r['discovery']:8} {r['services']:>3} x {r['hands']:<2}  {cell('service')} "
                 f"{cell('py-commander')} {cell('py-watcher')} {cell('py-plantwatcher')} "
                 f"{cell('ctl-events', 10)} {cell('discovery-server', 10)} "
-                f"{r[phase]['cpu_pct_total']:>9.1f}")
+                f"{r[phase]['cpu_pct_total']:>9.1f} {r[phase]['machine']['others_pct']:>6.1f}")
             if "ctl-status" in k:
                 log(f"{'':18}dh3ctl status --watch: {k['ctl-status']['cpu_pct_mean']:.1f} % "
                     f"{mib(k['ctl-status']['rss_kib_mean'])} MiB")

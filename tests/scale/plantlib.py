@@ -100,6 +100,16 @@ def percentile(values, fraction):
     return ordered[index]
 
 
+def machine_cpu():
+    """(busy, steal, total) CPU seconds of the whole machine from /proc/stat:
+    what every process used, the plant's and everybody else's."""
+    with open("/proc/stat") as f:
+        fields = [int(x) for x in f.readline().split()[1:]]
+    user, nice, system, idle, iowait, irq, softirq, steal = fields[:8]
+    busy = user + nice + system + irq + softirq
+    return (busy / CLK_TCK, steal / CLK_TCK, (busy + idle + iowait + steal) / CLK_TCK)
+
+
 def loadavg():
     with open("/proc/loadavg") as f:
         return [float(x) for x in f.read().split()[:3]]
