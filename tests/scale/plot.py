@@ -100,6 +100,11 @@ def main():
         ax.set_xticks(sizes)
         ax.xaxis.set_major_formatter(matplotlib.ticker.FuncFormatter(lambda v, _: f"{v:g}"))
         ax.xaxis.set_minor_locator(matplotlib.ticker.NullLocator())
+        if name == "total_cpu":
+            cores = max(get(r, ("rest", "machine", "cores")) or 0 for r in runs.values())
+            if cores:
+                ax.axhline(100 * cores, color="grey", linewidth=1,
+                           label=f"the whole machine ({cores} cores)")
         if logy:
             ax.set_yscale("log")
         else:
