@@ -268,9 +268,6 @@ def link_down(plant):
     plant.set_link("s01", True)
     t_up = time.time()
     say("and back")
-    cmd = scene.commanders[1]
-    done = wait_until(f"{cmd.name} completes a cycle after the link came back",
-                      lambda: full_cycle_after(cmd, t_up))
     py_watchers = [w for w in scene.watchers if not isinstance(w, CtlWatcher)]
 
     def fresh():
@@ -282,7 +279,12 @@ def link_down(plant):
                 if m["read_at"].get(hand, 0) <= t_up * 1e9 or not m["online"].get(hand):
                     return None
         return True
-    wait_until("every watcher with fresh statuses of cell01's hands, all online", fresh, step=1.0)
+    wait_until("every watcher with fresh statuses of cell01's hands, all online", fresh, step=0.5)
+    say(f"every status watcher has statuses of all {len(hands)} hands read after the link came "
+        f"back, all online, {time.time() - t_up:.1f} s after it (checked every 0.5 s)")
+    cmd = scene.commanders[1]
+    done = wait_until(f"{cmd.name} completes a cycle after the link came back",
+                      lambda: full_cycle_after(cmd, t_up))
     during = commands(cmd, since=t_down, until=t_up + 1.0)
     slowest = max((r["ms"] for r in during), default=0) / 1000.0
     offline = {w.name: len(seen(w, hands, "offline", t_down)) for w in scene.watchers}
