@@ -190,9 +190,9 @@ def watcher(args) -> int:
     client = make_client(args)
     signal.signal(signal.SIGUSR1, mark)
     subscriptions = [client.subscribe_status(on_status), client.subscribe(on_event)]
-    while True:
+    while subscriptions:  # they end with the process (SIGTERM)
         signal.pause()
-    del subscriptions
+    return 0
 
 
 def main() -> int:

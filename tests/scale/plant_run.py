@@ -135,7 +135,7 @@ def run_one(bins, args, services, discovery):
         # Every client at once.
         at_start = snapshot(plant)
         t_start = time.time()
-        clients, commanders, watchers = [], [], []
+        commanders, watchers = [], []
         measured = plant.start_watcher("c00", plant.cell(1), name="watch-cell01-measured")
         watchers.append(measured)
         host_cycle = [f"c{i:02d}" for i in range(1, client_hosts + 1)]

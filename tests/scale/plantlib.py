@@ -245,6 +245,7 @@ class Plant:
                  domain=0, workdir=None, tag=None, objects=True, log=print):
         if discovery not in ("simple", "server"):
             raise ValueError(discovery)
+        require_root()
         if discovery == "server" and not bins.get("discovery-server"):
             raise Skip("fast-discovery-server (package fastdds-tools) is not installed")
         self.bins, self.services, self.hands = bins, services, hands
@@ -271,7 +272,7 @@ class Plant:
     def ds_addresses(self):
         return [f"169.254.3.{k + 1}" for k in range(2)] if self.discovery == "server" else []
 
-    def dds_args(self, host, style="cli"):
+    def dds_args(self, host):
         """The DDS options every participant of the plant gets on `host`."""
         args = ["--domain", str(self.domain), "--interface", self.hosts[host], "--udp-only"]
         for addr in self.ds_addresses():
@@ -291,7 +292,6 @@ class Plant:
         self.teardown()
 
     def build_network(self):
-        require_root()
         result = subprocess.run(["ip", "netns", "add", self.bridge], capture_output=True, text=True)
         if result.returncode != 0:
             raise Skip(f"ip netns add failed: {result.stderr.strip()}")
