@@ -44,7 +44,17 @@ cleanup() {
   done
 }
 trap cleanup EXIT
-trap 'exit 130' INT
-trap 'exit 143' TERM
-
-/usr/bin/python3 "$here/plant_run.py" --build "$build" "${args[@]}"
+# The runner in the background, so that a signal reaches this script at once
+# (bash runs traps only after a foreground child ends) and is passed on as
+# SIGTERM, on which the runner stops its processes and deletes its
+# namespaces (a background job of a script ignores SIGINT).
+/usr/bin/python3 "$here/plant_run.py" --build "$build" "${args[@]}" &
+runner=$!
+stop_runner() {
+  kill -TERM "$runner" 2>/dev/null || true
+  wait "$runner" 2>/dev/null || true
+  exit "$1"
+}
+trap 'stop_runner 130' INT
+trap 'stop_runner 143' TERM
+wait "$runner"
