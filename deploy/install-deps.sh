@@ -39,6 +39,8 @@ test_pkgs=(
   user-mode-linux kmod can-utils
   universal-ctags   # tests/style: function lengths for the size check of product code
   ccache   # tests/run-all.sh: the plain, ASan and TSan builds share compiled objects across runs
+  nftables   # tests/scale: the plant's bridge counts discovery and data bytes apart
+  python3-matplotlib   # tests/scale/plot.py: the plant's figures as PNG (BENCHMARKS.md)
 )
 
 case ${1:-} in
