@@ -36,10 +36,9 @@ case $mode in
     # Labels kernel, container and python: they run the plain build's programs
     #   inside user-mode Linux and in container images, or load the client into
     #   an uninstrumented python3 (the Python module is not built here); the
-    #   sanitized programs are tested on the host. Label package: the Debian
-    #   packages are made from the plain build (and need the Python module).
+    #   sanitized programs are tested on the host.
     selection=(-E '^(fuzz\.|install\.client_consumer$)'
-               -LE '^(kernel|container|python|package)$')
+               -LE '^(kernel|container|python)$')
     # new_delete_type_mismatch=0: Debian's libfastrtps 2.9 frees objects of its
     # own with a smaller size than it allocated them with (~RTPSReader and
     # ~RTPSWriter, seen on every reader and writer deleted). Allocation and
