@@ -14,6 +14,7 @@
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -131,6 +132,13 @@ class Participant {
     if (options.domain < 0 || options.domain > 232) {
       return fail("DDS domain id " + std::to_string(options.domain) + " is out of range (0-232)");
     }
+    // One participant set up at a time per process: Fast DDS 2.9 reads the
+    // user name with getpwuid() (SystemInfo::get_username), whose result is a
+    // static buffer, so two threads setting participants up at once race
+    // (ThreadSanitizer, 32 dh3::Clients started together in one process;
+    // issue 23).
+    static std::mutex setting_up;
+    std::lock_guard setup_lock(setting_up);
     auto qos = make_participant_qos(options, report);
     if (!qos) return fail(std::move(qos).error());
     // Owns what is made from here on: a failure below deletes it.
