@@ -16,12 +16,14 @@ set -euo pipefail
 runtime_pkgs=(
   libfastrtps2.9 libfastcdr1 libspdlog1.10 libyaml-cpp0.7 fastdds-tools
   libprometheus-cpp-core1.0 libprometheus-cpp-pull1.0
+  libcpp-httplib0.11   # dh3-web's HTTP server (client/dh3-web)
 )
 build_pkgs=(
   build-essential cmake ninja-build pkg-config
   libfastrtps-dev libfastcdr-dev fastddsgen fastdds-tools
   libspdlog-dev libfmt-dev libcli11-dev libyaml-cpp-dev
   prometheus-cpp-dev
+  libcpp-httplib-dev nlohmann-json3-dev   # dh3-web: HTTP server, JSON request bodies
   pybind11-dev python3-dev   # the Python module dh3 (client/python); skipped when missing
 )
 # deploy/packages/build-debs.sh (and so the package test): debhelper packs
@@ -41,6 +43,7 @@ test_pkgs=(
   ccache   # tests/run-all.sh: the plain, ASan and TSan builds share compiled objects across runs
   nftables   # tests/scale: the plant's bridge counts discovery and data bytes apart
   python3-matplotlib   # tests/scale/plot.py: the plant's figures as PNG (BENCHMARKS.md)
+  chromium chromium-driver python3-selenium   # tests/web: dh3-web's page in a headless browser
 )
 
 case ${1:-} in

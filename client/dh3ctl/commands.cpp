@@ -17,6 +17,7 @@
 
 #include "dh3/client.hpp"
 #include "dh3/registers.hpp"
+#include "client_options_cli.hpp"
 #include "output.hpp"
 
 #ifndef DH3_VERSION
@@ -375,35 +376,11 @@ int cmd_hand(Context& c, const std::string& command, const Args& a) {
 
 /// The options every command takes (before or after the command).
 void declare_global_options(CLI::App& app, Globals& g) {
-  app.add_option("-d,--domain", g.client.domain, "DDS domain id (default 0)")
-      ->check(CLI::Range(0, 232));
   app.add_option("-t,--timeout", g.timeout_s,
                  "seconds to wait for the service or hand, and for each reply (default 10)")
       ->check(CLI::PositiveNumber);
   app.add_flag("--json", g.json, "one JSON object per line, for scripts");
-  app.add_option("-i,--interface", g.client.interfaces,
-                 "IPv4 address of a network interface for DDS (repeatable), or * for all; "
-                 "default loopback only");
-  app.add_flag("--udp-only", g.client.udp_only, "UDP only, no shared memory (the default)");
-  app.add_flag("--shared-memory", g.client.shared_memory,
-               "also Fast DDS's shared-memory transport on this host (needs Fast DDS 2.12.1 or "
-               "later)");
-  app.add_option("--xml", g.client.xml_profile_file,
-                 "Fast DDS XML profiles file (its participant profile "
-                 "replaces --interface and --udp-only)")
-      ->check(CLI::ExistingFile);
-  app.add_option("--profile", g.client.xml_profile, "participant profile name in --xml");
-  app.add_option(
-      "--discovery-server", g.client.discovery_servers,
-      "a Fast DDS discovery server as HOST[:PORT] (repeatable; the n-th is server id n); "
-      "default: ROS_DISCOVERY_SERVER, else multicast discovery");
-  app.add_option("--security-dir", g.client.security_dir,
-                 "DDS Security: directory of credentials as deploy/security/make-test-pki.sh "
-                 "lays them out")
-      ->check(CLI::ExistingDirectory);
-  app.add_option("--security-identity", g.client.security_identity,
-                 "DDS Security: the identity (folder) in --security-dir to use (default "
-                 "operator; monitor: read-only)");
+  add_client_options(app, g.client);
 }
 
 /// Every command, in the order --help lists them; returns force's optional

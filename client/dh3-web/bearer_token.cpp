@@ -1,0 +1,48 @@
+#include "bearer_token.hpp"
+
+#include <fstream>
+
+namespace dh3::web {
+namespace {
+
+constexpr std::size_t kMinTokenLength = 16;
+
+std::string_view trimmed(std::string_view text) {
+  const auto first = text.find_first_not_of(" \t\r\n");
+  if (first == std::string_view::npos) return {};
+  const auto last = text.find_last_not_of(" \t\r\n");
+  return text.substr(first, last - first + 1);
+}
+
+}  // namespace
+
+Result<BearerToken, std::string> BearerToken::from_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return fail("cannot read the token file " + path);
+  std::string line;
+  std::getline(in, line);
+  const std::string token(trimmed(line));
+  if (token.size() < kMinTokenLength) {
+    return fail("the token in " + path + " is " + (token.empty() ? "empty" : "too short") +
+                " (at least " + std::to_string(kMinTokenLength) +
+                " characters; e.g. head -c 24 /dev/urandom | base64 > FILE)");
+  }
+  return BearerToken(token);
+}
+
+bool BearerToken::accepts(std::string_view authorization) const {
+  constexpr std::string_view kScheme = "Bearer ";
+  if (authorization.substr(0, kScheme.size()) != kScheme) return false;
+  const std::string_view given = trimmed(authorization.substr(kScheme.size()));
+  // Every byte compared whatever the first difference: the time taken does
+  // not tell an attacker how much of a guess was right.
+  unsigned difference = given.size() == token_.size() ? 0U : 1U;
+  for (std::size_t i = 0; i < token_.size(); ++i) {
+    const char g = i < given.size() ? given[i] : '\0';
+    difference |= static_cast<unsigned>(static_cast<unsigned char>(g) ^
+                                        static_cast<unsigned char>(token_[i]));
+  }
+  return difference == 0U;
+}
+
+}  // namespace dh3::web

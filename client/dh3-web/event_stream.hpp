@@ -1,0 +1,85 @@
+#pragma once
+// The push stream behind GET /api/stream: every status sample and event the
+// client receives, as Server-Sent Events, to every open stream.
+//
+// Each stream has its own queue, so a slow browser delays nobody else: a
+// status waiting in a queue is replaced by the same hand's newer one (a page
+// needs the latest, not every poll), events are kept in order. A stream whose
+// queue still overflows is ended; the browser reconnects and starts from a
+// fresh snapshot. A new stream begins with the services, every hand's status
+// and the last events (the page's log), then goes live.
+
+#include <chrono>
+#include <condition_variable>
+#include <cstddef>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dh3/client.hpp"
+
+namespace dh3::web {
+
+struct EventStreamOptions {
+  /// Events a new stream starts with.
+  std::size_t backlog = 100;
+  /// Messages a stream may have waiting before it is ended.
+  std::size_t queue_limit = 2000;
+};
+
+class EventStream {
+ public:
+  class Reader;
+
+  EventStream(Client& client, EventStreamOptions options = {});
+  ~EventStream();
+  EventStream(const EventStream&) = delete;
+  EventStream& operator=(const EventStream&) = delete;
+
+  /// A new stream, primed with the snapshot.
+  std::shared_ptr<Reader> open();
+  /// Ends every stream (shutdown): their next() returns nullopt.
+  void close();
+
+  class Reader {
+   public:
+    /// What is waiting, as SSE text, after at most `wait`; "" when nothing
+    /// came (send a keep-alive), nullopt when the stream has ended.
+    std::optional<std::string> next(std::chrono::milliseconds wait);
+
+   private:
+    friend class EventStream;
+    struct Message {
+      std::string hand;  ///< a status's hand, empty for other messages
+      std::string text;  ///< "event: status\ndata: {...}\n\n"
+    };
+    void push(std::string hand, std::string text, std::size_t limit);
+
+    std::mutex mutex_;
+    std::condition_variable changed_;
+    std::deque<Message> queue_;
+    bool ended_ = false;
+  };
+
+ private:
+  void on_status(const HandStatus& status);
+  void on_event(const HandEvent& event);
+  void broadcast(const std::string& hand, const std::string& text);
+
+  Client& client_;
+  EventStreamOptions options_;
+  std::mutex mutex_;
+  std::vector<std::weak_ptr<Reader>> readers_;
+  std::deque<std::string> backlog_;
+  bool closed_ = false;
+  Subscription status_subscription_;
+  Subscription event_subscription_;
+};
+
+/// "event: NAME\ndata: JSON\n\n"
+[[nodiscard]] std::string sse_message(std::string_view name, std::string_view json);
+
+}  // namespace dh3::web

@@ -1,0 +1,88 @@
+// dh3-web: the hands of a DDS domain in a browser, and an HTTP API for
+// controllers that speak no DDS. A client of the domain like dh3ctl.
+
+#include <pthread.h>
+#include <spdlog/spdlog.h>
+
+#include <csignal>
+#include <iostream>
+#include <thread>
+
+#include "dh3/client.hpp"
+#include "event_stream.hpp"
+#include "hand_api.hpp"
+#include "web_assets.hpp"
+#include "web_options.hpp"
+#include "web_server.hpp"
+
+namespace {
+
+/// SIGINT and SIGTERM blocked in every thread (the set is inherited by the
+/// ones started later) and taken by sigwait() on the main thread alone.
+sigset_t stop_signals() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
+  return set;
+}
+
+std::string url(const dh3::web::ListenAddress& listen, int port) {
+  const bool v6 = listen.host.find(':') != std::string::npos;
+  return "http://" + (v6 ? "[" + listen.host + "]" : listen.host) + ":" + std::to_string(port) +
+         "/";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const sigset_t signals = stop_signals();
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  dh3::web::WebOptions options;
+  if (auto exit_code = dh3::web::parse_web_options(argc, argv, options, std::cout, std::cerr)) {
+    return *exit_code;
+  }
+  spdlog::set_level(spdlog::level::from_str(options.log_level));
+
+  dh3::web::AccessPolicy access;
+  access.view_needs_token = options.view_needs_token;
+  if (!options.token_file.empty()) {
+    auto token = dh3::web::BearerToken::from_file(options.token_file);
+    if (!token) {
+      std::cerr << "dh3-web: " << token.error() << "\n";
+      return 2;
+    }
+    access.token = std::move(token).value();
+  }
+
+  dh3::Client client(options.client);
+  if (!client.connected()) {
+    std::cerr << "dh3-web: " << client.error() << "\n";
+    return 1;
+  }
+  dh3::web::EventStream stream(client);
+  const auto* openapi = dh3::web::find_asset("/api/openapi.json");
+  dh3::web::HandApi api(client, access, client.default_timeout(),
+                        openapi == nullptr ? "{}" : std::string(openapi->body));
+  dh3::web::WebServer server(api, stream, options.threads);
+  auto port = server.bind(options.listen);
+  if (!port) {
+    std::cerr << "dh3-web: " << port.error() << "\n";
+    return 1;
+  }
+  // One line on stdout for people and for scripts that start it on port 0.
+  std::cout << "dh3-web: serving " << url(options.listen, *port) << " (domain "
+            << options.client.domain << "; commands "
+            << (access.token ? "need the bearer token" : "off: no --token-file") << "; viewing "
+            << (access.view_needs_token ? "needs the token" : "open") << ")" << std::endl;
+
+  std::thread serving([&server] { server.run(); });
+  int signal_number = 0;
+  sigwait(&signals, &signal_number);
+  spdlog::info("dh3-web: signal {}, stopping", signal_number);
+  stream.close();  // open streams end, so their workers are free to stop
+  server.stop();
+  serving.join();
+  return 0;
+}

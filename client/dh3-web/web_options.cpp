@@ -1,0 +1,82 @@
+#include "web_options.hpp"
+
+#include <CLI/CLI.hpp>
+#include <charconv>
+
+#include "client_options_cli.hpp"
+
+#ifndef DH3_VERSION
+#define DH3_VERSION "0.0.0"
+#endif
+
+namespace dh3::web {
+
+Result<ListenAddress, std::string> parse_listen(const std::string& text) {
+  const auto colon = text.rfind(':');
+  if (colon == std::string::npos) {
+    return fail("--listen " + text + ": expected ADDR:PORT (e.g. 127.0.0.1:8080)");
+  }
+  ListenAddress listen;
+  std::string host = text.substr(0, colon);
+  if (host.size() >= 2 && host.front() == '[' && host.back() == ']') {
+    host = host.substr(1, host.size() - 2);
+  }
+  if (!host.empty()) listen.host = host;
+  const std::string port = text.substr(colon + 1);
+  const auto parsed = std::from_chars(port.data(), port.data() + port.size(), listen.port);
+  if (port.empty() || parsed.ec != std::errc() || parsed.ptr != port.data() + port.size() ||
+      listen.port < 0 || listen.port > 65535) {
+    return fail("--listen " + text + ": the port must be a number 0-65535");
+  }
+  return listen;
+}
+
+std::optional<int> parse_web_options(int argc, const char* const* argv, WebOptions& options,
+                                     std::ostream& out, std::ostream& err) {
+  CLI::App app{
+      "dh3-web: a web console and an HTTP API for DH-3 hands on a DDS domain.\n"
+      "Serves the page at / and the JSON API at /api/ (described at /api/openapi.json)."};
+  app.name("dh3-web");
+  app.set_version_flag("--version", DH3_VERSION);
+  std::string listen = "127.0.0.1:8080";
+  app.add_option("--listen", listen,
+                 "ADDR:PORT to serve on (default 127.0.0.1:8080: this machine only; port 0: any "
+                 "free port)");
+  app.add_option("--token-file", options.token_file,
+                 "file whose first line is the bearer token that commands need; without it "
+                 "dh3-web only shows the hands")
+      ->check(CLI::ExistingFile);
+  app.add_flag("--view-needs-token", options.view_needs_token,
+               "statuses, events and the stream need the token too (default: open to whoever "
+               "reaches the address)");
+  app.add_option("-t,--timeout", options.timeout_s,
+                 "seconds to wait for each command's reply (default 10)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--threads", options.threads,
+                 "HTTP worker threads; each open page holds one (default 16)")
+      ->check(CLI::Range(2, 1024));
+  app.add_option("--log-level", options.log_level, "trace, debug, info, warn, error (default info)")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
+  ctl::add_client_options(app, options.client);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error, out, err) == 0 ? 0 : 2;
+  }
+  auto parsed = parse_listen(listen);
+  if (!parsed) {
+    err << "dh3-web: " << parsed.error() << "\n";
+    return 2;
+  }
+  options.listen = *parsed;
+  if (options.view_needs_token && options.token_file.empty()) {
+    err << "dh3-web: --view-needs-token needs --token-file\n";
+    return 2;
+  }
+  options.client.participant_name = "dh3-web";
+  options.client.default_timeout =
+      std::chrono::milliseconds(static_cast<std::int64_t>(options.timeout_s * 1000.0));
+  return std::nullopt;
+}
+
+}  // namespace dh3::web

@@ -1,0 +1,39 @@
+#pragma once
+// dh3-web's command line: where it listens, who may do what, and how it joins
+// the DDS domain (the same options as dh3ctl).
+
+#include <chrono>
+#include <optional>
+#include <ostream>
+#include <string>
+
+#include "dh3/base/result.hpp"
+#include "dh3/client.hpp"
+
+namespace dh3::web {
+
+struct ListenAddress {
+  std::string host = "127.0.0.1";
+  int port = 8080;  ///< 0: any free port (printed at start)
+};
+
+struct WebOptions {
+  ClientOptions client;
+  ListenAddress listen;
+  std::string token_file;  ///< empty: commands are refused (viewing only)
+  bool view_needs_token = false;
+  double timeout_s = 10.0;  ///< each command's reply
+  int threads = 16;         ///< HTTP workers; each open stream holds one
+  std::string log_level = "info";
+};
+
+/// "ADDR:PORT", "[v6addr]:PORT" or ":PORT" (loopback).
+[[nodiscard]] Result<ListenAddress, std::string> parse_listen(const std::string& text);
+
+/// Fills `options` from the command line. nullopt: go on; a number: exit with
+/// it (after --help, --version, or a bad option reported on `err`).
+[[nodiscard]] std::optional<int> parse_web_options(int argc, const char* const* argv,
+                                                   WebOptions& options, std::ostream& out,
+                                                   std::ostream& err);
+
+}  // namespace dh3::web

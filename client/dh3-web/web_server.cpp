@@ -1,0 +1,132 @@
+#include "web_server.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <httplib.h>
+
+#include "web_assets.hpp"
+
+namespace dh3::web {
+namespace {
+
+/// How long a stream waits for news before it sends a keep-alive comment;
+/// also how soon a closed browser's worker notices (the write fails).
+constexpr std::chrono::seconds kKeepAlive{15};
+/// Bodies are a few numbers; anything larger is a mistake or an attack.
+constexpr std::size_t kMaxBody = 64 * 1024;
+
+void add_common_headers(httplib::Response& res) {
+  res.set_header("X-Content-Type-Options", "nosniff");
+  res.set_header("Cache-Control", "no-store");
+  // The page drives machines: no other site may frame it (clickjacking),
+  // and it loads nothing but its own files.
+  res.set_header("X-Frame-Options", "DENY");
+  res.set_header("Content-Security-Policy",
+                 "default-src 'self'; frame-ancestors 'none'; base-uri 'none'; form-action 'none'");
+}
+
+void send(httplib::Response& res, const ApiResponse& response) {
+  res.status = response.status;
+  if (!response.allow.empty()) res.set_header("Allow", response.allow);
+  if (response.ask_for_token) res.set_header("WWW-Authenticate", "Bearer realm=\"dh3-web\"");
+  res.set_content(response.body + "\n", "application/json");
+}
+
+ApiRequest to_api_request(const httplib::Request& req) {
+  return ApiRequest{req.method, req.path, req.get_header_value("Authorization"), req.body};
+}
+
+}  // namespace
+
+WebServer::WebServer(HandApi& api, EventStream& stream, int threads)
+    : api_(api), stream_(stream), server_(std::make_unique<httplib::Server>()) {
+  const auto pool_size = static_cast<std::size_t>(threads);
+  server_->new_task_queue = [pool_size] { return new httplib::ThreadPool(pool_size); };
+  server_->set_payload_max_length(kMaxBody);
+  server_->set_keep_alive_timeout(2);
+  server_->set_logger([](const httplib::Request& req, const httplib::Response& res) {
+    // The path without its query and never a header: the token stays out.
+    spdlog::info("{} {} {} {}", req.remote_addr, req.method, req.path, res.status);
+  });
+  // httplib's own refusals (a POST without Content-Length, a body over the
+  // limit, a request it cannot parse) come without a body: say it in JSON too.
+  const httplib::Server::HandlerWithResponse on_error = [](const httplib::Request& req,
+                                                          httplib::Response& res) {
+    if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
+    ApiError error{res.status, "BAD_REQUEST", "the request could not be read"};
+    if (res.status == 404) error = {404, "NOT_FOUND", "nothing at " + req.method + " " + req.path};
+    if (res.status == 413) {
+      error = {413, "PAYLOAD_TOO_LARGE",
+               "the body is larger than " + std::to_string(kMaxBody) + " bytes"};
+    }
+    if (res.status == 400 && req.body.empty()) {
+      error.message += " (a POST needs a Content-Length: 0 for no body, or a JSON body such as {})";
+    }
+    send(res, error_response(error));
+    return httplib::Server::HandlerResponse::Handled;
+  };
+  server_->set_error_handler(on_error);
+  server_->set_post_routing_handler(
+      [](const httplib::Request&, httplib::Response& res) { add_common_headers(res); });
+  add_routes();
+}
+
+WebServer::~WebServer() = default;
+
+void WebServer::add_routes() {
+  auto& s = *server_;
+  s.Get("/api/stream", [this](const httplib::Request& req, httplib::Response& res) {
+    if (auto refused = api_.authorize_view(req.get_header_value("Authorization"))) {
+      send(res, *refused);
+      return;
+    }
+    auto reader = stream_.open();
+    res.set_header("X-Accel-Buffering", "no");  // a proxy in front must not buffer the stream
+    res.set_chunked_content_provider(
+        "text/event-stream", [reader](std::size_t /*offset*/, httplib::DataSink& sink) {
+          auto text = reader->next(kKeepAlive);
+          if (!text) {
+            sink.done();
+            return true;
+          }
+          if (text->empty()) *text = ": keep-alive\n\n";
+          return sink.write(text->data(), text->size());
+        });
+  });
+  const auto api = [this](const httplib::Request& req, httplib::Response& res) {
+    send(res, api_.handle(to_api_request(req)));
+  };
+  s.Get("/api/.*", api);
+  s.Post("/api/.*", api);
+  s.Put("/api/.*", api);
+  s.Patch("/api/.*", api);
+  s.Delete("/api/.*", api);
+  s.Options("/api/.*", api);
+  s.Get("/.*", [](const httplib::Request& req, httplib::Response& res) {
+    const WebAsset* asset = find_asset(req.path == "/index.html" ? "/" : req.path);
+    if (asset == nullptr) {
+      res.status = 404;
+      res.set_content("not found: " + req.path + "\n", "text/plain; charset=utf-8");
+      return;
+    }
+    res.set_content(std::string(asset->body), std::string(asset->content_type));
+  });
+}
+
+Result<int, std::string> WebServer::bind(const ListenAddress& listen) {
+  const int port = listen.port == 0 ? server_->bind_to_any_port(listen.host)
+                                    : (server_->bind_to_port(listen.host, listen.port)
+                                           ? listen.port
+                                           : -1);
+  if (port <= 0) {
+    return fail("cannot listen on " + listen.host + ":" + std::to_string(listen.port) +
+                " (address in use, or not an address of this machine?)");
+  }
+  return port;
+}
+
+void WebServer::run() { server_->listen_after_bind(); }
+
+void WebServer::stop() { server_->stop(); }
+
+}  // namespace dh3::web
