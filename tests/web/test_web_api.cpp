@@ -1,0 +1,221 @@
+// dh3-web's API without a server or a service: how commands and bodies are
+// parsed, the token, --listen, and HandApi's routing and refusals with a
+// client on an empty domain (nothing may be sent for any of them).
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "bearer_token.hpp"
+#include "dh3/registers.hpp"
+#include "hand_api.hpp"
+#include "support/test_domain.hpp"
+#include "web_assets.hpp"
+#include "web_command.hpp"
+#include "web_options.hpp"
+
+namespace dh3::web {
+namespace {
+
+using ::testing::HasSubstr;
+
+constexpr const char* kToken = "a-test-token-of-some-length";
+
+ApiError refusal(std::string_view name, std::string_view body) {
+  auto parsed = parse_web_command(name, body);
+  EXPECT_FALSE(parsed.ok()) << name << " " << body;
+  return parsed.ok() ? ApiError{} : parsed.error();
+}
+
+TEST(WebCommand, TakesTheBodiesOfDh3ctlsCommands) {
+  auto move = parse_web_command("move", R"({"position": 30})");
+  ASSERT_TRUE(move.ok());
+  EXPECT_EQ(move->name, "move");
+  EXPECT_EQ(move->value, 30);
+  auto force = parse_web_command("force", R"({"closing": 60, "opening": 30})");
+  ASSERT_TRUE(force.ok());
+  EXPECT_EQ(force->value, 60);
+  EXPECT_EQ(force->opening, 30);
+  EXPECT_FALSE(parse_web_command("force", R"({"closing": 60})")->opening.has_value());
+  EXPECT_TRUE(parse_web_command("init", "").ok());
+  EXPECT_TRUE(parse_web_command("init", " {} ").ok());
+  auto read = parse_web_command("read", R"({"register": "grip_status"})");
+  ASSERT_TRUE(read.ok());
+  EXPECT_EQ(read->register_code, reg::grip_status);
+  EXPECT_TRUE(parse_web_command("set-can-id", R"({"can_id": 7, "confirm": true})").ok());
+}
+
+TEST(WebCommand, SaysWhatIsWrongWithABody) {
+  const ApiError malformed = refusal("move", R"({"position": )");
+  EXPECT_EQ(malformed.status, 400);
+  EXPECT_EQ(malformed.code, "INVALID_ARGUMENT");
+  EXPECT_THAT(malformed.message, HasSubstr("malformed JSON"));
+  EXPECT_THAT(malformed.message, HasSubstr("column"));
+  EXPECT_THAT(refusal("move", "[30]").message, HasSubstr("must be a JSON object, not array"));
+  EXPECT_THAT(refusal("move", R"({"position": 30, "speed": 2})").message,
+              HasSubstr("unknown field 'speed' for move (its fields: position)"));
+  EXPECT_THAT(refusal("move", R"({"position": "30"})").message,
+              HasSubstr("field 'position' of move must be an integer, not \"30\""));
+  EXPECT_THAT(refusal("move", R"({"position": 30.5})").message, HasSubstr("must be an integer"));
+  EXPECT_THAT(refusal("move", R"({"position": null})").message, HasSubstr("must be an integer"));
+  EXPECT_THAT(refusal("move", "{}").message, HasSubstr("move needs the field 'position'"));
+  EXPECT_THAT(refusal("move", R"({"position": 4294967396})").message, HasSubstr("out of range"));
+  EXPECT_THAT(refusal("move", R"({"position": -4294967396})").message, HasSubstr("out of range"));
+  EXPECT_THAT(refusal("read", R"({"register": "nonsense"})").message,
+              HasSubstr("unknown register 'nonsense'"));
+  EXPECT_THAT(refusal("set-can-id", R"({"can_id": 7})").message, HasSubstr("'confirm'"));
+  EXPECT_THAT(refusal("set-can-id", R"({"can_id": 7, "confirm": false})").message,
+              HasSubstr("\"confirm\": true"));
+  const ApiError unknown = refusal("jump", "{}");
+  EXPECT_EQ(unknown.status, 404);
+  EXPECT_EQ(unknown.code, "UNKNOWN_COMMAND");
+  EXPECT_THAT(unknown.message, HasSubstr("no command 'jump' (commands: init, move"));
+}
+
+TEST(WebCommand, TheOpenApiDescriptionListsEveryCommand) {
+  const WebAsset* asset = find_asset("/api/openapi.json");
+  ASSERT_NE(asset, nullptr);
+  const auto doc = nlohmann::json::parse(asset->body, nullptr, false);
+  ASSERT_FALSE(doc.is_discarded()) << "openapi.json is not JSON";
+  const auto& parameters = doc["paths"]["/api/hands/{service}/{bus}/{id}/{command}"]["parameters"];
+  std::set<std::string> described;
+  for (const auto& parameter : parameters) {
+    if (parameter["name"] == "command") {
+      for (const auto& name : parameter["schema"]["enum"]) described.insert(name);
+    }
+  }
+  std::set<std::string> shapes;
+  for (const auto& shape : command_shapes()) shapes.insert(std::string(shape.name));
+  EXPECT_EQ(described, shapes);
+}
+
+TEST(BearerToken, AcceptsOnlyTheExactToken) {
+  const auto token = BearerToken::from_text(kToken);
+  EXPECT_TRUE(token.accepts(std::string("Bearer ") + kToken));
+  EXPECT_FALSE(token.accepts(""));
+  EXPECT_FALSE(token.accepts(kToken));
+  EXPECT_FALSE(token.accepts(std::string("Basic ") + kToken));
+  EXPECT_FALSE(token.accepts(std::string("Bearer ") + kToken + "x"));
+  EXPECT_FALSE(token.accepts("Bearer a-test-token-of-some-lengtX"));
+  EXPECT_FALSE(token.accepts("Bearer a-test"));
+}
+
+TEST(BearerToken, RefusesAMissingEmptyOrShortFile) {
+  const std::string path = "/tmp/dh3-web-token-" + std::to_string(::getpid());
+  EXPECT_THAT(BearerToken::from_file(path).error(), HasSubstr("cannot read"));
+  std::ofstream(path) << "\n";
+  EXPECT_THAT(BearerToken::from_file(path).error(), HasSubstr("empty"));
+  std::ofstream(path) << "short\n";
+  EXPECT_THAT(BearerToken::from_file(path).error(), HasSubstr("too short"));
+  std::ofstream(path) << "  " << kToken << "  \nsecond line\n";
+  auto token = BearerToken::from_file(path);
+  ASSERT_TRUE(token.ok()) << token.error();
+  EXPECT_TRUE(token->accepts(std::string("Bearer ") + kToken));
+  std::remove(path.c_str());
+}
+
+TEST(WebOptions, ParsesListenAddresses) {
+  EXPECT_EQ(parse_listen("0.0.0.0:80")->host, "0.0.0.0");
+  EXPECT_EQ(parse_listen("0.0.0.0:80")->port, 80);
+  EXPECT_EQ(parse_listen(":9000")->host, "127.0.0.1");
+  EXPECT_EQ(parse_listen("[::1]:9000")->host, "::1");
+  EXPECT_FALSE(parse_listen("localhost").ok());
+  EXPECT_FALSE(parse_listen("127.0.0.1:").ok());
+  EXPECT_FALSE(parse_listen("127.0.0.1:65536").ok());
+  EXPECT_FALSE(parse_listen("127.0.0.1:80x").ok());
+}
+
+/// HandApi over a client on a domain with no service: every refusal is
+/// dh3-web's own, and nothing is ever written.
+class HandApiTest : public ::testing::Test {
+ protected:
+  static ClientOptions options() {
+    ClientOptions o;
+    o.domain = test::test_domain();
+    return o;
+  }
+  HandApi api(bool with_token, bool view_needs_token = false) {
+    AccessPolicy access;
+    if (with_token) access.token = BearerToken::from_text(kToken);
+    access.view_needs_token = view_needs_token;
+    return HandApi(client_, access, std::chrono::seconds(1), "{\"openapi\":\"3.0.3\"}");
+  }
+  static ApiRequest post(std::string path, std::string body, bool token = true) {
+    return ApiRequest{"POST", std::move(path), token ? std::string("Bearer ") + kToken : "",
+                      std::move(body)};
+  }
+  void TearDown() override { EXPECT_EQ(client_.command_traffic().requests_written, 0U); }
+
+  Client client_{options()};
+};
+
+TEST_F(HandApiTest, CommandsNeedTheToken) {
+  auto a = api(true);
+  ApiResponse none = a.handle(post("/api/hands/cell/bus0/1/init", "", false));
+  EXPECT_EQ(none.status, 401);
+  EXPECT_TRUE(none.ask_for_token);
+  EXPECT_THAT(none.body, HasSubstr(R"("code":"UNAUTHORIZED")"));
+  ApiRequest wrong = post("/api/hands/cell/bus0/1/init", "");
+  wrong.authorization = "Bearer guessed-token-of-some-length";
+  EXPECT_EQ(a.handle(wrong).status, 401);
+  // Refused before the body is read: a caller without the token learns nothing.
+  EXPECT_EQ(a.handle(post("/api/hands/cell/bus0/1/jump", "{", false)).status, 401);
+
+  auto viewing_only = api(false);
+  ApiResponse disabled = viewing_only.handle(post("/api/hands/cell/bus0/1/init", ""));
+  EXPECT_EQ(disabled.status, 403);
+  EXPECT_THAT(disabled.body, HasSubstr("COMMANDS_DISABLED"));
+}
+
+TEST_F(HandApiTest, RefusesBadPathsMethodsAndHands) {
+  auto a = api(true);
+  ApiResponse method = a.handle(ApiRequest{"DELETE", "/api/hands", "", ""});
+  EXPECT_EQ(method.status, 405);
+  EXPECT_EQ(method.allow, "GET");
+  EXPECT_EQ(a.handle(ApiRequest{"GET", "/api/hands/cell/bus0/1/init", "", ""}).allow, "POST");
+  EXPECT_EQ(a.handle(ApiRequest{"POST", "/api/stream", "", ""}).status, 405);
+  EXPECT_EQ(a.handle(ApiRequest{"POST", "/api/openapi.json", "", ""}).status, 405);
+  EXPECT_EQ(a.handle(ApiRequest{"GET", "/api/nothing", "", ""}).status, 404);
+  EXPECT_EQ(a.handle(ApiRequest{"GET", "/api/hands/cell/bus0", "", ""}).status, 404);
+  for (const char* id : {"x", "0", "256", "1a", "-1", ""}) {
+    ApiResponse bad = a.handle(post(std::string("/api/hands/cell/bus0/") + id + "/init", ""));
+    EXPECT_EQ(bad.status, 400) << id;
+    EXPECT_THAT(bad.body, HasSubstr("is not a CAN ID (1-255)")) << id;
+  }
+  ApiResponse unknown = a.handle(ApiRequest{"GET", "/api/hands/cell/bus0/9", "", ""});
+  EXPECT_EQ(unknown.status, 404);
+  EXPECT_THAT(unknown.body, HasSubstr(R"("code":"UNKNOWN_HAND")"));
+  EXPECT_EQ(a.handle(post("/api/hands/cell/bus0/9/move", R"({"position": 30})")).status, 404);
+  // A bad body is refused before the hand is looked up.
+  EXPECT_EQ(a.handle(post("/api/hands/cell/bus0/9/move", R"({"position": "x"})")).status, 400);
+}
+
+TEST_F(HandApiTest, ViewingCanNeedTheTokenToo) {
+  auto open = api(true);
+  EXPECT_EQ(open.handle(ApiRequest{"GET", "/api/hands", "", ""}).status, 200);
+  EXPECT_FALSE(open.authorize_view("").has_value());
+  auto closed = api(true, true);
+  EXPECT_EQ(closed.handle(ApiRequest{"GET", "/api/hands", "", ""}).status, 401);
+  EXPECT_EQ(closed.handle(ApiRequest{"GET", "/api/health", "", ""}).status, 401);
+  EXPECT_TRUE(closed.authorize_view("").has_value());
+  ApiResponse listed =
+      closed.handle(ApiRequest{"GET", "/api/hands", std::string("Bearer ") + kToken, ""});
+  EXPECT_EQ(listed.status, 200);
+  EXPECT_EQ(listed.body, R"({"services":[],"hands":[]})");
+  EXPECT_FALSE(closed.authorize_view(std::string("Bearer ") + kToken).has_value());
+}
+
+TEST(HttpStatus, SaysWhatAReplysCodeMeans) {
+  EXPECT_EQ(http_status(Code::ok), 200);
+  EXPECT_EQ(http_status(Code::invalid_argument), 400);
+  EXPECT_EQ(http_status(Code::unknown_hand), 404);
+  EXPECT_EQ(http_status(Code::not_initialized), 409);
+  EXPECT_EQ(http_status(Code::bus_down), 503);
+  EXPECT_EQ(http_status(Code::no_reply), 504);
+}
+
+}  // namespace
+}  // namespace dh3::web

@@ -1,0 +1,284 @@
+// dh3-web as a user runs it: a child process serving HTTP against dh3-service
+// on the simulator (three hands, hand 1 with an object at 40), driven with
+// plain HTTP requests. Commands, every bad input and the missing token, the
+// push stream, viewing behind the token.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <httplib.h>
+
+#include <atomic>
+#include <thread>
+
+#include "integration/client/client_fixture.hpp"
+
+namespace dh3::test {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::StartsWith;
+
+constexpr const char* kToken = "integration-token-0123456789";
+
+/// dh3-web on this test's domain and a free port.
+class WebProcess {
+ public:
+  explicit WebProcess(std::vector<std::string> extra = {})
+      : token_(std::string(kToken) + "\n", ".token") {
+    std::vector<std::string> args = {"--domain", std::to_string(test_domain()), "--listen",
+                                     "127.0.0.1:0", "--token-file", token_.path(),
+                                     "--timeout", "20", "--log-level", "warn"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    process_ = std::make_unique<Process>(DH3_WEB_PATH, args, Process::Stdin::dev_null);
+    if (auto line = process_->wait_for_line("dh3-web: serving http://127.0.0.1:",
+                                            std::chrono::seconds(20))) {
+      const auto start = line->find("127.0.0.1:") + 10;
+      port_ = std::stoi(line->substr(start, line->find('/', start) - start));
+    }
+  }
+  [[nodiscard]] int port() const { return port_; }
+  [[nodiscard]] httplib::Client client() const {
+    httplib::Client c("127.0.0.1", port_);
+    c.set_read_timeout(30, 0);
+    return c;
+  }
+
+ private:
+  TempFile token_;
+  std::unique_ptr<Process> process_;
+  int port_ = 0;
+};
+
+httplib::Headers with_token() { return {{"Authorization", std::string("Bearer ") + kToken}}; }
+
+class WebServiceTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_TRUE(service_.started());
+    ASSERT_GT(web_.port(), 0) << "dh3-web did not say where it serves";
+    ASSERT_TRUE(wait_for_hands(3));
+  }
+
+  /// GET /api/hands until it lists `count` hands.
+  bool wait_for_hands(std::size_t count) {
+    const auto deadline = std::chrono::steady_clock::now() + kClientDeadline;
+    while (std::chrono::steady_clock::now() < deadline) {
+      auto res = http_.Get("/api/hands");
+      if (res && res->status == 200) {
+        std::size_t seen = 0;
+        for (auto at = res->body.find(R"("type":"status")"); at != std::string::npos;
+             at = res->body.find(R"("type":"status")", at + 1)) {
+          ++seen;
+        }
+        if (seen >= count) return true;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    return false;
+  }
+
+  httplib::Result command(std::uint16_t id, const std::string& name, const std::string& body,
+                          const httplib::Headers& headers = with_token()) {
+    return http_.Post(("/api/hands/" + hand_spec(id) + "/" + name).c_str(), headers, body,
+                      "application/json");
+  }
+
+  std::uint64_t requests_written() {
+    auto res = http_.Get("/api/health");
+    if (!res) return ~0ULL;
+    const auto at = res->body.find(R"("requests_written":)");
+    return std::stoull(res->body.substr(at + 19));
+  }
+
+  RunningService service_{sim_config()};
+  WebProcess web_;
+  httplib::Client http_ = web_.client();
+};
+
+TEST_F(WebServiceTest, ListsEveryHandAndOne) {
+  auto all = http_.Get("/api/hands");
+  ASSERT_TRUE(all);
+  EXPECT_EQ(all->status, 200);
+  EXPECT_EQ(all->get_header_value("Content-Type"), "application/json");
+  EXPECT_THAT(all->body, HasSubstr(R"("service":")" + test_service_name()));
+  for (std::uint16_t id = 1; id <= 3; ++id) {
+    EXPECT_THAT(all->body, HasSubstr(R"("hand":")" + hand_spec(id)));
+  }
+  auto one = http_.Get(("/api/hands/" + hand_spec(2)).c_str());
+  ASSERT_TRUE(one);
+  EXPECT_EQ(one->status, 200);
+  EXPECT_THAT(one->body, StartsWith(R"({"type":"status","hand":")" + hand_spec(2) + "\""));
+  auto page = http_.Get("/");
+  ASSERT_TRUE(page);
+  EXPECT_THAT(page->body, HasSubstr("<title>dh3 web console</title>"));
+  EXPECT_EQ(page->get_header_value("X-Frame-Options"), "DENY");
+}
+
+TEST_F(WebServiceTest, CommandsAnswerAsDh3ctlJson) {
+  auto init = command(1, "init", "");
+  ASSERT_TRUE(init);
+  EXPECT_EQ(init->status, 200) << init->body;
+  EXPECT_THAT(init->body, StartsWith(R"({"type":"reply","command":"init","hand":")" +
+                                     hand_spec(1) + R"(","ok":true,"code":"OK")"));
+  auto move = command(1, "move", R"({"position": 60})");
+  ASSERT_TRUE(move);
+  EXPECT_EQ(move->status, 200) << move->body;
+  auto status = http_.Get(("/api/hands/" + hand_spec(1)).c_str());
+  ASSERT_TRUE(status);
+  EXPECT_THAT(status->body, HasSubstr(R"("target_position":60)"));
+  auto grasp = command(1, "grasp", R"({"force": 40})");
+  ASSERT_TRUE(grasp);
+  EXPECT_EQ(grasp->status, 200) << grasp->body;
+  EXPECT_THAT(grasp->body, HasSubstr(R"("grasp":"GRASPED")"));
+  auto lease = command(1, "acquire-lease", R"({"ttl_ms": 30000})");
+  ASSERT_TRUE(lease);
+  EXPECT_EQ(lease->status, 200) << lease->body;
+  EXPECT_THAT(lease->body, HasSubstr(R"("lease_holder":")"));
+  // Another client is refused while dh3-web holds the lease.
+  const Finished other = dh3ctl({"--json", "release", hand_spec(1), "100"});
+  EXPECT_EQ(other.exit_code, 1);
+  EXPECT_THAT(other.text(), HasSubstr(R"("code":"DENIED")"));
+  auto give_back = command(1, "release-lease", "{}");
+  ASSERT_TRUE(give_back);
+  EXPECT_EQ(give_back->status, 200) << give_back->body;
+  auto release = command(1, "release", R"({"position": 100})");
+  ASSERT_TRUE(release);
+  EXPECT_EQ(release->status, 200) << release->body;
+  // A failure of the hand's own is a reply with its HTTP status.
+  auto early = command(3, "move", R"({"position": 50})");
+  ASSERT_TRUE(early);
+  EXPECT_EQ(early->status, 409);
+  EXPECT_THAT(early->body, HasSubstr(R"("ok":false,"code":"NOT_INITIALIZED")"));
+}
+
+TEST_F(WebServiceTest, RefusesEveryBadInputAndNothingReachesTheBus) {
+  auto init = command(2, "init", "");
+  ASSERT_TRUE(init);
+  ASSERT_EQ(init->status, 200) << init->body;
+  auto before = http_.Get(("/api/hands/" + hand_spec(2)).c_str());
+  ASSERT_TRUE(before);
+  ASSERT_THAT(before->body, HasSubstr(R"("target_position":-1)"));
+  const std::uint64_t written = requests_written();
+
+  struct Bad {
+    std::string what;
+    int status;
+    std::string code;
+    httplib::Result result;
+  };
+  const std::string hand = "/api/hands/" + hand_spec(2);
+  const httplib::Headers wrong = {{"Authorization", "Bearer not-the-token-0123456789"}};
+  std::vector<Bad> bad;
+  bad.push_back({"no token", 401, "UNAUTHORIZED", command(2, "move", R"({"position":30})", {})});
+  bad.push_back({"wrong token", 401, "UNAUTHORIZED", command(2, "move", R"({"position":30})", wrong)});
+  bad.push_back({"malformed JSON", 400, "INVALID_ARGUMENT", command(2, "move", R"({"position":)")});
+  bad.push_back({"not an object", 400, "INVALID_ARGUMENT", command(2, "move", "30")});
+  bad.push_back({"unknown field", 400, "INVALID_ARGUMENT", command(2, "move", R"({"pos":30})")});
+  bad.push_back({"wrong type", 400, "INVALID_ARGUMENT", command(2, "move", R"({"position":"30"})")});
+  bad.push_back({"missing field", 400, "INVALID_ARGUMENT", command(2, "grasp", "{}")});
+  bad.push_back({"out of range", 400, "INVALID_ARGUMENT", command(2, "move", R"({"position":150})")});
+  bad.push_back({"force out of range", 400, "INVALID_ARGUMENT", command(2, "grasp", R"({"force":5})")});
+  bad.push_back({"lease out of range", 400, "INVALID_ARGUMENT",
+                 command(2, "acquire-lease", R"({"ttl_ms":-1})")});
+  bad.push_back({"unknown command", 404, "UNKNOWN_COMMAND", command(2, "jump", "{}")});
+  bad.push_back({"unknown hand", 404, "UNKNOWN_HAND",
+                 http_.Post(("/api/hands/" + test_service_name() + "/bus0/9/move").c_str(),
+                            with_token(), R"({"position":30})", "application/json")});
+  bad.push_back({"unknown service", 404, "UNKNOWN_HAND",
+                 http_.Post("/api/hands/nosuch/bus0/2/move", with_token(), R"({"position":30})",
+                            "application/json")});
+  bad.push_back({"bad hand id", 400, "INVALID_ARGUMENT",
+                 http_.Post(("/api/hands/" + test_service_name() + "/bus0/two/move").c_str(),
+                            with_token(), R"({"position":30})", "application/json")});
+  bad.push_back({"wrong method", 405, "METHOD_NOT_ALLOWED",
+                 http_.Get((hand + "/move").c_str(), with_token())});
+  bad.push_back({"wrong method on a hand", 405, "METHOD_NOT_ALLOWED",
+                 http_.Delete(hand.c_str(), with_token())});
+  bad.push_back({"too large", 413, "PAYLOAD_TOO_LARGE",
+                 command(2, "move", R"({"position":30,"pad":")" + std::string(70000, 'x') + "\"}")});
+  bad.push_back({"admin without confirm", 400, "INVALID_ARGUMENT",
+                 command(2, "set-can-id", R"({"can_id":7})")});
+  for (const Bad& b : bad) {
+    ASSERT_TRUE(b.result) << b.what << ": " << httplib::to_string(b.result.error());
+    EXPECT_EQ(b.result->status, b.status) << b.what << ": " << b.result->body;
+    EXPECT_THAT(b.result->body, HasSubstr(R"("ok":false,"code":")" + b.code + "\""))
+        << b.what;
+    EXPECT_THAT(b.result->body, HasSubstr(R"("message":")")) << b.what;
+    EXPECT_EQ(b.result->get_header_value("Content-Type"), "application/json") << b.what;
+  }
+  EXPECT_EQ(bad[0].result->get_header_value("WWW-Authenticate"), "Bearer realm=\"dh3-web\"");
+  EXPECT_THAT(bad[7].result->body, HasSubstr("MOVE value 150 is out of range for position"));
+
+  EXPECT_EQ(requests_written(), written) << "a refused request left dh3-web";
+  auto after = http_.Get(hand.c_str());
+  ASSERT_TRUE(after);
+  EXPECT_THAT(after->body, HasSubstr(R"("target_position":-1)"));
+  EXPECT_THAT(after->body, HasSubstr(R"("last_error":"OK")"));
+}
+
+TEST_F(WebServiceTest, StreamPushesStatusesAndEventsOfAnotherClientsMove) {
+  ASSERT_EQ(command(3, "init", "")->status, 200);
+  std::mutex mutex;
+  std::string received;
+  std::atomic<bool> seen_ready{false};
+  std::atomic<bool> done{false};
+  const std::string arrived = R"("hand":")" + hand_spec(3) + R"(","name":"","kind":"ARRIVED")";
+  std::thread reader([&] {
+    auto stream = web_.client();
+    stream.Get("/api/stream", [&](const char* data, std::size_t size) {
+      std::lock_guard lock(mutex);
+      received.append(data, size);
+      if (received.find("event: ready") != std::string::npos) seen_ready = true;
+      if (received.find(arrived) != std::string::npos) done = true;
+      return !done.load();
+    });
+  });
+  const auto deadline = std::chrono::steady_clock::now() + kClientDeadline;
+  while (!seen_ready && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_TRUE(seen_ready);
+  const Finished move = dh3ctl({"move", hand_spec(3), "30"});
+  EXPECT_EQ(move.exit_code, 0) << move.text();
+  while (!done && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  EXPECT_TRUE(done) << "no ARRIVED event of the move on the stream";
+  done = true;
+  reader.join();
+  std::lock_guard lock(mutex);
+  EXPECT_THAT(received, HasSubstr("event: service\ndata: {\"type\":\"service\""));
+  EXPECT_THAT(received, HasSubstr("event: status\ndata: {\"type\":\"status\",\"hand\":\"" +
+                                  hand_spec(3) + "\""));
+  EXPECT_THAT(received, HasSubstr(R"("target_position":30)"));
+}
+
+TEST(WebViewing, CanNeedTheToken) {
+  RunningService service{sim_config()};
+  ASSERT_TRUE(service.started());
+  WebProcess web({"--view-needs-token"});
+  ASSERT_GT(web.port(), 0);
+  auto http = web.client();
+  for (const char* path : {"/api/hands", "/api/stream", "/api/health"}) {
+    auto res = http.Get(path);
+    ASSERT_TRUE(res) << path;
+    EXPECT_EQ(res->status, 401) << path;
+  }
+  auto page = http.Get("/");  // the page holds no data; it asks for the token
+  ASSERT_TRUE(page);
+  EXPECT_EQ(page->status, 200);
+  auto listed = http.Get("/api/hands", with_token());
+  ASSERT_TRUE(listed);
+  EXPECT_EQ(listed->status, 200);
+}
+
+TEST(WebStartup, RefusesABadListenAddressAndAShortToken) {
+  const Finished listen = run_program(DH3_WEB_PATH, {"--listen", "localhost"});
+  EXPECT_EQ(listen.exit_code, 2);
+  TempFile short_token("short\n", ".token");
+  const Finished token = run_program(DH3_WEB_PATH, {"--token-file", short_token.path()});
+  EXPECT_EQ(token.exit_code, 2);
+}
+
+}  // namespace
+}  // namespace dh3::test
