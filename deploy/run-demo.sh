@@ -8,6 +8,10 @@
 #    hands, initializes them, moves, rotates and grasps, and shows status and
 #    the events as they arrive; then the service is stopped (SIGINT) and
 #    publishes its hands offline.
+#  - When dh3-web is part of the build, it serves the web console and the HTTP
+#    API on http://127.0.0.1:${DH3_DEMO_WEB_PORT:-8080}/ during the session (its
+#    address and a fresh bearer token are printed); on a terminal, the service
+#    and dh3-web then keep running until Enter or Ctrl-C.
 #  - Without dh3ctl, the service runs in the foreground and prints its log (hands
 #    coming online, every command it serves) until Ctrl-C.
 #
@@ -18,6 +22,7 @@ cd "$(dirname "$0")/.."
 build=${BUILD_DIR:-build}
 jobs=${JOBS:-2}
 domain=${DH3_DEMO_DOMAIN:-0}
+web_port=${DH3_DEMO_WEB_PORT:-8080}
 
 deploy/install-deps.sh
 # Release, as tests/run-all.sh builds the same tree (its -O3 warnings are errors there).
@@ -30,20 +35,32 @@ if grep -q '^dh3ctl:' <<<"$known_targets"; then
   targets+=(dh3ctl)
   have_ctl=1
 fi
+have_web=0
+if grep -q '^dh3-web:' <<<"$known_targets"; then
+  targets+=(dh3-web)
+  have_web=1
+fi
 cmake --build "$build" -j "$jobs" --target "${targets[@]}"
 
 service="$build/service/app/dh3-service/dh3-service"
 config=$(mktemp --suffix=.yaml)
 log=$(mktemp)
+web_log=$(mktemp)
+token_file=$(mktemp)
 service_pid=
 events_pid=
+web_pid=
 cleanup() {
   if [[ -n $events_pid ]]; then kill -INT "$events_pid" 2>/dev/null || true; fi
+  if [[ -n $web_pid ]]; then
+    kill -TERM "$web_pid" 2>/dev/null || true
+    wait "$web_pid" 2>/dev/null || true
+  fi
   if [[ -n $service_pid ]]; then
     kill -INT "$service_pid" 2>/dev/null || true
     wait "$service_pid" 2>/dev/null || true
   fi
-  rm -f "$config" "$log"
+  rm -f "$config" "$log" "$web_log" "$token_file"
 }
 trap cleanup EXIT
 
@@ -85,6 +102,29 @@ for _ in $(seq 200); do
   sleep 0.05
 done
 
+if ((have_web == 1)); then
+  # A token of this run only; the page asks for it before it sends commands.
+  head -c 18 /dev/urandom | base64 >"$token_file"
+  "$build/client/dh3-web" --domain "$domain" --listen "127.0.0.1:$web_port" \
+    --token-file "$token_file" >"$web_log" 2>&1 &
+  web_pid=$!
+  for _ in $(seq 200); do
+    grep -q "dh3-web: serving" "$web_log" && break
+    kill -0 "$web_pid" 2>/dev/null || break
+    sleep 0.05
+  done
+  if grep -q "dh3-web: serving" "$web_log"; then
+    say "dh3-web: the web console and the HTTP API"
+    echo "  open http://127.0.0.1:$web_port/ in a browser (on this machine; see README: dh3-web)"
+    echo "  bearer token for commands: $(cat "$token_file")"
+    echo "  e.g. curl http://127.0.0.1:$web_port/api/hands"
+  else
+    say "dh3-web did not start (port $web_port taken? set DH3_DEMO_WEB_PORT); going on without it"
+    sed 's/^/  /' "$web_log"
+    web_pid=
+  fi
+fi
+
 run() {
   printf '$ dh3ctl %s\n' "$*"
   "$ctl" --domain "$domain" --timeout 20 "$@" || echo "  (dh3ctl exit status $?)"
@@ -115,6 +155,10 @@ run grasp demo/bus0/1 40
 run status
 say "firmware of hand 1"
 run version demo/bus0/1
+if [[ -n $web_pid && -t 0 ]]; then
+  say "the service and dh3-web keep running: http://127.0.0.1:$web_port/ (token $(cat "$token_file"))"
+  read -r -p "  press Enter to stop them " _ || true
+fi
 say "stopping the service (SIGINT): it publishes every hand offline before it leaves"
 kill -INT "$service_pid"
 wait "$service_pid" || true

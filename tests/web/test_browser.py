@@ -7,112 +7,27 @@ Needs chromium, chromium-driver and python3-selenium (deploy/install-deps.sh).
 DH3_SERVICE, DH3_WEB and DH3CTL name the programs (ctest sets them);
 DH3_WEB_SCREENSHOT=FILE keeps a picture of the page at the end."""
 
-import fcntl
 import os
-import subprocess
-import tempfile
+import sys
 
 import pytest
-from selenium import webdriver
-from selenium.webdriver.chrome.service import Service as ChromeService
 from selenium.webdriver.common.by import By
 from selenium.webdriver.support.ui import WebDriverWait
 
-#: Generous: a loaded machine may be slow, a healthy one answers at once.
-DEADLINE = 30.0
-TOKEN = "browser-test-token-0123456789"
-_domain_lock = None
-
-
-def pick_domain() -> int:
-    """A DDS domain no other test process uses (tests/support/test_domain.hpp's
-    lock-file scheme)."""
-    global _domain_lock
-    first, count = 10, 200
-    start = os.getpid() % count
-    for i in range(count):
-        candidate = first + (start + i) % count
-        lock = open(f"/tmp/dh3-test-domain-{candidate}.lock", "a+")
-        try:
-            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
-            lock.close()
-            continue
-        _domain_lock = lock  # held while this process lives
-        return candidate
-    return first + start
-
-
-DOMAIN = pick_domain()
-SERVICE = f"web{os.getpid()}"
-CONFIG = """buses:
-  - name: bus0
-    spec: sim
-    command_interval_ms: 2
-    poll_interval_moving_ms: 20
-    poll_interval_idle_ms: 50
-    sim: {reply_delay_ms: 1, position_speed: 100, rotation_speed: 400, init_time_ms: 50}
-    hands:
-      - {id: 1, name: left, object: 40}
-      - {id: 2, name: right}
-      - {id: 3}
-"""
-
-
-def hand(can_id: int) -> str:
-    return f"{SERVICE}/bus0/{can_id}"
-
-
-def stop(process: subprocess.Popen) -> None:
-    if process.poll() is None:
-        process.terminate()
-    try:
-        process.wait(timeout=DEADLINE)
-    except subprocess.TimeoutExpired:
-        process.kill()
-        process.wait()
+sys.path.insert(0, os.path.dirname(__file__))
+from webtest import DEADLINE, TOKEN, dh3ctl, hand, headless_chromium, service_and_web  # noqa: E402
 
 
 @pytest.fixture(scope="module")
 def web_url():
-    with tempfile.TemporaryDirectory(prefix="dh3-web-test-") as tmp:
-        config = os.path.join(tmp, "sim.yaml")
-        token = os.path.join(tmp, "token")
-        with open(config, "w") as f:
-            f.write(CONFIG)
-        with open(token, "w") as f:
-            f.write(TOKEN + "\n")
-        service = subprocess.Popen(
-            [os.environ["DH3_SERVICE"], "--domain", str(DOMAIN), "--name", SERVICE,
-             "--config", config, "--log-level", "warn"], stdin=subprocess.DEVNULL)
-        web = subprocess.Popen(
-            [os.environ["DH3_WEB"], "--domain", str(DOMAIN), "--listen", "127.0.0.1:0",
-             "--token-file", token, "--log-level", "warn"],
-            stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, text=True)
-        try:
-            line = web.stdout.readline()
-            assert line.startswith("dh3-web: serving http://127.0.0.1:"), line
-            yield line.split()[2]
-        finally:
-            stop(web)
-            stop(service)
+    with service_and_web() as url:
+        yield url
 
 
 @pytest.fixture(scope="module")
 def browser():
-    options = webdriver.ChromeOptions()
-    options.binary_location = "/usr/bin/chromium"
-    for argument in ("--headless=new", "--no-sandbox", "--disable-gpu",
-                     "--disable-dev-shm-usage", "--window-size=1400,1400"):
-        options.add_argument(argument)
-    driver = webdriver.Chrome(service=ChromeService("/usr/bin/chromedriver"), options=options)
-    yield driver
-    driver.quit()
-
-
-def dh3ctl(*args: str) -> subprocess.CompletedProcess:
-    return subprocess.run([os.environ["DH3CTL"], "--domain", str(DOMAIN), "--timeout", "20",
-                           *args], capture_output=True, text=True, timeout=60)
+    with headless_chromium() as driver:
+        yield driver
 
 
 def wait_for(driver, what, predicate):

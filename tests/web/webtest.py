@@ -1,0 +1,117 @@
+"""What dh3-web's browser test and its page measurement share: a DDS domain of
+their own, dh3-service on the simulator and dh3-web as child processes, and
+headless Chromium driven by Selenium.
+
+DH3_SERVICE, DH3_WEB and DH3CTL name the programs."""
+
+import contextlib
+import fcntl
+import os
+import subprocess
+import tempfile
+
+from selenium import webdriver
+from selenium.webdriver.chrome.service import Service as ChromeService
+
+#: Generous: a loaded machine may be slow, a healthy one answers at once.
+DEADLINE = 30.0
+TOKEN = "browser-test-token-0123456789"
+_domain_lock = None
+
+
+def pick_domain() -> int:
+    """A DDS domain no other test process uses (tests/support/test_domain.hpp's
+    lock-file scheme)."""
+    global _domain_lock
+    first, count = 10, 200
+    start = os.getpid() % count
+    for i in range(count):
+        candidate = first + (start + i) % count
+        lock = open(f"/tmp/dh3-test-domain-{candidate}.lock", "a+")
+        try:
+            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            lock.close()
+            continue
+        _domain_lock = lock  # held while this process lives
+        return candidate
+    return first + start
+
+
+DOMAIN = pick_domain()
+SERVICE = f"web{os.getpid()}"
+
+
+def sim_config(position_speed: int = 100) -> str:
+    """Three hands on bus0; hand 1 ("left") holds an object at 40."""
+    return f"""buses:
+  - name: bus0
+    spec: sim
+    command_interval_ms: 2
+    poll_interval_moving_ms: 20
+    poll_interval_idle_ms: 50
+    sim: {{reply_delay_ms: 1, position_speed: {position_speed}, rotation_speed: 400, init_time_ms: 50}}
+    hands:
+      - {{id: 1, name: left, object: 40}}
+      - {{id: 2, name: right}}
+      - {{id: 3}}
+"""
+
+
+def hand(can_id: int) -> str:
+    return f"{SERVICE}/bus0/{can_id}"
+
+
+def stop(process: subprocess.Popen) -> None:
+    if process.poll() is None:
+        process.terminate()
+    try:
+        process.wait(timeout=DEADLINE)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        process.wait()
+
+
+@contextlib.contextmanager
+def service_and_web(position_speed: int = 100):
+    """dh3-service and dh3-web (commands with TOKEN); yields dh3-web's URL."""
+    with tempfile.TemporaryDirectory(prefix="dh3-web-test-") as tmp:
+        config = os.path.join(tmp, "sim.yaml")
+        token = os.path.join(tmp, "token")
+        with open(config, "w") as f:
+            f.write(sim_config(position_speed))
+        with open(token, "w") as f:
+            f.write(TOKEN + "\n")
+        service = subprocess.Popen(
+            [os.environ["DH3_SERVICE"], "--domain", str(DOMAIN), "--name", SERVICE,
+             "--config", config, "--log-level", "warn"], stdin=subprocess.DEVNULL)
+        web = subprocess.Popen(
+            [os.environ["DH3_WEB"], "--domain", str(DOMAIN), "--listen", "127.0.0.1:0",
+             "--token-file", token, "--log-level", "warn"],
+            stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, text=True)
+        try:
+            line = web.stdout.readline()
+            assert line.startswith("dh3-web: serving http://127.0.0.1:"), line
+            yield line.split()[2]
+        finally:
+            stop(web)
+            stop(service)
+
+
+@contextlib.contextmanager
+def headless_chromium(height: int = 1400):
+    options = webdriver.ChromeOptions()
+    options.binary_location = "/usr/bin/chromium"
+    for argument in ("--headless=new", "--no-sandbox", "--disable-gpu",
+                     "--disable-dev-shm-usage", f"--window-size=1400,{height}"):
+        options.add_argument(argument)
+    driver = webdriver.Chrome(service=ChromeService("/usr/bin/chromedriver"), options=options)
+    try:
+        yield driver
+    finally:
+        driver.quit()
+
+
+def dh3ctl(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([os.environ["DH3CTL"], "--domain", str(DOMAIN), "--timeout", "20",
+                           *args], capture_output=True, text=True, timeout=60)
