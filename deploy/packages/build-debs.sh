@@ -7,6 +7,8 @@
 #                     the unit dh3.service (enabled and started), the user dh3
 #                     (sysusers; removed on purge), the Fast DDS XML profiles
 #   dh3-tools         dh3ctl, dh3-sim
+#   dh3-web           dh3-web, the unit dh3-web.service (enabled and started),
+#                     its bearer token /etc/dh3/web.token (made at install)
 #   libdh3client0.1   libdh3client.so.0.1 (the package is named after the soname)
 #   libdh3client-dev  headers, the CMake package dh3client, example programs
 #   python3-dh3       the Python module dh3
@@ -33,7 +35,7 @@ while (($#)); do
   case $1 in
     --version-suffix) suffix=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
-    -h | --help) sed -n '2,26s/^# \{0,1\}//p' "$0"; exit 0 ;;
+    -h | --help) sed -n '2,28s/^# \{0,1\}//p' "$0"; exit 0 ;;
     -*) echo "build-debs: unknown option $1" >&2; exit 2 ;;
     *) [[ -z $build ]] || { echo "build-debs: one BUILD_DIR only" >&2; exit 2; }; build=$1; shift ;;
   esac
@@ -57,8 +59,8 @@ say "dh3 $version from $build ($(cached CMAKE_BUILD_TYPE) build)"
 
 # What the packages install, built if it is not up to date (a no-op after the
 # test command's build).
-cmake --build "$build" -j "${JOBS:-2}" --target dh3-service dh3-sim dh3ctl dh3client pick_loop \
-  event_watcher dh3_python
+cmake --build "$build" -j "${JOBS:-2}" --target dh3-service dh3-sim dh3ctl dh3-web dh3client \
+  pick_loop event_watcher dh3_python
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -87,7 +89,7 @@ if ! (cd "$tree" && DH3_BUILD_DIR=$build DH3_SOURCE_DIR=$src dpkg-buildpackage -
   exit 1
 fi
 
-packages=(dh3-service dh3-tools libdh3client0.1 libdh3client-dev python3-dh3)
+packages=(dh3-service dh3-tools dh3-web libdh3client0.1 libdh3client-dev python3-dh3)
 for p in "${packages[@]}"; do rm -f "$out/${p}_"*.deb; done
 rm -f "$out"/dh3_*.buildinfo "$out"/dh3_*.changes
 for p in "${packages[@]}"; do

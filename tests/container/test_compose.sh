@@ -26,6 +26,8 @@ wait_for 30 test -S "$socket" || { fail "podman system service made no socket"; 
 
 export DH3_METRICS_PORT
 DH3_METRICS_PORT=$(free_port)
+export DH3_WEB_PORT
+DH3_WEB_PORT=$(free_port)
 compose() { timeout 300 docker-compose --no-ansi -p "$project" -f "$compose_file" "$@"; }
 cleanup_hooks+=("compose down -t 0")
 cleanup_networks+=("${project}_dh3")
@@ -43,8 +45,8 @@ else
   fail "docker-compose up:"; sed 's/^/  /' "$work/up"
 fi
 id_of() { compose ps -q "$1" 2>/dev/null; }
-service=$(id_of service) pick=$(id_of pick) discovery=$(id_of discovery)
-[[ -n $service && -n $pick && -n $discovery ]] || { fail "not every container was made"; compose ps; finish compose; }
+service=$(id_of service) pick=$(id_of pick) discovery=$(id_of discovery) web=$(id_of web)
+[[ -n $service && -n $pick && -n $discovery && -n $web ]] || { fail "not every container was made"; compose ps; finish compose; }
 [[ $(podman inspect --format '{{.State.Health.Status}}' "$service") == healthy ]] &&
   ok "the service is healthy" || fail "the service is not healthy"
 
@@ -59,10 +61,15 @@ if http_get 127.0.0.1 "$DH3_METRICS_PORT" /metrics >"$work/metrics" && grep -q '
 else
   fail "no metrics at 127.0.0.1:$DH3_METRICS_PORT"
 fi
+if http_get 127.0.0.1 "$DH3_WEB_PORT" /api/hands >"$work/hands" && grep -q '"hand":"cell/bus0/2"' "$work/hands"; then
+  ok "dh3-web lists the hands at 127.0.0.1:$DH3_WEB_PORT from the host"
+else
+  fail "dh3-web does not list hand cell/bus0/2 at 127.0.0.1:$DH3_WEB_PORT:"; sed 's/^/  /' "$work/hands"
+fi
 
 echo "== docker-compose stop, down"
 compose stop -t 30 >"$work/stop" 2>&1 || { fail "docker-compose stop:"; sed 's/^/  /' "$work/stop"; }
-for name in discovery service pick; do
+for name in discovery service pick web; do
   id=$(id_of "$name")
   code=$(exit_code "$id")
   [[ $code == 0 ]] && ok "$name exited 0" || fail "$name exited $code"

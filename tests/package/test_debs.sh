@@ -2,9 +2,9 @@
 # dh3's Debian packages made from this build tree, as the README says
 # (deploy/packages/build-debs.sh): twice, at the project's version into DEBS
 # and at a higher one into UPGRADE_DEBS (package.install upgrades to it).
-# Checked: the five packages are there with the project's version, each holds
+# Checked: the six packages are there with the project's version, each holds
 # what it promises (the service, its conffile, unit, sysusers file and
-# profiles; the tools; the library; headers and CMake package; the Python
+# profiles; the tools; dh3-web and its unit; the library; headers and CMake package; the Python
 # module), their dependencies were computed (Fast DDS and the others by
 # dpkg-shlibdeps, Python by dh_python3, the library by its shlibs), and
 # lintian finds neither errors nor warnings.
@@ -35,7 +35,7 @@ else
 fi
 
 deb() { compgen -G "$debs/${1}_*.deb" | head -n 1; }
-for p in dh3-service dh3-tools libdh3client0.1 libdh3client-dev python3-dh3; do
+for p in dh3-service dh3-tools dh3-web libdh3client0.1 libdh3client-dev python3-dh3; do
   file=$(deb "$p")
   if [[ -z $file ]]; then
     fail "no package $p"
@@ -59,6 +59,7 @@ has dh3-service /usr/bin/dh3-service /etc/dh3/dh3.yaml /lib/systemd/system/dh3.s
   /usr/lib/sysusers.d/dh3.conf /usr/share/dh3/dds/udp_only.xml /usr/share/dh3/dds/secure.xml \
   /usr/share/dh3/dds/discovery_client.xml /usr/share/man/man1/dh3-service.1.gz
 has dh3-tools /usr/bin/dh3ctl /usr/bin/dh3-sim /usr/share/man/man1/dh3ctl.1.gz
+has dh3-web /usr/bin/dh3-web /lib/systemd/system/dh3-web.service /usr/share/man/man1/dh3-web.1.gz
 has libdh3client0.1 /usr/lib/libdh3client.so.0.1
 has libdh3client-dev /usr/include/dh3/client.hpp /usr/lib/libdh3client.so \
   /usr/lib/cmake/dh3client/dh3clientConfig.cmake /usr/lib/cmake/dh3client/dh3clientTargets.cmake
@@ -96,6 +97,7 @@ depends() {
 depends dh3-service 'libfastrtps2\.9' 'libfastcdr1' 'libspdlog1\.10' 'libyaml-cpp0\.7' \
   'libprometheus-cpp-pull1\.0' 'libc6 \(>= ' 'systemd'
 depends dh3-tools 'libdh3client0\.1 \(>= ' 'libc6 \(>= '
+depends dh3-web 'libdh3client0\.1 \(>= ' 'libcpp-httplib0\.11'
 depends libdh3client0.1 'libfastrtps2\.9' 'libfastcdr1'
 depends libdh3client-dev "libdh3client0\\.1 \\(= $project_version\\)"
 depends python3-dh3 'python3 \(>= 3\.' 'python3 \(<< 3\.' 'libdh3client0\.1 \(>= '
