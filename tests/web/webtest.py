@@ -5,39 +5,20 @@ headless Chromium driven by Selenium.
 DH3_SERVICE, DH3_WEB and DH3CTL name the programs."""
 
 import contextlib
-import fcntl
 import os
 import subprocess
+import sys
 import tempfile
 
 from selenium import webdriver
 from selenium.webdriver.chrome.service import Service as ChromeService
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support"))
+from test_domain import pick_domain  # noqa: E402
+
 #: Generous: a loaded machine may be slow, a healthy one answers at once.
 DEADLINE = 30.0
 TOKEN = "browser-test-token-0123456789"
-_domain_lock = None
-
-
-def pick_domain() -> int:
-    """A DDS domain no other test process uses (tests/support/test_domain.hpp's
-    lock-file scheme)."""
-    global _domain_lock
-    first, count = 10, 200
-    start = os.getpid() % count
-    for i in range(count):
-        candidate = first + (start + i) % count
-        lock = open(f"/tmp/dh3-test-domain-{candidate}.lock", "a+")
-        try:
-            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
-            lock.close()
-            continue
-        _domain_lock = lock  # held while this process lives
-        return candidate
-    return first + start
-
-
 DOMAIN = pick_domain()
 SERVICE = f"web{os.getpid()}"
 

@@ -3,40 +3,22 @@
 and the C++ tests do not meet), dh3-service on a simulated bus as a child
 process, and a dh3.Client on that domain."""
 
-import fcntl
 import os
 import signal
 import subprocess
+import sys
 import tempfile
 
 import pytest
 
 import dh3
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..",
+                                "tests", "support"))
+from test_domain import pick_domain  # noqa: E402
+
 #: Generous: a loaded machine may be slow, a healthy one answers at once.
 DEADLINE = 20.0
-
-_domain_lock = None
-
-
-def pick_domain() -> int:
-    """A DDS domain no other test process uses: a lock file per domain, held
-    while this process lives (tests/support/test_domain.hpp's scheme)."""
-    global _domain_lock
-    first, count = 10, 200
-    start = os.getpid() % count
-    for i in range(count):
-        candidate = first + (start + i) % count
-        lock = open(f"/tmp/dh3-test-domain-{candidate}.lock", "a+")
-        try:
-            fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
-            lock.close()
-            continue
-        _domain_lock = lock  # kept open: the lock ends with the process
-        return candidate
-    return first + start
-
 
 DOMAIN = pick_domain()
 SERVICE = f"py{os.getpid()}"
