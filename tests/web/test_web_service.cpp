@@ -37,6 +37,13 @@ class WebProcess {
     }
   }
   [[nodiscard]] int port() const { return port_; }
+  /// SIGTERM; the exit code, or nullopt if it did not exit normally in time.
+  std::optional<int> stop() {
+    process_->send_signal(SIGTERM);
+    const auto status = process_->wait_exit(kClientDeadline);
+    if (!status || !WIFEXITED(*status)) return std::nullopt;
+    return WEXITSTATUS(*status);
+  }
   [[nodiscard]] httplib::Client client() const {
     httplib::Client c("127.0.0.1", port_);
     c.set_read_timeout(30, 0);
@@ -251,6 +258,27 @@ TEST_F(WebServiceTest, StreamPushesStatusesAndEventsOfAnotherClientsMove) {
   EXPECT_THAT(received, HasSubstr("event: status\ndata: {\"type\":\"status\",\"hand\":\"" +
                                   hand_spec(3) + "\""));
   EXPECT_THAT(received, HasSubstr(R"("target_position":30)"));
+}
+
+TEST_F(WebServiceTest, StopsCleanlyWhileAStreamIsOpen) {
+  std::atomic<bool> opened{false};
+  std::atomic<bool> ended{false};
+  std::thread reader([&] {
+    auto stream = web_.client();
+    stream.Get("/api/stream", [&](const char*, std::size_t) {
+      opened = true;
+      return true;
+    });
+    ended = true;
+  });
+  const auto deadline = std::chrono::steady_clock::now() + kClientDeadline;
+  while (!opened && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_TRUE(opened);
+  EXPECT_EQ(web_.stop(), 0);
+  reader.join();
+  EXPECT_TRUE(ended);
 }
 
 TEST(WebViewing, CanNeedTheToken) {
