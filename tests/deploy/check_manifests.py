@@ -166,6 +166,8 @@ def check_compose(src, docs, configs, programs):
             if not os.path.isfile(os.path.join(context, build.get("dockerfile", "Dockerfile"))):
                 problem(f"compose {name}: Dockerfile {build.get('dockerfile')} missing")
         for volume in svc.get("volumes", []):
+            # "${VAR:-default}": Compose's interpolation, checked with the default.
+            volume = re.sub(r"\$\{[A-Za-z0-9_]+:-([^}]*)\}", r"\1", volume)
             host, target = volume.split(":")[0:2]
             host_path = os.path.normpath(os.path.join(base, host))
             if not os.path.exists(host_path):
