@@ -6,14 +6,19 @@
 # does it: other families fail with EAFNOSUPPORT). The unit under a real
 # systemd, as the Debian package installs it: tests/package/test_install.sh.
 #
-#   test_systemd_unit.sh SOURCE_DIR DH3_SERVICE DH3CTL RESTRICT_AF
+# deploy/systemd/dh3-web.service too: verify, exposure, and dh3-web serving the
+# hands over HTTP under its RestrictAddressFamilies=.
+#
+#   test_systemd_unit.sh SOURCE_DIR DH3_SERVICE DH3CTL RESTRICT_AF DH3_WEB
 set -uo pipefail
-src=$1 service_bin=$(realpath "$2") ctl_bin=$3 restrict=$4
+src=$1 service_bin=$(realpath "$2") ctl_bin=$3 restrict=$4 web_bin=$(realpath "$5")
 unit=$src/deploy/systemd/dh3.service
 work=$(mktemp -d)
 service_pid=
+web_pid=
 cleanup() {
   [[ -n $service_pid ]] && kill "$service_pid" 2>/dev/null && wait "$service_pid" 2>/dev/null
+  [[ -n $web_pid ]] && kill "$web_pid" 2>/dev/null && wait "$web_pid" 2>/dev/null
   rm -rf "$work"
 }
 trap cleanup EXIT
@@ -87,6 +92,49 @@ if ctl --timeout 5 status unit/bus0/1 >"$work/ctl" 2>&1; then
 else
   ok "without AF_NETLINK the service is not reachable (getifaddrs needs netlink): the unit needs it"
 fi
+stop
+
+# dh3-web.service: the same checks for the web console's unit.
+web_unit=$src/deploy/systemd/dh3-web.service
+sed "s|^ExecStart=/usr/local/bin/dh3-web |ExecStart=$web_bin |" "$web_unit" >"$work/dh3-web.service"
+grep -q "^ExecStart=$web_bin " "$work/dh3-web.service" ||
+  fail "dh3-web.service: ExecStart does not start /usr/local/bin/dh3-web"
+if systemd-analyze verify "$work/dh3-web.service" >"$work/verify" 2>&1 && [[ ! -s $work/verify ]]; then
+  ok "dh3-web.service: systemd-analyze verify: no errors, no warnings"
+else
+  fail "dh3-web.service: systemd-analyze verify:"
+  sed 's/^/  /' "$work/verify"
+fi
+if systemd-analyze security --offline=yes --threshold=25 "$work/dh3-web.service" >"$work/security" 2>&1; then
+  ok "dh3-web.service: systemd-analyze security: $(grep -o 'Overall exposure level.*' "$work/security")"
+else
+  fail "dh3-web.service: exposure above 2.5: $(grep -o 'Overall exposure level.*' "$work/security")"
+fi
+grep -qx "ExecStart=$web_bin --listen 127.0.0.1:8080 --token-file %d/token" "$work/dh3-web.service" &&
+  ok "dh3-web.service listens on loopback and takes the token from its credential" ||
+  fail "dh3-web.service: ExecStart is not loopback with the credential's token"
+web_families=$(sed -n 's/^RestrictAddressFamilies=//p' "$web_unit" | tail -n 1)
+serve "${families// /,}"
+"$restrict" "${web_families// /,}" -- "$web_bin" --domain "$domain" --listen 127.0.0.1:0 \
+  --log-level warn >"$work/web.log" 2>&1 &
+web_pid=$!
+hands=
+for _ in $(seq 200); do
+  port=$(grep -o 'serving http://127.0.0.1:[0-9]*' "$work/web.log" | grep -o '[0-9]*$')
+  if [[ -n $port ]] && exec 3<>"/dev/tcp/127.0.0.1/$port"; then
+    printf 'GET /api/hands HTTP/1.0\r\n\r\n' >&3
+    hands=$(cat <&3)
+    exec 3<&-
+    [[ $hands == *'"hand":"unit/bus0/1"'* ]] && break
+  fi
+  sleep 0.1
+done
+[[ $hands == *'"hand":"unit/bus0/1"'* ]] &&
+  ok "dh3-web serves the hands under RestrictAddressFamilies=$web_families" ||
+  { fail "dh3-web does not serve hand unit/bus0/1 under RestrictAddressFamilies=$web_families"; sed 's/^/  /' "$work/web.log"; }
+kill -TERM "$web_pid" && wait "$web_pid" && ok "dh3-web stops cleanly on SIGTERM (exit 0)" ||
+  fail "dh3-web exit status $? on SIGTERM"
+web_pid=
 stop
 
 if ((failures)); then
