@@ -161,6 +161,8 @@ async function readStream() {
     return false;
   }
   if (!response.ok || !response.body) throw new Error("HTTP " + response.status);
+  // A stream starts with the last events again: the log is rebuilt from them.
+  document.getElementById("log").replaceChildren();
   const reader = response.body.getReader();
   const decoder = new TextDecoder();
   let buffer = "";
