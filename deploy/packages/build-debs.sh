@@ -8,7 +8,7 @@
 #                     (sysusers; removed on purge), the Fast DDS XML profiles
 #   dh3-tools         dh3ctl, dh3-sim
 #   dh3-web           dh3-web, the unit dh3-web.service (enabled and started),
-#                     its bearer token /etc/dh3/web.token (made at install)
+#                     the user dh3-web, the token /etc/dh3/web.token (made at install)
 #   libdh3client0.1   libdh3client.so.0.1 (the package is named after the soname)
 #   libdh3client-dev  headers, the CMake package dh3client, example programs
 #   python3-dh3       the Python module dh3

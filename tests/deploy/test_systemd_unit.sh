@@ -110,9 +110,10 @@ if systemd-analyze security --offline=yes --threshold=25 "$work/dh3-web.service"
 else
   fail "dh3-web.service: exposure above 2.5: $(grep -o 'Overall exposure level.*' "$work/security")"
 fi
-grep -qx "ExecStart=$web_bin --listen 127.0.0.1:8080 --token-file %d/token" "$work/dh3-web.service" &&
-  ok "dh3-web.service listens on loopback and takes the token from its credential" ||
-  fail "dh3-web.service: ExecStart is not loopback with the credential's token"
+grep -qx "ExecStart=$web_bin --listen 127.0.0.1:8080 --token-file /etc/dh3/web.token" "$work/dh3-web.service" &&
+  ok "dh3-web.service listens on loopback and takes the token from /etc/dh3/web.token" ||
+  fail "dh3-web.service: ExecStart is not loopback with /etc/dh3/web.token"
+grep -qx "User=dh3-web" "$web_unit" && ok "dh3-web.service: User=dh3-web" || fail "dh3-web.service: no User=dh3-web"
 web_families=$(sed -n 's/^RestrictAddressFamilies=//p' "$web_unit" | tail -n 1)
 serve "${families// /,}"
 "$restrict" "${web_families// /,}" -- "$web_bin" --domain "$domain" --listen 127.0.0.1:0 \

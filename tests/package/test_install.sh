@@ -20,6 +20,8 @@
 #     over the bridge;
 #   - upgrading to the same packages with a higher version keeps the edited
 #     configuration and restarts the service with it;
+#   - dh3-web.service is active with the token the package made, lists the
+#     hands, refuses a command without the token and serves one with it;
 #   - `apt-get purge` leaves no file, user, group or process of dh3 behind.
 #
 #   test_install.sh SOURCE_DIR DEBS_DIR UPGRADE_DEBS_DIR HOST_DH3CTL WORK_DIR
@@ -221,6 +223,36 @@ else
   fail "journalctl -u dh3 lacks the service's start-up lines:"; tail -n 10 "$work/journal" | sed 's/^/  /'
 fi
 
+step "dh3-web.service"
+[[ $(ctr systemctl is-active dh3-web) == active ]] && ok "systemctl is-active dh3-web: active (started by the package)" ||
+  fail "dh3-web.service is not active: $(ctr systemctl status --no-pager dh3-web 2>&1 | tail -n 15)"
+[[ $(ctr stat -c '%a %U %G' /etc/dh3/web.token 2>&1) == "640 root dh3-web" ]] &&
+  ok "the package made /etc/dh3/web.token, 0640 root:dh3-web" ||
+  fail "/etc/dh3/web.token: $(ctr stat -c '%a %U %G' /etc/dh3/web.token 2>&1)"
+[[ $(ctr systemctl show -p User --value dh3-web) == dh3-web ]] && ok "dh3-web runs as user dh3-web" ||
+  fail "dh3-web runs as $(ctr systemctl show -p User --value dh3-web)"
+web() {  # web PATH [TOKEN]: POST (with a token) or GET, prints the status and the body
+  ctr /usr/bin/python3 -c '
+import sys, urllib.error, urllib.request
+path, token = sys.argv[1], sys.argv[2] if len(sys.argv) > 2 else None
+request = urllib.request.Request("http://127.0.0.1:8080" + path, data=b"{}" if token is not None else None,
+                                 headers={"Authorization": "Bearer " + token} if token else {})
+try:
+    with urllib.request.urlopen(request, timeout=20) as r:
+        print(r.status, r.read().decode())
+except urllib.error.HTTPError as e:
+    print(e.code, e.read().decode())' "$@"
+}
+web_lists() { web /api/hands >"$work/web" 2>&1 && grep -q '"hand":"cell/bus0/3"' "$work/web"; }
+wait_for 30 web_lists && ok "dh3-web lists the hands at 127.0.0.1:8080 in the container" ||
+  { fail "dh3-web does not list the hands:"; sed 's/^/  /' "$work/web"; }
+web /api/hands/cell/bus0/3/init "" >"$work/web" 2>&1
+grep -q '^401 ' "$work/web" && ok "dh3-web refuses a command without the token: $(cut -c1-80 "$work/web")" ||
+  { fail "dh3-web without the token:"; sed 's/^/  /' "$work/web"; }
+web /api/hands/cell/bus0/3/init "$(ctr cat /etc/dh3/web.token)" >"$work/web" 2>&1
+grep -q '^200 .*"ok":true' "$work/web" && ok "dh3-web initializes cell/bus0/3 with the package's token" ||
+  { fail "dh3-web with the token:"; sed 's/^/  /' "$work/web"; }
+
 step "systemctl stop dh3"
 # The watcher is its own process in the container; its pid is kept to end it.
 ctr sh -c 'echo $$ >/root/watch.pid; exec dh3ctl --timeout 30 events >/root/events.log 2>&1' &
@@ -290,9 +322,9 @@ new_pid=$(ctr systemctl show -p MainPID --value dh3)
   fail "the service was not restarted by the upgrade"
 
 step "apt-get purge"
-if ctr sh -c 'DEBIAN_FRONTEND=noninteractive apt-get purge -y dh3-service dh3-tools libdh3client0.1 \
+if ctr sh -c 'DEBIAN_FRONTEND=noninteractive apt-get purge -y dh3-service dh3-tools dh3-web libdh3client0.1 \
     libdh3client-dev python3-dh3' </dev/null >"$work/purge.log" 2>&1; then
-  ok "apt-get purge of the 5 packages"
+  ok "apt-get purge of the 6 packages"
 else
   tail -n 20 "$work/purge.log"
   fail "apt-get purge failed"

@@ -60,8 +60,10 @@ case $mode in
     # the service as a process under faults (dh3-service, dh3-sim and dh3ctl are
     # built sanitized too). Only these test programs are built; ctest lists
     # each one not built as "<program>_NOT_BUILT", which the selection leaves out.
+    # dh3-web's HTTP workers and push stream (test_web_service runs it as a
+    # process) are threads over the client's callbacks.
     targets=(test_hand test_bus test_dds test_app test_metrics test_service test_reliability
-             dh3-service dh3-sim dh3ctl)
+             test_web_api test_web_service dh3-service dh3-sim dh3ctl dh3-web)
     # Not reliability.client_burst (see address).
     selection=(-L '^(unit|integration|reliability)$'
                -E '(_NOT_BUILT$|^install\.|^reliability\.client_burst$)')
