@@ -26,23 +26,28 @@ failures=0
 fail() { echo "FAILED: $*"; failures=$((failures + 1)); }
 ok() { echo "ok: $*"; }
 
-# verify checks that ExecStart's program exists: point it at the built one.
-sed "s|^ExecStart=/usr/local/bin/dh3-service |ExecStart=$service_bin |" "$unit" >"$work/dh3.service"
-grep -q "^ExecStart=$service_bin " "$work/dh3.service" ||
-  fail "ExecStart does not start /usr/local/bin/dh3-service"
-if systemd-analyze verify "$work/dh3.service" >"$work/verify" 2>&1 && [[ ! -s $work/verify ]]; then
-  ok "systemd-analyze verify: no errors, no warnings"
-else
-  fail "systemd-analyze verify:"
-  sed 's/^/  /' "$work/verify"
-fi
-
-# Exposure 0 (fully locked down) to 10; keep it at or below 2.5.
-if systemd-analyze security --offline=yes --threshold=25 "$work/dh3.service" >"$work/security" 2>&1; then
-  ok "systemd-analyze security: $(grep -o 'Overall exposure level.*' "$work/security")"
-else
-  fail "systemd-analyze security: exposure above 2.5: $(grep -o 'Overall exposure level.*' "$work/security")"
-fi
+# check_unit UNIT_FILE PROGRAM BUILT: `systemd-analyze verify` with no warning
+# and an exposure (0 fully locked down to 10) at or below 2.5, of a copy whose
+# ExecStart starts BUILT (verify checks that the program exists).
+check_unit() {
+  local file=$1 program=$2 built=$3 name
+  name=$(basename "$file")
+  sed "s|^ExecStart=/usr/local/bin/$program |ExecStart=$built |" "$file" >"$work/$name"
+  grep -q "^ExecStart=$built " "$work/$name" ||
+    fail "$name: ExecStart does not start /usr/local/bin/$program"
+  if systemd-analyze verify "$work/$name" >"$work/verify" 2>&1 && [[ ! -s $work/verify ]]; then
+    ok "$name: systemd-analyze verify: no errors, no warnings"
+  else
+    fail "$name: systemd-analyze verify:"
+    sed 's/^/  /' "$work/verify"
+  fi
+  if systemd-analyze security --offline=yes --threshold=25 "$work/$name" >"$work/security" 2>&1; then
+    ok "$name: systemd-analyze security: $(grep -o 'Overall exposure level.*' "$work/security")"
+  else
+    fail "$name: exposure above 2.5: $(grep -o 'Overall exposure level.*' "$work/security")"
+  fi
+}
+check_unit "$unit" dh3-service "$service_bin"
 
 value() { sed -n "s/^$1=//p" "$unit" | tail -n 1; }
 [[ $(value User) =~ ^[a-z][a-z0-9_-]*$ && $(value User) != root ]] && ok "User=$(value User)" ||
@@ -96,20 +101,7 @@ stop
 
 # dh3-web.service: the same checks for the web console's unit.
 web_unit=$src/deploy/systemd/dh3-web.service
-sed "s|^ExecStart=/usr/local/bin/dh3-web |ExecStart=$web_bin |" "$web_unit" >"$work/dh3-web.service"
-grep -q "^ExecStart=$web_bin " "$work/dh3-web.service" ||
-  fail "dh3-web.service: ExecStart does not start /usr/local/bin/dh3-web"
-if systemd-analyze verify "$work/dh3-web.service" >"$work/verify" 2>&1 && [[ ! -s $work/verify ]]; then
-  ok "dh3-web.service: systemd-analyze verify: no errors, no warnings"
-else
-  fail "dh3-web.service: systemd-analyze verify:"
-  sed 's/^/  /' "$work/verify"
-fi
-if systemd-analyze security --offline=yes --threshold=25 "$work/dh3-web.service" >"$work/security" 2>&1; then
-  ok "dh3-web.service: systemd-analyze security: $(grep -o 'Overall exposure level.*' "$work/security")"
-else
-  fail "dh3-web.service: exposure above 2.5: $(grep -o 'Overall exposure level.*' "$work/security")"
-fi
+check_unit "$web_unit" dh3-web "$web_bin"
 grep -qx "ExecStart=$web_bin --listen 127.0.0.1:8080 --token-file /etc/dh3/web.token" "$work/dh3-web.service" &&
   ok "dh3-web.service listens on loopback and takes the token from /etc/dh3/web.token" ||
   fail "dh3-web.service: ExecStart is not loopback with /etc/dh3/web.token"
