@@ -26,12 +26,17 @@ std::string member_text(const msg::HandAddress& hand) {
 }
 
 /// Overall code and message: OK, or the first failed hand's code and every
-/// failed hand's reason.
+/// failed hand's reason. Hands CANCELLED because another failed are named
+/// only when no hand failed otherwise: the cause is the news.
 void summarize(msg::GroupReply& reply) {
+  bool root_cause = false;
+  for (const auto& member : reply.results()) {
+    root_cause |= member.code() != msg::OK && member.code() != msg::CANCELLED;
+  }
   std::string message;
   reply.code(msg::OK);
   for (const auto& member : reply.results()) {
-    if (member.code() == msg::OK) continue;
+    if (member.code() == msg::OK || (root_cause && member.code() == msg::CANCELLED)) continue;
     if (reply.code() == msg::OK) reply.code(member.code());
     if (!message.empty()) message += "; ";
     message += fmt::format("{}: {}: {}", member_text(member.hand()),
