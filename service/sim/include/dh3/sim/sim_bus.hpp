@@ -60,7 +60,7 @@ struct SimBusOptions {
   /// it left it, like a bus monitor's timestamps (benchmarks). Called under
   /// the bus's lock: it must not block or call the bus.
   std::function<void(const bus::CanFrame& frame, TimePoint started, TimePoint ended, bool request)>
-      on_line;
+      on_line = nullptr;
 };
 
 class SimBus final : public bus::Bus {
