@@ -2,7 +2,7 @@
 // The one way a dh3 participant is set up from ParticipantOptions: the QoS
 // (XML profile or the project's transports, then discovery servers, then DDS
 // Security) and an owner of the participant and what it contains (the
-// contract's five topics, a publisher and a subscriber). Used by dh3-service,
+// contract's seven topics, a publisher and a subscriber). Used by dh3-service,
 // the client library, the test clients and the benchmarks, so they find each
 // other the same way and fail with the same messages.
 
@@ -115,7 +115,7 @@ make_participant_qos(const ParticipantOptions& options, SetupReport& report) {
   return qos;
 }
 
-/// A participant made from ParticipantOptions, with the contract's five topics
+/// A participant made from ParticipantOptions, with the contract's seven topics
 /// (registered with the total type support), a publisher and a subscriber.
 /// Readers and writers are the user's to make on them; everything the
 /// participant contains is deleted with it. Only create() makes one, so a
@@ -214,7 +214,9 @@ class Participant {
         {topics_.event, dh3::topics::HAND_EVENT},
         {topics_.info, dh3::topics::SERVICE_INFO},
         {topics_.request, dh3::topics::COMMAND_REQUEST},
-        {topics_.reply, dh3::topics::COMMAND_REPLY}};
+        {topics_.reply, dh3::topics::COMMAND_REPLY},
+        {topics_.group_request, dh3::topics::GROUP_REQUEST},
+        {topics_.group_reply, dh3::topics::GROUP_REPLY}};
     for (const auto& [topic, name] : topics) {
       if (topic == nullptr) return fail("cannot create the topic " + name);
     }

@@ -35,7 +35,7 @@ class TypeSupport final : public Generated {
   }
 };
 
-/// The contract's five topics on one participant, each with its type
+/// The contract's seven topics on one participant, each with its type
 /// registered through TypeSupport. A member is nullptr where Fast DDS refused.
 struct Topics {
   eprosima::fastdds::dds::Topic* status = nullptr;
@@ -43,10 +43,12 @@ struct Topics {
   eprosima::fastdds::dds::Topic* info = nullptr;
   eprosima::fastdds::dds::Topic* request = nullptr;
   eprosima::fastdds::dds::Topic* reply = nullptr;
+  eprosima::fastdds::dds::Topic* group_request = nullptr;
+  eprosima::fastdds::dds::Topic* group_reply = nullptr;
 
   [[nodiscard]] bool complete() const {
     return status != nullptr && event != nullptr && info != nullptr && request != nullptr &&
-           reply != nullptr;
+           reply != nullptr && group_request != nullptr && group_reply != nullptr;
   }
 };
 
@@ -64,6 +66,10 @@ inline Topics create_topics(eprosima::fastdds::dds::DomainParticipant& participa
   topics.request =
       topic(dh3::topics::COMMAND_REQUEST, new TypeSupport<msg::CommandRequestPubSubType>());
   topics.reply = topic(dh3::topics::COMMAND_REPLY, new TypeSupport<msg::CommandReplyPubSubType>());
+  topics.group_request =
+      topic(dh3::topics::GROUP_REQUEST, new TypeSupport<msg::GroupRequestPubSubType>());
+  topics.group_reply =
+      topic(dh3::topics::GROUP_REPLY, new TypeSupport<msg::GroupReplyPubSubType>());
   return topics;
 }
 

@@ -51,6 +51,9 @@ struct Args {
   bool watch = false;
   bool yes = false;
   int count = 0;  ///< events, status --watch: stop after this many lines (0: never)
+  std::string group_command;        ///< group: init, move, rotate, grasp, release, force
+  std::vector<std::string> hands;   ///< group: the hands
+  std::optional<std::int32_t> group_value;  ///< group: --value (--force, --position)
 };
 
 struct Context {
@@ -374,6 +377,62 @@ int cmd_hand(Context& c, const std::string& command, const Args& a) {
   return c.fail(command, target, Code::invalid_argument, "unknown command");
 }
 
+/// A group command's name on the command line, and whether it takes a value.
+std::optional<std::pair<GroupCommand, bool>> parse_group_command(const std::string& name) {
+  if (name == "init") return std::pair{GroupCommand::initialize, false};
+  if (name == "move") return std::pair{GroupCommand::move, true};
+  if (name == "rotate") return std::pair{GroupCommand::rotate, true};
+  if (name == "grasp") return std::pair{GroupCommand::grasp, true};
+  if (name == "release") return std::pair{GroupCommand::release, true};
+  if (name == "force") return std::pair{GroupCommand::set_closing_force, true};
+  return std::nullopt;
+}
+
+/// One command to several hands, together and all or none: one line per hand.
+int cmd_group(Context& c, const Args& a) {
+  const std::string command = "group " + a.group_command;
+  const auto parsed = parse_group_command(a.group_command);
+  if (!parsed) {
+    return c.fail(command, "", Code::invalid_argument,
+                  "not a group command (init, move, rotate, grasp, release, force)");
+  }
+  if (parsed->second && !a.group_value) {
+    return c.fail(command, "", Code::invalid_argument, a.group_command + " needs --value N");
+  }
+  std::vector<HandAddress> hands;
+  for (const std::string& spec : a.hands) {
+    auto hand = c.hand(command, spec);
+    if (!hand) return kExitFailed;
+    hands.push_back(hand->address());
+  }
+  const GroupReply reply = c.client.group(parsed->first, hands, a.group_value.value_or(0), c.timeout());
+  if (reply.hands.empty()) return c.fail(command, "", reply.code, reply.message);
+  for (const GroupMemberReply& member : reply.hands) {
+    const std::string target = member.hand.to_string();
+    Reply one;
+    one.code = member.code;
+    one.message = member.message;
+    one.value = member.value;
+    one.grasp = member.grasp;
+    std::string text = target + ": " + std::string(to_string(member.code));
+    if (member.grasp != GraspOutcome::none) {
+      text = target + ": " + std::string(to_string(member.grasp)) + " at position " +
+             std::to_string(member.value);
+    }
+    if (c.globals.json) {
+      c.out << reply_json(command, target, one) << std::endl;
+    } else {
+      c.out << text << (member.ok() ? "" : ": " + member.message) << std::endl;
+    }
+  }
+  if (!reply.ok()) {
+    c.err << "dh3ctl: " << command << ": " << to_string(reply.code) << ": " << reply.message
+          << std::endl;
+    return kExitFailed;
+  }
+  return kExitOk;
+}
+
 /// The options every command takes (before or after the command).
 void declare_global_options(CLI::App& app, Globals& g) {
   app.add_option("-t,--timeout", g.timeout_s,
@@ -441,6 +500,16 @@ CLI::Option* declare_commands(CLI::App& app, Args& a) {
   hand_arg(set_baud);
   value_arg(set_baud, "INDEX", "0 = 500 kbps, 1 = 400, 2 = 250, 3 = 200, 4 = 125, 5 = 100 kbps");
   set_baud->add_flag("--yes", a.yes, "confirm");
+  auto* group = app.add_subcommand(
+      "group",
+      "one command to several hands at once, all or none: their motions start together "
+      "(e.g. group grasp cell/bus0/1 cell/bus0/2 --force 50)");
+  group->add_option("COMMAND", a.group_command, "init, move, rotate, grasp, release or force")
+      ->required();
+  group->add_option("HANDS", a.hands, "the hands, each as HAND is given to the other commands")
+      ->required();
+  group->add_option("-v,--value,--force,--position", a.group_value,
+                    "the value: position or rotation 0-100, force 20-100 percent");
 
   return open_opt;
 }
@@ -499,6 +568,7 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err,
   if (command == "status") return cmd_status(context, a);
   if (command == "events") return cmd_events(context, a);
   if (command == "scan") return cmd_scan(context, a);
+  if (command == "group") return cmd_group(context, a);
   return cmd_hand(context, command, a);
 }
 

@@ -276,6 +276,19 @@ Reply Client::scan(const std::string& service, const std::string& bus, Timeout t
   return scan_async(service, bus, timeout).get();
 }
 
+std::future<GroupReply> Client::group_async(GroupCommand command, std::vector<HandAddress> hands,
+                                           std::int32_t value, Timeout timeout) {
+  // The call blocks while it waits; a thread of its own keeps the caller free.
+  return std::async(std::launch::async, [core = core_, command, hands = std::move(hands), value,
+                                         timeout] {
+    return core->group_call(command, hands, value, timeout);
+  });
+}
+GroupReply Client::group(GroupCommand command, const std::vector<HandAddress>& hands,
+                         std::int32_t value, Timeout timeout) {
+  return core_->group_call(command, hands, value, timeout);
+}
+
 Subscription Client::subscribe(EventCallback callback, std::optional<HandAddress> only) {
   return Subscription(core_->subscribe_events(std::move(callback), std::move(only)));
 }

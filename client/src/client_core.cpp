@@ -43,6 +43,7 @@ void ClientCore::close() {
     }
     pending_.clear();
     to_write_.clear();
+    close_group_calls_locked();
   }
   io_wake_.notify_all();
   changed_.notify_all();

@@ -135,6 +135,10 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   [[nodiscard]] static Result<void, Reply> check(const HandAddress& hand, msg::CommandType command,
                                                  std::int32_t value);
 
+  /// A group command (group_calls.cpp); blocks until its reply or deadline.
+  GroupReply group_call(GroupCommand command, const std::vector<HandAddress>& hands,
+                        std::int32_t value, Timeout timeout);
+
   [[nodiscard]] std::vector<ServiceInfo> services() const;
   [[nodiscard]] std::optional<ServiceInfo> service(std::string_view name) const;
   [[nodiscard]] std::vector<HandStatus> hands() const;
@@ -166,6 +170,9 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   void on_status(const std::string& prefix, const msg::HandStatus& status);
   void on_event(const std::string& prefix, const msg::HandEvent& event);
   void on_reply(const msg::CommandReply& reply);
+  void on_group_reply(const msg::GroupReply& reply);
+  void on_group_request_reader_matched(const std::string& prefix, bool matched);
+  void on_group_reply_writer_matched(const std::string& prefix, bool matched);
 
  private:
   struct Dds;
@@ -211,6 +218,10 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   /// readers acknowledged every request written, so a caller knows whether
   /// the service may have run it (`mutex_` not held: it asks the writer).
   void tell_acknowledgment(std::vector<std::pair<Done, Reply>>& expired) const;
+  // Group calls (group_calls.cpp).
+  [[nodiscard]] bool group_ready_locked(const std::string& service) const;
+  /// Ends every pending group call with NOT_CONNECTED (close()).
+  void close_group_calls_locked();
   // Following services (service_tracker.cpp).
   void on_match(std::multiset<std::string>& set, const std::string& prefix, bool matched);
 
@@ -273,6 +284,11 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   std::map<HandAddress, std::string> status_origins_;  ///< the incarnation of each cached status
   std::vector<std::shared_ptr<SubscriptionState>> event_subs_;
   std::vector<std::shared_ptr<SubscriptionState>> status_subs_;
+
+  /// Group calls waiting for their reply, by request_seq (group_calls.cpp).
+  std::map<std::uint64_t, std::shared_ptr<std::promise<GroupReply>>> group_pending_;
+  std::multiset<std::string> group_request_readers_;  ///< prefixes of matched group readers
+  std::multiset<std::string> group_reply_writers_;    ///< prefixes of matched group writers
 
   std::atomic<std::uint64_t> requests_written_{0};
   std::atomic<std::uint64_t> own_replies_{0};

@@ -58,6 +58,20 @@ void ClientCore::Dds::create_command_endpoints(const EndpointCreator& creator,
                                        &reader_listener, data_and_matches());
 }
 
+void ClientCore::Dds::create_group_endpoints(const EndpointCreator& creator) {
+  using contract::TopicRole;
+  const contract::Topics& topics = participant->topics();
+  group_request_writer = creator.create_writer(
+      ClientEndpoint::group_request_writer, participant->publisher(), topics.group_request,
+      contract::writer_qos(TopicRole::request), &group_request_listener,
+      fdds::StatusMask::publication_matched());
+  // The plain topic: group replies are few, and on_group_reply() keeps only
+  // this client's.
+  group_reply_reader = creator.create_reader(
+      ClientEndpoint::group_reply_reader, participant->subscriber(), topics.group_reply,
+      contract::reader_qos(TopicRole::reply), &reader_listener, data_and_matches());
+}
+
 void ClientCore::Dds::create_watch_endpoints(const EndpointCreator& creator) {
   using contract::TopicRole;
   const contract::Topics& topics = participant->topics();
@@ -90,6 +104,7 @@ Result<void, std::string> ClientCore::set_up_dds(const EndpointCreator& creator)
   const bool access_control = creator.access_control(*dds_->participant);
   client_id_ = dds_->participant->client_id();
   dds_->create_command_endpoints(creator, client_id_);
+  dds_->create_group_endpoints(creator);
   // Every identity must read statuses and events; a refused command endpoint
   // above is a read-only client (below).
   dds_->create_watch_endpoints(creator);

@@ -31,7 +31,9 @@ enum class ClientEndpoint {
   reply_reader,
   status_reader,
   event_reader,
-  info_reader
+  info_reader,
+  group_request_writer,
+  group_reply_reader
 };
 
 /// Creates the client's readers and writers. DDS Security's access control
@@ -107,6 +109,20 @@ struct ClientCore::Dds {
     ClientCore& core_;
   };
 
+  class GroupRequestWriterListener final : public fdds::DataWriterListener {
+   public:
+    explicit GroupRequestWriterListener(ClientCore& core) : core_(core) {}
+    void on_publication_matched(fdds::DataWriter* /*writer*/,
+                                const fdds::PublicationMatchedStatus& status) override {
+      const OnDdsListener on_listener;
+      core_.on_group_request_reader_matched(prefix_of(status.last_subscription_handle),
+                                            status.current_count_change > 0);
+    }
+
+   private:
+    ClientCore& core_;
+  };
+
   /// One listener for every reader. It tells them apart by topic name, not by
   /// the reader pointers: a reader's first callbacks (transient-local data,
   /// matches) may come before create_datareader() has returned its pointer.
@@ -127,6 +143,9 @@ struct ClientCore::Dds {
         take<msg::HandEvent>(reader, [this](const msg::HandEvent& e, const std::string& from) {
           core_.on_event(from, e);
         });
+      } else if (topic == topics::GROUP_REPLY) {
+        take<msg::GroupReply>(
+            reader, [this](const msg::GroupReply& r, const std::string&) { core_.on_group_reply(r); });
       } else if (topic == topics::SERVICE_INFO) {
         take<msg::ServiceInfo>(reader, [this](const msg::ServiceInfo& i, const std::string& from) {
           core_.on_info(from, i);
@@ -140,6 +159,8 @@ struct ClientCore::Dds {
       const bool matched = status.current_count_change > 0;
       if (topic == own_replies_topic_ || topic == topics::COMMAND_REPLY) {
         core_.on_reply_writer_matched(prefix_of(status.last_publication_handle), matched);
+      } else if (topic == topics::GROUP_REPLY) {
+        core_.on_group_reply_writer_matched(prefix_of(status.last_publication_handle), matched);
       } else if (topic == topics::HAND_EVENT) {
         core_.on_event_writer_matched(prefix_of(status.last_publication_handle), matched);
       }
@@ -160,7 +181,10 @@ struct ClientCore::Dds {
   };
 
   explicit Dds(ClientCore& core)
-      : participant_listener(core), request_listener(core), reader_listener(core) {}
+      : participant_listener(core),
+        request_listener(core),
+        group_request_listener(core),
+        reader_listener(core) {}
 
   Dds(const Dds&) = delete;
   Dds& operator=(const Dds&) = delete;
@@ -168,11 +192,15 @@ struct ClientCore::Dds {
   /// The request writer and the reply reader (on the reply topic filtered to
   /// `client_id`'s replies); nullptr where refused.
   void create_command_endpoints(const EndpointCreator& creator, const std::string& client_id);
+  /// The group request writer and group reply reader; nullptr where refused
+  /// (group calls then end DENIED).
+  void create_group_endpoints(const EndpointCreator& creator);
   /// The status, event and service info readers; nullptr where refused.
   void create_watch_endpoints(const EndpointCreator& creator);
 
   ParticipantListener participant_listener;
   RequestWriterListener request_listener;
+  GroupRequestWriterListener group_request_listener;
   ReaderListener reader_listener;
   /// After the listeners: deleted (with every reader and writer) before them.
   std::unique_ptr<contract::Participant> participant;
@@ -181,6 +209,8 @@ struct ClientCore::Dds {
   fdds::DataReader* status_reader = nullptr;
   fdds::DataReader* event_reader = nullptr;
   fdds::DataReader* info_reader = nullptr;
+  fdds::DataWriter* group_request_writer = nullptr;
+  fdds::DataReader* group_reply_reader = nullptr;
 };
 
 }  // namespace dh3::detail

@@ -138,6 +138,8 @@ event=dh3/hand_event
 info=dh3/service_info
 request=dh3/command_request
 reply=dh3/command_reply
+group_request=dh3/group_request
+group_reply=dh3/group_reply
 
 domains_xml="<domains><id_range><min>$domain_min</min><max>$domain_max</max></id_range></domains>"
 
@@ -214,8 +216,8 @@ EOF
   sign "$dir/$id/permissions.xml"
 }
 
-permissions service "$status $event $info $reply" "$request"
-permissions operator "$request" "$status $event $info $reply"
+permissions service "$status $event $info $reply $group_reply" "$request $group_request"
+permissions operator "$request $group_request" "$status $event $info $reply $group_reply"
 permissions monitor "" "$status $event"
 
 echo "make-test-pki: test PKI for domains $domain_min-$domain_max in $dir (identities: service, operator, monitor)"

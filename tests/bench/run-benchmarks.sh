@@ -10,7 +10,7 @@ out=${BENCH_OUT:-$build/bench}
 deploy/install-deps.sh
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 cmake --build "$build" -j "${JOBS:-2}" --target bench_bus_efficiency bench_round_trip \
-  bench_status_fanout bench_footprint bench_event_latency bench_cell
+  bench_status_fanout bench_footprint bench_event_latency bench_cell bench_group_skew
 mkdir -p "$out"
 bench="$build/tests/bench"
 # 1 and 2: round trip vs raw Fast DDS (shm and UDP), five runs and their median
@@ -19,6 +19,11 @@ bench="$build/tests/bench"
 echo
 # 3: bus efficiency (simulated time, ~30 s).
 "$bench/bench_bus_efficiency" --seconds 5 --json "$out/bus_efficiency.json"
+echo
+# 10: group command skew on the simulated line, hands answering at once and
+# after 2 ms (~10 s).
+"$bench/bench_group_skew" --rounds 30
+"$bench/bench_group_skew" --rounds 30 --reply-delay-us 2000
 echo
 # 4: status fan-out to 1, 4 and 16 client processes (~30 s).
 "$bench/bench_status_fanout" --seconds 5 --json "$out/status_fanout.json"

@@ -49,6 +49,7 @@
 
 #include "dh3/address.hpp"
 #include "dh3/export.hpp"
+#include "dh3/group.hpp"
 #include "dh3/types.hpp"
 
 namespace dh3 {
@@ -270,6 +271,16 @@ class DH3_CLIENT_API Client {
   std::future<Reply> scan_async(const std::string& service, const std::string& bus,
                                 Timeout timeout = Timeout::zero());
   Reply scan(const std::string& service, const std::string& bus, Timeout timeout = Timeout::zero());
+
+  /// One command for several hands of one service, together and all or none
+  /// (dh3/group.hpp):
+  ///   auto r = client.group(dh3::GroupCommand::grasp, {left, right}, 50);
+  ///   // r.hands[i].grasp for each; r.message names every hand that failed
+  /// `timeout` bounds the whole call (and each hand's command on the service).
+  std::future<GroupReply> group_async(GroupCommand command, std::vector<HandAddress> hands,
+                                      std::int32_t value = 0, Timeout timeout = Timeout::zero());
+  GroupReply group(GroupCommand command, const std::vector<HandAddress>& hands,
+                   std::int32_t value = 0, Timeout timeout = Timeout::zero());
 
   /// Calls `callback` for every event of every hand (or of `only`) from now on.
   Subscription subscribe(EventCallback callback, std::optional<HandAddress> only = std::nullopt);

@@ -31,6 +31,8 @@ from ._dh3 import (
     BusInfo,
     Client,
     CommandTraffic,
+    GroupMemberReply,
+    GroupReply,
     Hand,
     HandAddress,
     HandEvent,
@@ -48,7 +50,8 @@ from ._dh3 import (
 from . import _dh3
 
 __all__ = [
-    "BusInfo", "Client", "Code", "CommandTraffic", "Error", "EventKind", "GraspOutcome", "GripState", "Hand",
+    "BusInfo", "Client", "Code", "CommandTraffic", "Error", "EventKind", "GraspOutcome", "GripState",
+    "GroupCommand", "GroupMemberReply", "GroupReply", "Hand",
     "HandAddress", "HandEvent", "HandInfo", "HandStatus", "Reply", "RotationState",
     "ServiceInfo", "Subscription", "firmware_version_text", "parse_hand_address",
     "parse_register", "reg", "register_name",
@@ -86,6 +89,18 @@ class GraspOutcome(_Spelled):
     NONE = 0
     GRASPED = 1
     MISSED = 2
+
+
+class GroupCommand(_Spelled):
+    """What Client.group() sends to every hand of the group."""
+
+    INITIALIZE = 0
+    MOVE = 1  #: value = position 0-100
+    ROTATE = 2  #: value = 0-100 percent of 90 degrees
+    GRASP = 3  #: value = closing force 20-100
+    RELEASE = 4  #: value = position to open to
+    SET_CLOSING_FORCE = 5
+    SET_OPENING_FORCE = 6
 
 
 class GripState(_Spelled):

@@ -2,7 +2,7 @@
 from concurrent.futures import Future
 from enum import IntEnum
 from types import TracebackType
-from typing import Callable, Optional
+from typing import Callable, List, Optional
 
 class _Spelled(IntEnum): ...
 
@@ -26,6 +26,15 @@ class GraspOutcome(_Spelled):
     NONE = 0
     GRASPED = 1
     MISSED = 2
+
+class GroupCommand(_Spelled):
+    INITIALIZE = 0
+    MOVE = 1
+    ROTATE = 2
+    GRASP = 3
+    RELEASE = 4
+    SET_CLOSING_FORCE = 5
+    SET_OPENING_FORCE = 6
 
 class GripState(_Spelled):
     UNKNOWN = 0
@@ -115,6 +124,35 @@ class Reply:
     @property
     def lease_holder(self) -> str:
         """Lease commands, and commands refused because of a lease: who holds it."""
+
+class GroupMemberReply:
+    """One hand's part of a group command."""
+    @property
+    def ok(self) -> bool: ...
+    def __bool__(self) -> bool: ...
+    @property
+    def hand(self) -> HandAddress: ...
+    @property
+    def code(self) -> Code:
+        """CANCELLED: another hand of the group failed first."""
+    @property
+    def message(self) -> str: ...
+    @property
+    def value(self) -> int: ...
+    @property
+    def grasp(self) -> GraspOutcome: ...
+
+class GroupReply:
+    """A group command's one reply: code OK if every hand's is, else the first failed hand's."""
+    @property
+    def ok(self) -> bool: ...
+    def __bool__(self) -> bool: ...
+    @property
+    def code(self) -> Code: ...
+    @property
+    def message(self) -> str: ...
+    @property
+    def hands(self) -> List[GroupMemberReply]: ...
 
 class HandStatus:
     """The latest status the service published for a hand."""
@@ -347,6 +385,9 @@ class Client:
     def scan(self, service: str, bus: str, timeout: Optional[float] = None) -> Reply: ...
     def scan_async(self, service: str, bus: str,
                    timeout: Optional[float] = None) -> Future[Reply]: ...
+    def group(self, command: GroupCommand, hands: List[HandAddress], value: int = 0,
+              timeout: Optional[float] = None) -> GroupReply:
+        """One command to several hands of one service, together and all or none."""
     def subscribe(self, callback: Callable[[HandEvent], None],
                   only: Optional[HandAddress] = None) -> Subscription: ...
     def subscribe_status(self, callback: Callable[[HandStatus], None],

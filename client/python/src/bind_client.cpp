@@ -182,6 +182,24 @@ void def_calls(py::class_<PyClient>& cls) {
             return async_call([&] { return client->scan_async(service, bus, to_timeout(t)); });
           },
           "service"_a, "bus"_a, timeout_arg)
+      .def(
+          "group",
+          [](PyClient& c, dh3::GroupCommand command, std::vector<dh3::HandAddress> hands,
+             std::int32_t value, OptionalSeconds t) {
+            auto client = c.client();
+            std::future<dh3::GroupReply> future;
+            {
+              py::gil_scoped_release released;
+              future = client->group_async(command, std::move(hands), value, to_timeout(t));
+            }
+            client.reset();  // close() while this waits ends the call NOT_CONNECTED
+            return wait_interruptibly(future);
+          },
+          "command"_a, "hands"_a, "value"_a = 0, timeout_arg,
+          "One command to several hands of one service, together and all or none: if any hand "
+          "fails its check (offline, not initialized, leased by another client, value out of "
+          "range) nothing is sent and each failing hand says why. Returns one GroupReply once "
+          "every hand's command ended.")
       .def("subscribe",
            python_subscribe<dh3::HandEvent>(&dh3::Client::subscribe, "dh3: event callback"),
            "callback"_a, "only"_a = py::none(),

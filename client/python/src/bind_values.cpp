@@ -76,6 +76,36 @@ void bind_reply(py::module_& m) {
       });
 }
 
+void bind_group_reply(py::module_& m) {
+  py::class_<dh3::GroupMemberReply>(m, "GroupMemberReply", "One hand's part of a group command.")
+      .def_property_readonly("ok", &dh3::GroupMemberReply::ok)
+      .def("__bool__", &dh3::GroupMemberReply::ok)
+      .def_readonly("hand", &dh3::GroupMemberReply::hand)
+      .def_readonly("code", &dh3::GroupMemberReply::code,
+                    "CANCELLED: another hand of the group failed first.")
+      .def_readonly("message", &dh3::GroupMemberReply::message)
+      .def_readonly("value", &dh3::GroupMemberReply::value, "GRASP: the final position.")
+      .def_readonly("grasp", &dh3::GroupMemberReply::grasp)
+      .def("__repr__", [](const dh3::GroupMemberReply& r) {
+        return "GroupMemberReply(" + r.hand.to_string() + ", code=" +
+               std::string(dh3::to_string(r.code)) + ", value=" + std::to_string(r.value) +
+               ", grasp=" + std::string(dh3::to_string(r.grasp)) + ")";
+      });
+  py::class_<dh3::GroupReply>(m, "GroupReply",
+                              "A group command's one reply: code OK if every hand's is, else "
+                              "the first failed hand's; hands in the order given.")
+      .def_property_readonly("ok", &dh3::GroupReply::ok)
+      .def("__bool__", &dh3::GroupReply::ok)
+      .def_readonly("code", &dh3::GroupReply::code)
+      .def_readonly("message", &dh3::GroupReply::message,
+                    "Every failed hand and why, for every code but OK.")
+      .def_readonly("hands", &dh3::GroupReply::hands)
+      .def("__repr__", [](const dh3::GroupReply& r) {
+        return "GroupReply(code=" + std::string(dh3::to_string(r.code)) +
+               ", hands=" + std::to_string(r.hands.size()) + ", message='" + r.message + "')";
+      });
+}
+
 void bind_hand_status(py::module_& m) {
   using S = dh3::HandStatus;
   py::class_<S>(m, "HandStatus", "The latest status the service published for a hand.")
@@ -178,6 +208,7 @@ void bind_subscription(py::module_& m) {
 void bind_values(py::module_& m) {
   bind_hand_address(m);
   bind_reply(m);
+  bind_group_reply(m);
   bind_hand_status(m);
   bind_hand_event(m);
   bind_service_info(m);

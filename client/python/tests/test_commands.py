@@ -147,3 +147,22 @@ def test_administrative_commands_are_denied_unless_allowed(hand):
                   hand.set_baud_rate_async(2).result(timeout=DEADLINE)):
         assert reply.code == dh3.Code.DENIED, reply
         assert "administrative" in reply.message or "--allow-admin" in reply.message
+
+
+def test_group_grasp_reports_each_hand(client):
+    hands = [dh3.HandAddress(SERVICE, "bus0", 1), dh3.HandAddress(SERVICE, "bus0", 3)]
+    for address in hands:
+        assert client.wait_for_hand(str(address), timeout=DEADLINE)
+    init = client.group(dh3.GroupCommand.INITIALIZE, hands, timeout=DEADLINE)
+    assert init.ok, init.message
+    release = client.group(dh3.GroupCommand.RELEASE, hands, 100, timeout=DEADLINE)
+    assert release.ok, release.message
+    grasp = client.group(dh3.GroupCommand.GRASP, hands, 50, timeout=DEADLINE)
+    assert grasp.ok, grasp.message
+    assert [m.hand for m in grasp.hands] == hands
+    assert grasp.hands[0].grasp == dh3.GraspOutcome.GRASPED
+    assert grasp.hands[1].grasp == dh3.GraspOutcome.MISSED
+    # A force out of range: refused before anything is sent, the hand named.
+    refused = client.group(dh3.GroupCommand.GRASP, hands, 5, timeout=DEADLINE)
+    assert refused.code == dh3.Code.INVALID_ARGUMENT
+    assert str(hands[0]) in refused.message

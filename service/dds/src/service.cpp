@@ -121,6 +121,7 @@ Result<void, std::string> Service::Impl::start() {
   lease_timer_ = std::thread([this] { lease_timer_loop(); });
   // Last: requests are only taken once everything they need runs.
   if (auto created = create_request_reader(); !created) return created;
+  create_group_endpoints();
   spdlog::info("service '{}' on DDS domain {}: {} bus(es), admin commands {}", options_.name,
                options_.participant.domain, buses_.size(),
                options_.allow_admin ? "allowed" : "refused");
@@ -185,6 +186,9 @@ void Service::Impl::stop() {
 void Service::Impl::destroy_dds() {
   if (participant_ == nullptr) return;
   if (request_reader_ != nullptr) request_reader_->set_listener(nullptr);
+  if (group_request_reader_ != nullptr) group_request_reader_->set_listener(nullptr);
+  group_request_reader_ = nullptr;
+  group_reply_writer_ = nullptr;
   if (reply_writer_ != nullptr) reply_writer_->set_listener(nullptr);
   status_writer_ = event_writer_ = info_writer_ = reply_writer_ = nullptr;
   request_reader_ = nullptr;

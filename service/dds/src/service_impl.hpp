@@ -26,6 +26,7 @@
 #include <thread>
 
 #include "dh3/dds/conversions.hpp"
+#include "dh3/dds/group_validation.hpp"
 #include "dh3/dds/hand_directory.hpp"
 #include "dh3/dds/lease_table.hpp"
 #include "dh3/dds/reply_gate.hpp"
@@ -107,6 +108,15 @@ class Service::Impl {
    public:
     explicit RequestListener(Impl& impl) : impl_(impl) {}
     void on_data_available(fdds::DataReader* reader) override { impl_.on_requests(*reader); }
+
+   private:
+    Impl& impl_;
+  };
+
+  class GroupRequestListener final : public fdds::DataReaderListener {
+   public:
+    explicit GroupRequestListener(Impl& impl) : impl_(impl) {}
+    void on_data_available(fdds::DataReader* reader) override { impl_.on_group_requests(*reader); }
 
    private:
     Impl& impl_;
@@ -209,6 +219,21 @@ class Service::Impl {
   /// held); leaves the reply's empty (update_seq 0) if the hand has none.
   void attach_status(msg::CommandReply& reply, std::uint16_t bus, std::uint8_t can_id);
 
+  // Group requests (DDS listener thread; service_groups.cpp).
+  struct PendingGroup;
+  void on_group_requests(fdds::DataReader& reader);
+  void handle_group(msg::GroupRequest& request);
+  /// Answers a group that failed its checks: nothing was sent to any hand.
+  void refuse_group(msg::GroupReply& reply, const GroupRefusal& refusal);
+  void submit_group(const std::vector<ValidRequest>& members, msg::GroupReply reply,
+                    Duration timeout);
+  [[nodiscard]] MemberFacts member_facts(std::uint16_t bus, std::uint8_t can_id,
+                                         const std::string& client_id) const;
+  void write_group_reply(msg::GroupReply& reply);
+  /// The group endpoints; a service whose DDS Security permissions predate
+  /// them runs without group commands (and says so).
+  void create_group_endpoints();
+
   // Leases.
   void on_participant_left(const std::string& participant_id, bool dropped);
   void lease_timer_loop();
@@ -257,6 +282,7 @@ class Service::Impl {
   ParticipantListener participant_listener_{*this};
   RequestListener request_listener_{*this};
   ReplyWriterListener reply_writer_listener_{*this};
+  GroupRequestListener group_request_listener_{*this};
   /// The participant, its topics, publisher and subscriber (null until init()
   /// has made them); the writers and the reader below are made on them and
   /// deleted with them.
@@ -276,6 +302,8 @@ class Service::Impl {
   fdds::DataWriter* info_writer_ = nullptr;
   fdds::DataWriter* reply_writer_ = nullptr;
   fdds::DataReader* request_reader_ = nullptr;
+  fdds::DataReader* group_request_reader_ = nullptr;
+  fdds::DataWriter* group_reply_writer_ = nullptr;
 
   std::mutex info_mutex_;
 
@@ -283,6 +311,7 @@ class Service::Impl {
   std::mutex dispatch_mutex_;
   bool stopping_ = false;        ///< under dispatch_mutex_
   msg::CommandRequest request_;  ///< reused by the listener thread
+  msg::GroupRequest group_request_;  ///< reused by the group listener thread
 
   std::mutex scans_mutex_;
   std::vector<std::shared_ptr<PendingScan>> scans_;

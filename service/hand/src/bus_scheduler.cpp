@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "dh3/hand/command_validation.hpp"
+#include "dh3/hand/group_release.hpp"
 #include "dh3/protocol/codec.hpp"
 #include "hand_counters.hpp"
 #include "hand_driver.hpp"
@@ -48,7 +49,7 @@ class BusScheduler::Impl {
         clock_(clock),
         observer_(observer),
         roster_(hands),
-        context_{options_, observer_, name_, roster_, unexpected_},
+        context_{options_, observer_, name_, roster_, unexpected_, [this] { bus_->wake(); }},
         discover_(hands.empty()) {
     if (bus_->bit_rate() > 0 && options_.max_line_load > 0.0) {
       // A request and its reply, worst-case bit stuffing, at the allowed load.
@@ -210,6 +211,10 @@ class BusScheduler::Impl {
   /// A command that ends before any driver has it. Commands to hands that do
   /// not exist are not counted: no hand's figures should grow from them.
   void refuse(std::uint8_t can_id, const Command& command, Completion& done, CommandError error) {
+    if (command.group) {
+      command.group->abandon(fmt::format("{}/{}: {} refused: {}", name_, can_id,
+                                         to_string(command.kind), to_string(error)));
+    }
     if (can_id == 0 || roster_.knows(can_id))
       counters_for(can_id).count_command(command, fail(error));
     done(fail(error));
@@ -363,6 +368,7 @@ class BusScheduler::Impl {
 
   void send_due(TimePoint pass_started) {
     if (!link_up_) return;
+    if (!send_group_frames()) return;
     reserve_for_id_zero(pass_started);
     const std::size_t n = order_.size();
     for (std::size_t k = 0; k < n; ++k) {
@@ -379,34 +385,56 @@ class BusScheduler::Impl {
       HandDriver& driver = *drivers_[id];
       const auto message = driver.next_frame(now);
       if (!message) continue;
-      const auto sent = bus_->send(to_frame(*message));
-      if (sent) {
-        frames_sent_.fetch_add(1);
-        recent_frames_.count(1);
-        line_used(now);
-        // The interval counts from when the frame left, which is after now.
-        const TimePoint left = clock_.now();
-        driver.hold_sends_until(left + options_.frame_spacing());
-        last_sent_[id] = left;
-        if (id == 0) id_zero_sent(left);
-        continue;
-      }
-      driver.unsend();
-      if (sent.error() == bus::BusError::link_down) {
-        on_link_down(now);
-        return;
-      }
-      if (sent.error() != bus::BusError::would_block) {
-        bus_errors_.fetch_add(1);
-        spdlog::warn("{}: could not send {}: {}", name_, protocol::describe(*message),
-                     bus::to_string(sent.error()));
-      }
+      if (send_frame(driver, *message, now)) continue;
       rr_ = index;  // this hand goes first when the bus takes frames again
       return;
     }
     // Round robin: a different hand leads every pass, so none is always last.
     if (n > 0) rr_ = (rr_ + 1) % n;
     send_probes(clock_.now());
+  }
+
+  /// Sends one driver's frame; false if the bus took it not (the driver will
+  /// offer it again) and the pass should send no more.
+  bool send_frame(HandDriver& driver, const protocol::Message& message, TimePoint now) {
+    const std::uint8_t id = driver.can_id();
+    const auto sent = bus_->send(to_frame(message));
+    if (sent) {
+      frames_sent_.fetch_add(1);
+      recent_frames_.count(1);
+      line_used(now);
+      // The interval counts from when the frame left, which is after now.
+      const TimePoint left = clock_.now();
+      driver.hold_sends_until(left + options_.frame_spacing());
+      last_sent_[id] = left;
+      if (id == 0) id_zero_sent(left);
+      return true;
+    }
+    driver.unsend();
+    if (sent.error() == bus::BusError::link_down) {
+      on_link_down(now);
+      return false;
+    }
+    if (sent.error() != bus::BusError::would_block) {
+      bus_errors_.fetch_add(1);
+      spdlog::warn("{}: could not send {}: {}", name_, protocol::describe(message),
+                   bus::to_string(sent.error()));
+    }
+    return false;
+  }
+
+  /// Group members whose group released them go first, back to back, past
+  /// the line budget (a group is a burst its caller asked for; the budget
+  /// still counts it, so the polls after it wait their share). False if the
+  /// bus refused one: the pass sends nothing more.
+  bool send_group_frames() {
+    for (std::uint8_t id : order_) {
+      HandDriver& driver = *drivers_[id];
+      const TimePoint now = clock_.now();
+      const auto message = driver.next_group_frame(now);
+      if (message && !send_frame(driver, *message, now)) return false;
+    }
+    return true;
   }
 
   // ---- pacing across senders ------------------------------------------------

@@ -9,6 +9,7 @@
 #include <algorithm>
 
 #include "dh3/hand/command_validation.hpp"
+#include "dh3/hand/group_release.hpp"
 
 namespace dh3::hand {
 namespace {
@@ -272,7 +273,12 @@ std::optional<TimePoint> HandDriver::next_wakeup() const {
     if (!earliest || t < *earliest) earliest = t;
   };
   const Initializing* init = initializing();
-  if (in_flight_) {
+  if (holding_for_group()) {
+    // Its group wakes the loop when the release instant is fixed (or the
+    // group is abandoned); the loop's longest idle wait covers its deadline.
+    if (const auto release = active_->job.command.group->release_at())
+      consider(std::max(*release, next_send_at_));
+  } else if (in_flight_) {
     consider(in_flight_->deadline);
   } else {
     if (has_command_frame()) consider(next_send_at_);
@@ -333,6 +339,11 @@ void HandDriver::fail_everything(CommandError error) {
 
 void HandDriver::complete(Job& job, const CommandResult& result) {
   counters_.count_command(job.command, result);
+  if (!result && job.command.group) {
+    // Too late once released (ignored then); before, no member may move.
+    job.command.group->abandon(fmt::format("{}: {} ended {}", label(),
+                                           to_string(job.command.kind), to_string(result.error())));
+  }
   if (job.done) pending_completions_.emplace_back(std::move(job.done), result);
 }
 

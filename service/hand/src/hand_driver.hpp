@@ -49,6 +49,8 @@ struct DriverContext {
   /// The bus's hands and their published states, which other threads read.
   HandRoster& roster;
   std::atomic<std::uint64_t>& unexpected_frames;
+  /// Makes the bus loop run a pass soon (from any thread): a group's release.
+  std::function<void()> wake;
 };
 
 class HandDriver {
@@ -69,6 +71,9 @@ class HandDriver {
   /// The frame to send now, if this hand has one and its pacing allows; it is
   /// then in flight until a reply matches it or it times out.
   [[nodiscard]] std::optional<protocol::Message> next_frame(TimePoint now);
+  /// A group member's held frame, once its group released it (and only
+  /// then): the scheduler sends these first in a pass, back to back.
+  [[nodiscard]] std::optional<protocol::Message> next_group_frame(TimePoint now);
   /// The frame returned by next_frame() could not be sent (would_block): it
   /// is offered again on the next call.
   void unsend();
@@ -114,6 +119,12 @@ class HandDriver {
   [[nodiscard]] std::optional<protocol::Message> background_frame(TimePoint now);
   [[nodiscard]] std::optional<protocol::Message> online_frame(Online& online, TimePoint now);
   void start_next_job(TimePoint now);
+  /// Whether the active job's next frame is the one its group holds.
+  [[nodiscard]] bool at_group_gate() const;
+  /// The active job's frame is at its group's gate: true if it may go now.
+  [[nodiscard]] bool pass_group_gate(TimePoint now);
+  /// Ready and held for the group: nothing else goes to the hand meanwhile.
+  [[nodiscard]] bool holding_for_group() const;
   protocol::Message send(protocol::Message message, Purpose purpose, TimePoint now, bool retryable,
                          Duration reply_timeout);
   protocol::Message send_job(protocol::Message message, TimePoint now);
@@ -196,6 +207,8 @@ class HandDriver {
   std::optional<InFlight> in_flight_;
   std::optional<InFlight> resend_;  ///< timed out (or not sent), to be sent again
   TimePoint next_send_at_{};
+  /// Inside next_group_frame(): a released group frame may pass its gate.
+  bool releasing_group_ = false;
 
   // Motions. The epoch counts finger position writes sent.
   std::optional<FingerMotion> finger_motion_;

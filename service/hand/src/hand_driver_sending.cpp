@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "dh3/hand/command_validation.hpp"
+#include "dh3/hand/group_release.hpp"
 #include "hand_driver.hpp"
 
 namespace dh3::hand {
@@ -32,7 +33,20 @@ std::optional<Message> HandDriver::next_frame(TimePoint now) {
     flush(now);
     return frame;
   }
+  if (holding_for_group()) {
+    flush(now);
+    return std::nullopt;
+  }
   auto frame = anonymous_ ? std::nullopt : background_frame(now);
+  flush(now);
+  return frame;
+}
+
+std::optional<Message> HandDriver::next_group_frame(TimePoint now) {
+  if (!holding_for_group() || in_flight_ || resend_ || now < next_send_at_) return std::nullopt;
+  releasing_group_ = true;
+  auto frame = job_frame(now);
+  releasing_group_ = false;
   flush(now);
   return frame;
 }
@@ -92,6 +106,47 @@ void HandDriver::start_next_job(TimePoint now) {
   }
 }
 
+bool HandDriver::at_group_gate() const {
+  if (!active_ || !active_->job.command.group || active_->group_released ||
+      active_->check_initialized_first) {
+    return false;
+  }
+  // The frame that starts the motion (or sets the force): what the group
+  // wants to leave together. The steps before it go as they come.
+  if (const auto* grasp = std::get_if<GraspStep>(&active_->step))
+    return *grasp == GraspStep::close;
+  if (const auto* init = std::get_if<InitializeStep>(&active_->step))
+    return *init == InitializeStep::start;
+  return true;
+}
+
+bool HandDriver::pass_group_gate(TimePoint now) {
+  GroupRelease& group = *active_->job.command.group;
+  if (!active_->group_ready) {
+    // next_frame() got here: nothing in flight and the interval clear.
+    active_->group_ready = true;
+    group.ready(now, context_.wake);
+  }
+  switch (group.verdict(now)) {
+    case GroupRelease::Verdict::hold:
+      return false;
+    case GroupRelease::Verdict::go:
+      // Only in the scheduler's group sweep, so a bus's members go back to back.
+      if (!releasing_group_) return false;
+      active_->group_released = true;
+      return true;
+    case GroupRelease::Verdict::abandoned:
+      set_error(CommandError::cancelled, "group command abandoned: " + group.abandoned_because());
+      finish_active(fail(CommandError::cancelled));
+      return false;
+  }
+  return false;
+}
+
+bool HandDriver::holding_for_group() const {
+  return active_ && active_->group_ready && !active_->group_released;
+}
+
 Message HandDriver::send_job(Message message, TimePoint now) {
   const bool retryable =
       // CAN ID and baud rate reply only once stored: a re-send would store twice.
@@ -106,6 +161,7 @@ std::optional<Message> HandDriver::job_frame(TimePoint now) {
   const Command& command = active_->job.command;
   if (active_->check_initialized_first)
     return send_job(protocol::make_read(id, reg::kInitialize), now);
+  if (at_group_gate() && !pass_group_gate(now)) return std::nullopt;
 
   switch (command.kind) {
     case CommandKind::initialize:

@@ -191,6 +191,9 @@ void SimBus::play_locked(const Event& event) {
       return;
     case Event::Kind::line_done:
       line_busy_ = false;
+      if (options_.on_line) {
+        options_.on_line(event.frame, event.at - frame_time_, event.at, event.is_request);
+      }
       if (event.is_request) {
         reach_hands_locked(event.at, event.frame);
       } else {

@@ -140,6 +140,10 @@ struct ActiveJob {
   bool check_initialized_first = false;
   std::int32_t held = -1;    ///< stop: the position / rotation read, to be written back
   bool motion_sent = false;  ///< its motion frame went out: it can no longer be taken back
+  /// A group member: its held frame was reported ready to the group, and the
+  /// group released it (group_release.hpp).
+  bool group_ready = false;
+  bool group_released = false;
 };
 
 /// An initialize command whose frames were echoed, waiting for the hand to finish.

@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -14,6 +15,8 @@
 #include "dh3/protocol/registers.hpp"
 
 namespace dh3::hand {
+
+class GroupRelease;
 
 /// Every command ends in exactly one of these (or OK).
 enum class CommandError : std::uint8_t {
@@ -50,6 +53,9 @@ struct Command {
   protocol::Register reg{};
   /// Overrides the bus's default deadline for this command when set.
   std::optional<Duration> timeout;
+  /// Set for a member of a group command: its motion frame leaves with the
+  /// other members' (group_release.hpp).
+  std::shared_ptr<GroupRelease> group;
 };
 
 enum class GraspOutcome : std::uint8_t { none, grasped, missed };

@@ -55,6 +55,12 @@ struct SimBusOptions {
   /// With bit_rate set: how many sent frames may wait for the line before
   /// send() says would_block; 0 = no limit.
   std::size_t tx_queue_length = 0;
+  /// With bit_rate set: told of every frame as it leaves the line (`request`:
+  /// sent through send(); else a hand's), with when it took the line and when
+  /// it left it, like a bus monitor's timestamps (benchmarks). Called under
+  /// the bus's lock: it must not block or call the bus.
+  std::function<void(const bus::CanFrame& frame, TimePoint started, TimePoint ended, bool request)>
+      on_line = nullptr;
 };
 
 class SimBus final : public bus::Bus {
