@@ -113,7 +113,8 @@ def test_the_stubs_describe_the_module():
         public = {name for name in dir(cls) if not name.startswith("_")}
         if isinstance(cls, type) and issubclass(cls, BaseException):
             public = {"code", "message"}
-        if node.name in ("Code", "GraspOutcome", "GripState", "RotationState", "EventKind"):
+        if node.name in ("Code", "GraspOutcome", "GroupCommand", "GripState", "RotationState",
+                         "EventKind"):
             public = set(cls.__members__)
         if node.name == "reg":
             public = {name for name in dir(dh3.reg) if not name.startswith("_")}
