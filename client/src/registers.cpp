@@ -2,23 +2,37 @@
 
 #include <cctype>
 #include <charconv>
+#include <iterator>
+
+#include "dh3/protocol/registers.hpp"
 
 namespace dh3 {
 
+namespace {
+
+// The public header spells each code as a number (its users need no service
+// header); the one register map is the protocol layer's, and the build fails
+// when the two drift.
+static_assert(reg::init_feedback == protocol::reg::kInitFeedback.code());
+static_assert(reg::initialize == protocol::reg::kInitialize.code());
+static_assert(reg::closing_force == protocol::reg::kClosingForce.code());
+static_assert(reg::opening_force == protocol::reg::kOpeningForce.code());
+static_assert(reg::position == protocol::reg::kPosition.code());
+static_assert(reg::rotation == protocol::reg::kRotation.code());
+static_assert(reg::grip_status == protocol::reg::kGripStatus.code());
+static_assert(reg::rotation_status == protocol::reg::kRotationStatus.code());
+static_assert(reg::can_id == protocol::reg::kCanId.code());
+static_assert(reg::firmware_version == protocol::reg::kFirmwareVersion.code());
+static_assert(reg::baud_rate == protocol::reg::kBaudRate.code());
+static_assert(std::size(protocol::reg::kAll) == 11, "a register added to the map needs its reg:: code here");
+}  // namespace
+
 const std::vector<RegisterName>& registers() {
-  static const std::vector<RegisterName> all = {
-      {reg::init_feedback, "init_feedback"},
-      {reg::initialize, "initialize"},
-      {reg::closing_force, "closing_force"},
-      {reg::opening_force, "opening_force"},
-      {reg::position, "position"},
-      {reg::rotation, "rotation"},
-      {reg::grip_status, "grip_status"},
-      {reg::rotation_status, "rotation_status"},
-      {reg::can_id, "can_id"},
-      {reg::firmware_version, "firmware_version"},
-      {reg::baud_rate, "baud_rate"},
-  };
+  static const std::vector<RegisterName> all = [] {
+    std::vector<RegisterName> names;
+    for (const protocol::Register r : protocol::reg::kAll) names.push_back({r.code(), protocol::name(r)});
+    return names;
+  }();
   return all;
 }
 
@@ -54,13 +68,7 @@ std::optional<std::uint16_t> parse_register(std::string_view text) {
 }
 
 std::string firmware_version_text(std::int32_t raw) {
-  const auto bits = static_cast<std::uint32_t>(raw);
-  std::string text;
-  for (int shift = 24; shift >= 0; shift -= 8) {
-    if (!text.empty()) text.push_back('.');
-    text += std::to_string((bits >> shift) & 0xFFU);
-  }
-  return text;
+  return protocol::firmware_version_string(raw);
 }
 
 }  // namespace dh3

@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "dh3/dds/conversions.hpp"
+#include "dh3/hand/command_validation.hpp"
 #include "dh3/protocol/registers.hpp"
 #include "dh3_value_ranges.hpp"
 
@@ -15,18 +16,6 @@ using hand::CommandKind;
 
 Failure<Rejection> reject(msg::ResultCode code, std::string message) {
   return fail(Rejection{code, std::move(message)});
-}
-
-bool is_admin(msg::CommandType command) {
-  return command == msg::SET_CAN_ID || command == msg::SET_BAUD_RATE;
-}
-
-/// CAN ID 0 reaches whichever hand is there: only for the CAN ID register
-/// (docs/protocol-notes.md reading 10).
-bool allows_id_zero(const msg::CommandRequest& request) {
-  return request.command() == msg::SET_CAN_ID ||
-         (request.command() == msg::READ_REGISTER &&
-          request.register_code() == protocol::reg::kCanId.code());
 }
 
 hand::Command to_hand_command(const msg::CommandRequest& request) {
@@ -84,6 +73,17 @@ hand::Command to_hand_command(const msg::CommandRequest& request) {
     command.timeout = std::chrono::milliseconds(request.timeout_ms());
   }
   return command;
+}
+
+// The admin and ID-0 rules are the hand layer's (hand/command_validation.hpp),
+// asked of the command the request becomes; requests that are not hand
+// commands (scan, leases) are neither.
+bool is_admin(const msg::CommandRequest& request) {
+  return hand::is_admin_command(to_hand_command(request));
+}
+
+bool allows_id_zero(const msg::CommandRequest& request) {
+  return hand::may_address_id_zero(to_hand_command(request));
 }
 
 RequestAction action_of(msg::CommandType command) {
@@ -185,7 +185,7 @@ Result<std::uint16_t, Rejection> check_request_target(const msg::CommandRequest&
                                          address.bus() + "' of service '" + address.service() +
                                          "'");
   }
-  if (is_admin(command) && !allow_admin) {
+  if (is_admin(request) && !allow_admin) {
     return reject(msg::DENIED, command_name(command) +
                                    " is administrative (the hand must be rebooted after it) and "
                                    "service '" +

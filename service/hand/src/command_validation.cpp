@@ -25,20 +25,24 @@ bool is_admin_register(protocol::Register reg) {
   return reg == protocol::reg::kCanId || reg == protocol::reg::kBaudRate;
 }
 
+bool is_admin_command(const Command& command) {
+  return command.kind == CommandKind::write_register && is_admin_register(command.reg);
+}
+
+bool may_address_id_zero(const Command& command) {
+  return (command.kind == CommandKind::read_register ||
+          command.kind == CommandKind::write_register) &&
+         command.reg == protocol::reg::kCanId;
+}
+
 Result<void, ValidationFailure> validate(std::uint8_t can_id, const Command& command,
                                          bool allow_admin) {
   namespace reg = protocol::reg;
   if (command.timeout && *command.timeout <= Duration::zero()) {
     return invalid("timeout must be positive");
   }
-  if (can_id == 0) {
-    const bool can_id_register = (command.kind == CommandKind::read_register ||
-                                  command.kind == CommandKind::write_register) &&
-                                 command.reg == reg::kCanId;
-    if (!can_id_register) {
-      return invalid(
-          "CAN ID 0 addresses whichever hand is there: only reading or setting the CAN ID");
-    }
+  if (can_id == 0 && !may_address_id_zero(command)) {
+    return invalid("CAN ID 0 addresses whichever hand is there: only reading or setting the CAN ID");
   }
   switch (command.kind) {
     case CommandKind::initialize:
@@ -73,7 +77,7 @@ Result<void, ValidationFailure> validate(std::uint8_t can_id, const Command& com
         return invalid(fmt::format("cannot write register 0x{:04X}: {}", command.reg.code(),
                                    protocol::to_string(written.error())));
       }
-      if (is_admin_register(command.reg) && !allow_admin) {
+      if (is_admin_command(command) && !allow_admin) {
         return invalid(fmt::format("writing {} is administrative and not allowed on this bus",
                                    protocol::name(command.reg)));
       }

@@ -16,12 +16,13 @@
 #include "dh3/bus/bus_spec.hpp"
 #include "dh3/metrics/metrics_exporter.hpp"
 #include "dh3_discovery_servers.hpp"
+#include "dh3_idl/dh3.h"
 #include "dh3_security_files.hpp"
 
 namespace dh3::app {
 namespace {
 
-constexpr std::size_t kMaxNameLength = 64;  // dh3::limits::MAX_NAME_LENGTH in the IDL
+constexpr std::size_t kMaxNameLength = limits::MAX_NAME_LENGTH;
 constexpr int kMaxDomain = 232;             // Fast DDS's default port mapping ends there
 constexpr std::array<std::string_view, 7> kLogLevels{"trace", "debug",    "info", "warn",
                                                      "error", "critical", "off"};

@@ -25,5 +25,10 @@ struct ValidationFailure {
 /// True for the registers whose write only takes effect after a reboot and
 /// which reply only once stored (reading 6).
 [[nodiscard]] bool is_admin_register(protocol::Register reg);
+/// True for a command that writes such a register: it needs `allow_admin`.
+[[nodiscard]] bool is_admin_command(const Command& command);
+/// True for the only commands that may address CAN ID 0, "whichever hand is
+/// there" (docs/protocol-notes.md reading 10): reading or setting the CAN ID.
+[[nodiscard]] bool may_address_id_zero(const Command& command);
 
 }  // namespace dh3::hand

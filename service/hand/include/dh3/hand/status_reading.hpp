@@ -20,6 +20,7 @@
 
 #include "dh3/hand/hand_driver_states.hpp"
 #include "dh3/hand/hand_types.hpp"
+#include "dh3/protocol/registers.hpp"
 
 namespace dh3::hand {
 
@@ -27,10 +28,10 @@ namespace dh3::hand {
 /// is this close to it (percent); otherwise it is a stale reading.
 inline constexpr std::int32_t kArrivalTolerance = 3;
 
-/// The values of 0x0F01 (the document's "grip status").
-enum class FingerStatus : std::int32_t { moving = 0, arrived = 2, caught = 3 };
-/// The values of 0x0F02: the same numbers, but the rotation is blocked, not caught.
-enum class RotationStatus : std::int32_t { moving = 0, arrived = 2, blocked = 3 };
+/// The values of 0x0F01 and 0x0F02, as the protocol layer's register map
+/// declares them.
+using FingerStatus = protocol::GripStatus;
+using RotationStatus = protocol::RotationStatus;
 
 /// What the driver knows of the fingers when a status value comes in.
 struct FingerView {

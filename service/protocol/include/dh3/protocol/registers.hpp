@@ -35,7 +35,7 @@ inline constexpr Register kOpeningForce{0x05, 0x03};    ///< opening force, 20-1
 inline constexpr Register kPosition{0x06, 0x02};        ///< 0-100 %, 100 = fully open
 inline constexpr Register kRotation{0x07, 0x02};        ///< 0-100 % of 90 degrees
 inline constexpr Register kGripStatus{0x0F, 0x01};      ///< read only, GripStatus
-inline constexpr Register kRotationStatus{0x0F, 0x02};  ///< read only, GripStatus
+inline constexpr Register kRotationStatus{0x0F, 0x02};  ///< read only, RotationStatus
 inline constexpr Register kCanId{0x12, 0x01};           ///< 1-255, reboot needed
 inline constexpr Register kFirmwareVersion{0x13, 0x01}; ///< read only
 inline constexpr Register kBaudRate{0x14, 0x01};        ///< index 0-5, reboot needed
@@ -46,11 +46,17 @@ inline constexpr Register kAll[] = {kInitFeedback, kInitialize,     kClosingForc
                                     kFirmwareVersion, kBaudRate};
 }  // namespace reg
 
-/// The value the hand reports in 0x0F01 / 0x0F02.
+/// The values the hand reports in 0x0F01 (the document's "grip status").
 enum class GripStatus : std::int32_t {
   moving = 0,   ///< default, or still moving
   arrived = 2,  ///< reached the target without catching anything
   caught = 3,   ///< stopped on an object before the target
+};
+/// The values of 0x0F02: the same numbers, but the rotation is blocked, not caught.
+enum class RotationStatus : std::int32_t {
+  moving = 0,
+  arrived = 2,
+  blocked = 3,
 };
 
 /// Value written to 0x0801 to enable initialization feedback, and read back
