@@ -7,12 +7,11 @@
 #include <algorithm>
 #include <array>
 #include <fstream>
-#include <initializer_list>
 #include <limits>
 #include <set>
-#include <span>
 #include <sstream>
 
+#include "dh3/app/config_keys.hpp"
 #include "dh3/bus/bus_spec.hpp"
 #include "dh3/metrics/metrics_exporter.hpp"
 #include "dh3_discovery_servers.hpp"
@@ -23,7 +22,6 @@ namespace dh3::app {
 namespace {
 
 constexpr std::size_t kMaxNameLength = limits::MAX_NAME_LENGTH;
-constexpr int kMaxDomain = 232;             // Fast DDS's default port mapping ends there
 constexpr std::array<std::string_view, 7> kLogLevels{"trace", "debug",    "info", "warn",
                                                      "error", "critical", "off"};
 
@@ -40,10 +38,14 @@ Checked check_name(std::string_view what, std::string_view name) {
   return {};
 }
 
+// The command line's --domain takes the file's key's range.
 Checked check_domain(long long domain) {
-  if (domain < 0 || domain > kMaxDomain) {
-    return fail("domain " + std::to_string(domain) + " is out of range (0-" +
-                std::to_string(kMaxDomain) + ")");
+  const ConfigKey& key = *find_config_key("domain");
+  const auto min = static_cast<long long>(key.min);
+  const auto max = static_cast<long long>(key.max);
+  if (domain < min || domain > max) {
+    return fail("domain " + std::to_string(domain) + " is out of range (" + std::to_string(min) +
+                "-" + std::to_string(max) + ")");
   }
   return {};
 }
@@ -113,28 +115,6 @@ struct FileError {
   std::string message;
 };
 
-/// Every key a bus may have (buses[i]).
-constexpr std::string_view kBusKeys[] = {"name",
-                                         "spec",
-                                         "hands",
-                                         "sim",
-                                         "bit_rate",
-                                         "command_interval_ms",
-                                         "interval_margin_ms",
-                                         "poll_interval_watch_ms",
-                                         "poll_interval_moving_ms",
-                                         "poll_interval_idle_ms",
-                                         "reply_timeout_ms",
-                                         "admin_reply_timeout_ms",
-                                         "max_retries",
-                                         "offline_after_timeouts",
-                                         "offline_probe_interval_ms",
-                                         "init_timeout_ms",
-                                         "motion_timeout_ms",
-                                         "queue_capacity",
-                                         "discovery_interval_ms",
-                                         "probe_spacing_ms"};
-
 class FileParser {
  public:
   explicit FileParser(std::string_view source) : source_(source) {}
@@ -143,10 +123,10 @@ class FileParser {
     ServiceConfig config;
     if (!root || root.IsNull()) return config;  // an empty file: every default
     expect_map(root, "the configuration");
-    check_keys(root, "", {"name", "domain", "log_level", "allow_admin", "metrics", "dds", "buses"});
+    check_keys(root, "", "");
     if (auto n = root["name"]) config.name = name(n, "name", "service name");
     if (auto n = root["domain"]) {
-      const auto domain = integer(n, "domain", 0, kMaxDomain);
+      const auto domain = integer(n, "domain", "domain");
       config.participant.domain = static_cast<int>(domain);
     }
     if (auto n = root["log_level"]) {
@@ -185,13 +165,9 @@ class FileParser {
     if (!node.IsMap()) fail_at(node, key, "expected a mapping of keys to values");
   }
 
-  void check_keys(const YAML::Node& map, std::string_view prefix,
-                  std::initializer_list<std::string_view> known) const {
-    check_keys(map, prefix, std::span(known.begin(), known.size()));
-  }
-
-  void check_keys(const YAML::Node& map, std::string_view prefix,
-                  std::span<const std::string_view> known) const {
+  /// Every key of `map` is declared under `parent` (config_keys.hpp).
+  void check_keys(const YAML::Node& map, std::string_view prefix, std::string_view parent) const {
+    const auto known = child_keys(parent);
     for (const auto& entry : map) {
       const auto key = entry.first.as<std::string>();
       if (std::find(known.begin(), known.end(), key) != known.end()) continue;
@@ -212,8 +188,17 @@ class FileParser {
     return value;
   }
 
-  long long integer(const YAML::Node& node, std::string_view key, long long min,
-                    long long max) const {
+  /// The declaration of `path`; every key the parser reads is declared.
+  const ConfigKey& declared(const YAML::Node& node, std::string_view path) const {
+    const ConfigKey* declared = find_config_key(path);
+    if (declared == nullptr) fail_at(node, path, "not declared in config_keys.cpp");
+    return *declared;
+  }
+
+  long long integer(const YAML::Node& node, std::string_view key, std::string_view path) const {
+    const ConfigKey& declaration = declared(node, path);
+    const auto min = static_cast<long long>(declaration.min);
+    const auto max = static_cast<long long>(declaration.max);
     const auto text = scalar(node, key);
     long long value = 0;
     try {
@@ -228,7 +213,10 @@ class FileParser {
     return value;
   }
 
-  double number(const YAML::Node& node, std::string_view key, double min, double max) const {
+  double number(const YAML::Node& node, std::string_view key, std::string_view path) const {
+    const ConfigKey& declaration = declared(node, path);
+    const double min = declaration.min;
+    const double max = declaration.max;
     const auto text = scalar(node, key);
     double value = 0;
     try {
@@ -244,8 +232,8 @@ class FileParser {
     return value;
   }
 
-  Duration millis(const YAML::Node& node, std::string_view key, long long min = 0) const {
-    return std::chrono::milliseconds(integer(node, key, min, 24LL * 3600 * 1000));
+  Duration millis(const YAML::Node& node, std::string_view key, std::string_view path) const {
+    return std::chrono::milliseconds(integer(node, key, path));
   }
 
   bool boolean(const YAML::Node& node, std::string_view key) const {
@@ -259,9 +247,7 @@ class FileParser {
 
   void parse_dds(const YAML::Node& dds, ServiceConfig& config) const {
     expect_map(dds, "dds");
-    check_keys(dds, "dds.",
-               {"interfaces", "udp_only", "shared_memory", "discovery_servers", "xml_profile_file",
-                "xml_profile", "security"});
+    check_keys(dds, "dds.", "dds");
     if (auto list = dds["interfaces"]) {
       if (!list.IsSequence()) fail_at(list, "dds.interfaces", "expected a list of IPv4 addresses");
       for (std::size_t i = 0; i < list.size(); ++i) {
@@ -313,7 +299,7 @@ class FileParser {
 
   void parse_security(const YAML::Node& security, ServiceConfig& config) const {
     expect_map(security, "dds.security");
-    check_keys(security, "dds.security.", {"dir", "identity"});
+    check_keys(security, "dds.security.", "dds.security");
     const auto dir = security["dir"];
     if (!dir) fail_at(security, "dds.security.dir", "missing (the directory with the credentials)");
     config.participant.security_dir = scalar(dir, "dds.security.dir");
@@ -328,7 +314,7 @@ class FileParser {
   BusSettings parse_bus(const YAML::Node& node, std::size_t index, std::set<std::string>& names) {
     const std::string key = "buses[" + std::to_string(index) + "]";
     expect_map(node, key);
-    check_keys(node, key + ".", kBusKeys);
+    check_keys(node, key + ".", "buses[]");
     BusSettings bus;
     const auto spec = node["spec"];
     if (!spec) fail_at(node, key + ".spec", "missing (e.g. sim:1,2,3, tcp:HOST:PORT)");
@@ -347,36 +333,37 @@ class FileParser {
     }
 
     auto& s = bus.scheduler;
-    const auto timing = [&](const char* field, Duration& target, long long min = 0) {
-      if (auto n = node[field]) target = millis(n, key + "." + field, min);
+    const auto timing = [&](const char* field, Duration& target) {
+      if (auto n = node[field]) target = millis(n, key + "." + field, std::string("buses[].") + field);
     };
     timing("command_interval_ms", s.command_interval);
     if (auto n = node["interval_margin_ms"])
-      bus.interval_margin = millis(n, key + ".interval_margin_ms");
-    timing("poll_interval_watch_ms", s.poll_interval_watch, 1);
-    timing("poll_interval_moving_ms", s.poll_interval_moving, 1);
-    timing("poll_interval_idle_ms", s.poll_interval_idle, 1);
-    timing("reply_timeout_ms", s.reply_timeout, 1);
-    timing("admin_reply_timeout_ms", s.admin_reply_timeout, 1);
-    timing("offline_probe_interval_ms", s.offline_probe_interval, 1);
-    timing("init_timeout_ms", s.init_timeout, 1);
-    timing("motion_timeout_ms", s.motion_timeout, 1);
+      bus.interval_margin = millis(n, key + ".interval_margin_ms", "buses[].interval_margin_ms");
+    timing("poll_interval_watch_ms", s.poll_interval_watch);
+    timing("poll_interval_moving_ms", s.poll_interval_moving);
+    timing("poll_interval_idle_ms", s.poll_interval_idle);
+    timing("reply_timeout_ms", s.reply_timeout);
+    timing("admin_reply_timeout_ms", s.admin_reply_timeout);
+    timing("offline_probe_interval_ms", s.offline_probe_interval);
+    timing("init_timeout_ms", s.init_timeout);
+    timing("motion_timeout_ms", s.motion_timeout);
     timing("discovery_interval_ms", s.discovery_interval);
     timing("probe_spacing_ms", s.probe_spacing);
     if (auto n = node["max_retries"]) {
-      s.max_retries = static_cast<int>(integer(n, key + ".max_retries", 0, 100));
+      s.max_retries = static_cast<int>(integer(n, key + ".max_retries", "buses[].max_retries"));
     }
     if (auto n = node["offline_after_timeouts"]) {
       s.offline_after_timeouts =
-          static_cast<int>(integer(n, key + ".offline_after_timeouts", 1, 1000));
+          static_cast<int>(integer(n, key + ".offline_after_timeouts", "buses[].offline_after_timeouts"));
     }
     if (auto n = node["queue_capacity"]) {
-      s.queue_capacity = static_cast<std::size_t>(integer(n, key + ".queue_capacity", 1, 100000));
+      s.queue_capacity =
+          static_cast<std::size_t>(integer(n, key + ".queue_capacity", "buses[].queue_capacity"));
     }
 
     if (auto n = node["bit_rate"]) {
       if (is_sim) fail_at(n, key + ".bit_rate", "a sim bus takes sim.bit_rate");
-      bus.bit_rate = static_cast<std::uint32_t>(integer(n, key + ".bit_rate", 0, 1'000'000));
+      bus.bit_rate = static_cast<std::uint32_t>(integer(n, key + ".bit_rate", "buses[].bit_rate"));
     }
     if (auto sim = node["sim"]) {
       if (!is_sim) fail_at(sim, key + ".sim", "only a sim bus has simulator settings");
@@ -397,29 +384,33 @@ class FileParser {
 
   void parse_sim(const YAML::Node& node, const std::string& key, SimSettings& sim) const {
     expect_map(node, key);
-    check_keys(node, key + ".",
-               {"reply_delay_ms", "position_speed", "rotation_speed", "init_time_ms", "bit_rate"});
-    if (auto n = node["reply_delay_ms"]) sim.reply_delay = millis(n, key + ".reply_delay_ms");
+    check_keys(node, key + ".", "buses[].sim");
+    if (auto n = node["reply_delay_ms"]) {
+      sim.reply_delay = millis(n, key + ".reply_delay_ms", "buses[].sim.reply_delay_ms");
+    }
     if (auto n = node["position_speed"]) {
-      sim.position_speed = number(n, key + ".position_speed", 0.001, 1e6);
+      sim.position_speed = number(n, key + ".position_speed", "buses[].sim.position_speed");
     }
     if (auto n = node["rotation_speed"]) {
-      sim.rotation_speed = number(n, key + ".rotation_speed", 0.001, 1e6);
+      sim.rotation_speed = number(n, key + ".rotation_speed", "buses[].sim.rotation_speed");
     }
-    if (auto n = node["init_time_ms"]) sim.init_time = millis(n, key + ".init_time_ms");
+    if (auto n = node["init_time_ms"]) {
+      sim.init_time = millis(n, key + ".init_time_ms", "buses[].sim.init_time_ms");
+    }
     if (auto n = node["bit_rate"]) {
-      sim.bit_rate = static_cast<std::uint32_t>(integer(n, key + ".bit_rate", 0, 1'000'000));
+      sim.bit_rate =
+          static_cast<std::uint32_t>(integer(n, key + ".bit_rate", "buses[].sim.bit_rate"));
     }
   }
 
   HandSettings parse_hand(const YAML::Node& node, const std::string& key, bool is_sim,
                           std::set<int>& ids) const {
     expect_map(node, key);
-    check_keys(node, key + ".", {"id", "name", "object", "rotation_obstacle"});
+    check_keys(node, key + ".", "buses[].hands[]");
     HandSettings hand;
     const auto id = node["id"];
     if (!id) fail_at(node, key + ".id", "missing (the hand's CAN ID, 1-255)");
-    hand.id = static_cast<std::uint8_t>(integer(id, key + ".id", 1, 255));
+    hand.id = static_cast<std::uint8_t>(integer(id, key + ".id", "buses[].hands[].id"));
     if (!ids.insert(hand.id).second) {
       fail_at(id, key + ".id",
               "CAN ID " + std::to_string(hand.id) + " is listed twice on this bus");
@@ -437,7 +428,8 @@ class FileParser {
         fail_at(n, key + "." + field,
                 "only simulated hands have one (on a dh3-sim transfer box, give it to dh3-sim)");
       }
-      const auto value = static_cast<std::int32_t>(integer(n, key + "." + field, 0, 100));
+      const auto value = static_cast<std::int32_t>(
+          integer(n, key + "." + field, std::string("buses[].hands[].") + field));
       (std::string_view(field) == "object" ? hand.object : hand.rotation_obstacle) = value;
     }
     return hand;

@@ -16,6 +16,7 @@
 
 #include "dh3/app/bus_setup.hpp"
 #include "dh3/app/config.hpp"
+#include "dh3/app/config_keys.hpp"
 #include "dh3/base/clock.hpp"
 #include "dh3/dds/service.hpp"
 #include "dh3/metrics/metrics_exporter.hpp"
@@ -108,6 +109,9 @@ dh3::Result<Invocation, EarlyExit> parse_command_line(int argc, char** argv) {
       "--metrics", metrics_address,
       "serve Prometheus metrics at http://HOST:PORT/metrics (e.g. 127.0.0.1:9464; port 0 picks "
       "a free one, the log says which); empty turns the config file's off");
+  bool print_config_keys = false;
+  cli.add_flag("--config-keys", print_config_keys,
+               "print every key of the configuration file (Markdown table) and exit");
   cli.set_version_flag("--version", DH3_VERSION);
   try {
     cli.parse(argc, argv);
@@ -116,6 +120,10 @@ dh3::Result<Invocation, EarlyExit> parse_command_line(int argc, char** argv) {
   } catch (const CLI::ParseError& error) {
     cli.exit(error);
     return dh3::fail(EarlyExit{kExitConfigError});
+  }
+  if (print_config_keys) {
+    std::fputs(dh3::app::config_keys_table().c_str(), stdout);
+    return dh3::fail(EarlyExit{0});
   }
   if (*name_option) line.name = name;
   if (*domain_option) line.domain = domain;

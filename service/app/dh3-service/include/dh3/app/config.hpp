@@ -2,42 +2,16 @@
 // dh3-service's configuration: a YAML file (--config), command-line overrides,
 // and the defaults that run it on the simulator with no configuration at all.
 //
-// The file; every key is optional except each bus's spec:
+// Every key of the file, with its type, default, range and meaning, is
+// declared in config_keys.cpp (`dh3-service --config-keys`, the README's
+// table). A small file:
 //
-//   name: dh3                  # service name; requests address hands by it
-//   domain: 0                  # DDS domain id, 0-232
-//   log_level: info            # trace, debug, info, warn, error, critical, off
-//   allow_admin: false         # accept SET_CAN_ID and SET_BAUD_RATE
-//   metrics: 127.0.0.1:9464    # Prometheus /metrics on HOST:PORT (port 0: any); default off
-//   dds:
-//     interfaces: [127.0.0.1]  # IPv4 addresses of the NICs, or ["*"]; default loopback only
-//     udp_only: true           # the default: UDP only (kept for older files)
-//     shared_memory: false     # also Fast DDS shared memory (needs Fast DDS >= 2.12.1)
-//     discovery_servers: [10.0.0.2:11811]  # HOST[:PORT]; n-th is `fastdds discovery -i n`
-//     xml_profile_file: /etc/dh3/fastdds.xml  # participant QoS from a Fast DDS XML file
-//     xml_profile: dh3_udp     # the participant profile in it (default: its default)
-//     security:                # DDS Security (PKI-DH, Access-Permissions, AES-GCM-GMAC)
-//       dir: /etc/dh3/pki      # laid out as deploy/security/make-test-pki.sh writes it
-//       identity: service      # the sub-directory with this participant's credentials
+//   name: cell7
+//   dds: {interfaces: [10.0.0.5]}
 //   buses:
-//     - name: left             # default: the SocketCAN interface, else bus0, bus1, ...
-//       spec: tcp:192.168.1.50:8888
-//       command_interval_ms: 20   # and the other scheduler timings (BusSettings)
-//       bit_rate: 1000000      # the CAN line's bit rate, if known (bus load, line budget)
-//       hands:                 # empty or absent: discover the hands on the bus
-//         - {id: 1, name: gripper}
+//     - {name: left, spec: "socketcan:can0", bit_rate: 1000000, hands: []}
 //     - spec: sim              # simulated hands: the ones listed (or sim:IDS)
-//       sim: {reply_delay_ms: 2, position_speed: 200, init_time_ms: 300}
-//       hands:
-//         - {id: 1, object: 40, rotation_obstacle: 70}   # sim only
-//
-// Bus specs: sim | sim:1,2,3 | socketcan:can0 | tcp:HOST:PORT | serial:PATH@BAUD.
-// Scheduler keys per bus (milliseconds unless said): command_interval_ms, interval_margin_ms,
-// poll_interval_watch_ms, poll_interval_moving_ms, poll_interval_idle_ms, reply_timeout_ms,
-// admin_reply_timeout_ms, offline_probe_interval_ms, init_timeout_ms,
-// motion_timeout_ms, discovery_interval_ms, probe_spacing_ms, max_retries,
-// offline_after_timeouts, queue_capacity. Simulator keys (sim:): reply_delay_ms,
-// position_speed, rotation_speed (percent per second), init_time_ms, bit_rate.
+//       hands: [{id: 1, object: 40}]
 
 #include <cstdint>
 #include <optional>

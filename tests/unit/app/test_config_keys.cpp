@@ -1,0 +1,142 @@
+// The configuration keys are declared once (config_keys.hpp): the parser
+// accepts exactly the declared keys with the declared ranges, its defaults are
+// the declared ones, and the README's table is the declaration's.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <sstream>
+#include <string>
+
+#include "dh3/app/config.hpp"
+#include "dh3/app/config_keys.hpp"
+
+namespace dh3::app {
+namespace {
+
+using ::testing::HasSubstr;
+
+// A file in which the key at `path` (a leaf) has `value`: each list level is
+// one element, and a bus is a sim bus (so the sim-only keys are allowed).
+std::string file_with(std::string_view path, const std::string& value) {
+  if (path.starts_with("buses[].hands[].")) {
+    const auto key = path.substr(16);
+    const std::string id = key == "id" ? value : "1";
+    std::string hand = "{id: " + id;
+    if (key != "id") hand += ", " + std::string(key) + ": " + value;
+    return "buses:\n  - spec: sim\n    hands: [" + hand + "}]\n";
+  }
+  if (path.starts_with("buses[].sim.")) {
+    return "buses:\n  - spec: sim\n    sim: {" + std::string(path.substr(12)) + ": " + value + "}\n";
+  }
+  if (path.starts_with("buses[].")) {
+    const auto key = path.substr(8);
+    const std::string spec = key == "bit_rate" ? "tcp:127.0.0.1:9000" : "sim";
+    return "buses:\n  - spec: " + spec + "\n    " + std::string(key) + ": " + value + "\n";
+  }
+  return std::string(path) + ": " + value + "\n";
+}
+
+std::string whole(double value) {
+  return std::to_string(static_cast<long long>(value));
+}
+
+TEST(ConfigKeys, EveryNumberIsRefusedJustOutsideItsDeclaredRangeAndTakenAtItsEnds) {
+  int checked = 0;
+  for (const ConfigKey& key : config_keys()) {
+    if (key.type != KeyType::integer && key.type != KeyType::milliseconds) continue;
+    SCOPED_TRACE(std::string(key.path));
+    for (const double end : {key.min, key.max}) {
+      const auto yaml = file_with(key.path, whole(end));
+      const auto parsed = parse_config(yaml, "keys.yaml");
+      EXPECT_TRUE(parsed.ok()) << yaml << (parsed.ok() ? "" : parsed.error().message);
+    }
+    for (const double outside : {key.min - 1, key.max + 1}) {
+      const auto yaml = file_with(key.path, whole(outside));
+      const auto parsed = parse_config(yaml, "keys.yaml");
+      ASSERT_FALSE(parsed.ok()) << yaml;
+      EXPECT_THAT(parsed.error().message, HasSubstr("out of range")) << yaml;
+    }
+    ++checked;
+  }
+  EXPECT_GT(checked, 20);
+}
+
+TEST(ConfigKeys, TheParserKnowsEveryDeclaredKeyUnderEachParent) {
+  for (const auto* parent : {"", "dds", "dds.security", "buses[]", "buses[].sim", "buses[].hands[]"}) {
+    EXPECT_FALSE(child_keys(parent).empty()) << parent;
+  }
+  // An undeclared key is refused, and the message lists the declared ones.
+  const auto parsed = parse_config("buses:\n  - spec: sim\n    max_line_load: 0.5\n", "keys.yaml");
+  ASSERT_FALSE(parsed.ok());
+  EXPECT_THAT(parsed.error().message, HasSubstr("unknown key"));
+  for (const auto name : child_keys("buses[]")) {
+    EXPECT_THAT(parsed.error().message, HasSubstr(std::string(name)));
+  }
+}
+
+TEST(ConfigKeys, TheParsersDefaultsAreTheDeclaredOnes) {
+  const auto parsed = parse_config("buses:\n  - spec: sim\n", "keys.yaml");
+  ASSERT_TRUE(parsed.ok()) << parsed.error().message;
+  const ServiceConfig& config = *parsed;
+  const BusSettings& bus = config.buses.at(0);
+  const auto ms = [](Duration d) {
+    return std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(d).count());
+  };
+  const auto& s = bus.scheduler;
+  const std::map<std::string, std::string> parsed_defaults = {
+      {"name", config.name},
+      {"domain", std::to_string(config.participant.domain)},
+      {"log_level", config.log_level},
+      {"allow_admin", config.allow_admin ? "true" : "false"},
+      {"dds.security.identity", config.participant.security_identity},
+      {"buses[].bit_rate", std::to_string(bus.bit_rate)},
+      {"buses[].command_interval_ms", ms(s.command_interval)},
+      {"buses[].poll_interval_watch_ms", ms(s.poll_interval_watch)},
+      {"buses[].poll_interval_moving_ms", ms(s.poll_interval_moving)},
+      {"buses[].poll_interval_idle_ms", ms(s.poll_interval_idle)},
+      {"buses[].reply_timeout_ms", ms(s.reply_timeout)},
+      {"buses[].admin_reply_timeout_ms", ms(s.admin_reply_timeout)},
+      {"buses[].max_retries", std::to_string(s.max_retries)},
+      {"buses[].offline_after_timeouts", std::to_string(s.offline_after_timeouts)},
+      {"buses[].offline_probe_interval_ms", ms(s.offline_probe_interval)},
+      {"buses[].init_timeout_ms", ms(s.init_timeout)},
+      {"buses[].motion_timeout_ms", ms(s.motion_timeout)},
+      {"buses[].queue_capacity", std::to_string(s.queue_capacity)},
+      {"buses[].discovery_interval_ms", ms(s.discovery_interval)},
+      {"buses[].probe_spacing_ms", ms(s.probe_spacing)},
+      {"buses[].sim.reply_delay_ms", ms(bus.sim.reply_delay)},
+      {"buses[].sim.init_time_ms", ms(bus.sim.init_time)},
+      {"buses[].sim.bit_rate", std::to_string(bus.sim.bit_rate)},
+      {"buses[].sim.position_speed", whole(bus.sim.position_speed)},
+      {"buses[].sim.rotation_speed", whole(bus.sim.rotation_speed)},
+  };
+  for (const auto& [path, value] : parsed_defaults) {
+    const ConfigKey* key = find_config_key(path);
+    ASSERT_NE(key, nullptr) << path;
+    EXPECT_EQ(key->fallback, value) << path;
+  }
+}
+
+TEST(ConfigKeys, TheReadmesTableIsTheDeclaration) {
+  std::ifstream file(DH3_README);
+  ASSERT_TRUE(file) << DH3_README;
+  std::stringstream text;
+  text << file.rdbuf();
+  const std::string readme = text.str();
+  const std::string begin = "<!-- config-keys: dh3-service --config-keys -->\n";
+  const auto start = readme.find(begin);
+  ASSERT_NE(start, std::string::npos) << "README.md has no marked configuration table";
+  const auto table_start = start + begin.size();
+  const auto end = readme.find("\n\n", table_start);
+  const std::string table = readme.substr(table_start, end - table_start + 1);
+  EXPECT_EQ(table, config_keys_table())
+      << "README.md's configuration table differs from config_keys.cpp; replace it with the "
+         "output of `dh3-service --config-keys`";
+}
+
+}  // namespace
+}  // namespace dh3::app
