@@ -108,6 +108,11 @@ dh3::Result<Invocation, EarlyExit> parse_command_line(int argc, char** argv) {
       "--metrics", metrics_address,
       "serve Prometheus metrics at http://HOST:PORT/metrics (e.g. 127.0.0.1:9464; port 0 picks "
       "a free one, the log says which); empty turns the config file's off");
+  std::string record_dir;
+  auto* record_option = cli.add_option(
+      "--record", record_dir,
+      "flight recorder: write every frame of every bus, with its time and direction, into DIR "
+      "(candump log format, files BUS.000001.log, ...; a bus's record: settings keep their caps)");
   cli.set_version_flag("--version", DH3_VERSION);
   try {
     cli.parse(argc, argv);
@@ -125,6 +130,7 @@ dh3::Result<Invocation, EarlyExit> parse_command_line(int argc, char** argv) {
   if (*security_dir_option) line.security_dir = security_dir;
   if (*security_identity_option) line.security_identity = security_identity;
   if (*metrics_option) line.metrics_address = metrics_address;
+  if (*record_option) line.record_dir = record_dir;
   return invocation;
 }
 

@@ -26,6 +26,10 @@
 //       bit_rate: 1000000      # the CAN line's bit rate, if known (bus load, line budget)
 //       hands:                 # empty or absent: discover the hands on the bus
 //         - {id: 1, name: gripper}
+//       record:                # the flight recorder: every frame, candump log format
+//         dir: /var/lib/dh3/recordings   # files LEFT.000001.log, ... (created if missing)
+//         max_file_bytes: 67108864       # then the next file (default 64 MiB, at least 4096)
+//         max_files: 10                  # then the oldest is deleted (default 10)
 //     - spec: sim              # simulated hands: the ones listed (or sim:IDS)
 //       sim: {reply_delay_ms: 2, position_speed: 200, init_time_ms: 300}
 //       hands:
@@ -47,6 +51,7 @@
 
 #include "dh3/base/clock.hpp"
 #include "dh3/base/result.hpp"
+#include "dh3/bus/frame_recorder.hpp"
 #include "dh3/hand/bus_scheduler.hpp"
 #include "dh3_participant_options.hpp"
 
@@ -83,6 +88,8 @@ struct BusSettings {
   /// interval_margin_ms; unset: default_interval_margin() of the bus's kind.
   std::optional<Duration> interval_margin;
   SimSettings sim;
+  /// The flight recorder (`record:`, or --record DIR for every bus); nullopt: off.
+  std::optional<bus::RecorderOptions> record;
 };
 
 /// 2 ms on a transfer box (TCP or serial: a frame the path delays shortens the
@@ -145,6 +152,8 @@ struct CommandLine {
   std::optional<std::string> security_dir;
   std::optional<std::string> security_identity;
   std::optional<std::string> metrics_address;  ///< empty text turns the file's off
+  /// Records every bus into this directory; a bus's own `record:` keeps its caps.
+  std::optional<std::string> record_dir;
 };
 
 /// Applies the command line to a configuration and checks the result.
