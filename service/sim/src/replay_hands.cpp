@@ -45,7 +45,7 @@ std::optional<RecordedReply> ReplayHands::first_reply(const RecordedHand& hand,
   return std::nullopt;
 }
 
-std::optional<RecordedReply> ReplayHands::read_reply(Hand& hand, std::uint16_t reg) const {
+std::optional<RecordedReply> ReplayHands::read_reply(Hand& hand, std::uint16_t reg) {
   const ReplyQueues& reads = hand.recorded->epochs[hand.epoch].reads;
   if (const auto queue = reads.find(reg); queue != reads.end()) {
     std::size_t& used = hand.used[reg];

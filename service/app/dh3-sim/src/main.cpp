@@ -196,6 +196,7 @@ void declare_options(CLI::App& app, SimArguments& args) {
                  "request is answered with the reply recorded for its register, in the recorded "
                  "order, and unasked frames come at their recorded offsets")
       ->check(CLI::ExistingFile)
+      ->excludes("--hands")
       ->excludes("--object")
       ->excludes("--obstacle");
   app.add_option("--log-level", args.log_level, "trace, debug, info, warn, error, critical, off")

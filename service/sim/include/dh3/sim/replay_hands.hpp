@@ -55,7 +55,7 @@ class ReplayHands {
   };
 
   void begin_epoch(Hand& hand, std::size_t epoch, TimePoint now);
-  [[nodiscard]] std::optional<RecordedReply> read_reply(Hand& hand, std::uint16_t reg) const;
+  [[nodiscard]] static std::optional<RecordedReply> read_reply(Hand& hand, std::uint16_t reg);
   [[nodiscard]] static std::optional<RecordedReply> first_reply(const RecordedHand& hand,
                                                                 std::uint16_t reg);
   static void take_due(Hand& hand, TimePoint now, std::vector<Outgoing>& out);
