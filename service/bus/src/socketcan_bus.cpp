@@ -11,6 +11,8 @@
 #include <array>
 #include <cerrno>
 #include <cstring>
+#include <ctime>
+#include <optional>
 #include <utility>
 
 namespace dh3::bus {
@@ -23,6 +25,20 @@ constexpr int kMaxFramesPerReceive = 256;
 constexpr Duration kErrorLogInterval = std::chrono::seconds(10);
 
 std::size_t index_of(ErrorFrameKind kind) { return static_cast<std::size_t>(kind); }
+
+/// The kernel's receive timestamp among a datagram's control messages.
+std::optional<WallTime> kernel_timestamp(msghdr& message) {
+  for (cmsghdr* c = CMSG_FIRSTHDR(&message); c != nullptr; c = CMSG_NXTHDR(&message, c)) {
+    if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS &&
+        c->cmsg_len >= CMSG_LEN(sizeof(timespec))) {
+      timespec stamp{};
+      std::memcpy(&stamp, CMSG_DATA(c), sizeof stamp);
+      return WallTime(std::chrono::duration_cast<WallTime::duration>(
+          std::chrono::seconds(stamp.tv_sec) + std::chrono::nanoseconds(stamp.tv_nsec)));
+    }
+  }
+  return std::nullopt;
+}
 
 std::string link_error_text(int error) {
   if (error == ENETDOWN) return "interface is down (" + errno_text(error) + ")";
@@ -105,6 +121,14 @@ void SocketCanBus::try_open(TimePoint now) {
     return;
   }
   fd_ = std::move(opened.value());
+  if (options_.receive_timestamps) {
+    const int on = 1;
+    if (::setsockopt(fd_.get(), SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof on) != 0) {
+      spdlog::warn("{}: no kernel receive timestamps ({}); frames are recorded at the time of "
+                   "reading",
+                   spec_, errno_text(errno));
+    }
+  }
   kernel_drops_seen_ = 0;
   bus_off_.store(false);  // a fresh socket on an interface that is up
   tracker_.mark_up();
@@ -202,7 +226,9 @@ void SocketCanBus::read_available(std::vector<CanFrame>& out, TimePoint now) {
     // instead of being silently cut to the classic size.
     canfd_frame raw{};
     iovec io{&raw, sizeof raw};
-    alignas(cmsghdr) std::array<char, CMSG_SPACE(sizeof(std::uint32_t))> control{};
+    alignas(cmsghdr) std::array<char, CMSG_SPACE(sizeof(std::uint32_t)) +
+                                          CMSG_SPACE(sizeof(timespec))>
+        control{};
     msghdr message{};
     message.msg_iov = &io;
     message.msg_iovlen = 1;
@@ -250,11 +276,15 @@ void SocketCanBus::read_available(std::vector<CanFrame>& out, TimePoint now) {
     std::copy_n(raw.data, raw.len, frame.data.begin());
     out.push_back(frame);
     ++frames_received_;
+    if (options_.receive_timestamps) {
+      receive_times_.push_back(kernel_timestamp(message).value_or(std::chrono::system_clock::now()));
+    }
   }
 }
 
 Result<void, BusError> SocketCanBus::receive(std::vector<CanFrame>& out, Duration timeout) {
   const std::size_t frames_before = out.size();
+  receive_times_.clear();
   TimePoint now = clock_.now();
   if (!fd_ && tracker_.retry_due(now)) try_open(now);
 

@@ -166,19 +166,53 @@ struct ControllerFamilies {
   }
 };
 
+/// The flight recorder's, for buses that are recorded.
+struct RecorderFamilies {
+  MetricFamily frames = family("dh3_recorder_frames_total",
+                               "Frames the flight recorder wrote to its files", MetricType::Counter);
+  MetricFamily dropped = family("dh3_recorder_dropped_total",
+                                "Frames the flight recorder lost: its queue was full (the writer "
+                                "fell behind the bus) or a file could not be written",
+                                MetricType::Counter);
+  MetricFamily bytes =
+      family("dh3_recorder_bytes_total", "Bytes the flight recorder wrote", MetricType::Counter);
+  MetricFamily files = family("dh3_recorder_files_total",
+                              "Files the flight recorder opened (the first and each rotation)",
+                              MetricType::Counter);
+  MetricFamily errors =
+      family("dh3_recorder_write_errors_total",
+             "Times a recording file could not be opened or written", MetricType::Counter);
+
+  void add(const std::string& bus, const bus::BusDiagnostics& seen) {
+    if (!seen.recorder) return;
+    const std::vector<ClientMetric::Label> bus_label{{"bus", bus}};
+    add_counter(frames, bus_label, seen.recorder->frames_recorded);
+    add_counter(dropped, bus_label, seen.recorder->frames_dropped);
+    add_counter(bytes, bus_label, seen.recorder->bytes_written);
+    add_counter(files, bus_label, seen.recorder->files_opened);
+    add_counter(errors, bus_label, seen.recorder->write_errors);
+  }
+  void take(std::vector<MetricFamily>& out) {
+    take_filled({&frames, &dropped, &bytes, &files, &errors}, out);
+  }
+};
+
 std::vector<MetricFamily> families(const std::vector<hand::BusMetrics>& buses) {
   HandFamilies hands;
   BusFamilies bus_families;
   ControllerFamilies controllers;
+  RecorderFamilies recorders;
   for (const hand::BusMetrics& bus : buses) {
     bus_families.add(bus);
     controllers.add(bus.bus, bus.diagnostics);
+    recorders.add(bus.bus, bus.diagnostics);
     for (const hand::HandMetrics& h : bus.hands) hands.add(bus.bus, h);
   }
   std::vector<MetricFamily> out;
   hands.take(out);
   bus_families.take(out);
   controllers.take(out);
+  recorders.take(out);
   return out;
 }
 

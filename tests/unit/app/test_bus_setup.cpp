@@ -1,7 +1,11 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <filesystem>
+#include <fstream>
 
 #include "dh3/app/bus_setup.hpp"
 #include "dh3/protocol/codec.hpp"
@@ -109,6 +113,40 @@ TEST(BusSetup, ATransferBoxKeepsAMarginOnTheCommandIntervalAndTheOthersNone) {
   EXPECT_EQ((*setups)[2].scheduler.interval_margin, Duration::zero());
   EXPECT_EQ(default_interval_margin("serial:/dev/ttyUSB0@115200"), milliseconds(2));
   EXPECT_EQ(default_interval_margin("socketcan:can0"), Duration::zero());
+}
+
+TEST(BusSetup, ARecordedBusWritesItsFramesIntoTheDirectory) {
+  std::string pattern =
+      (std::filesystem::temp_directory_path() / "dh3-bus-setup-XXXXXX").string();
+  const std::filesystem::path dir = ::mkdtemp(pattern.data());
+  ServiceConfig config;
+  config.buses.push_back(bus("sim:2"));
+  config.buses[0].record = bus::RecorderOptions{dir};
+  {
+    auto setups = open_buses(config, SystemClock::instance());
+    ASSERT_TRUE(setups.ok()) << setups.error();
+    bus::Bus& opened = *(*setups)[0].bus;
+    ASSERT_TRUE(opened.diagnostics().recorder.has_value());
+    ASSERT_TRUE(opened.send(test::to_can_frame(
+        protocol::make_read(2, protocol::reg::kFirmwareVersion))));
+    EXPECT_EQ(test::receive_frames(opened, 1).size(), 1U);
+  }  // closing the bus writes what its recorder holds
+  std::ifstream file(dir / "bus.000001.log");
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(file, line);) lines.push_back(line);
+  std::filesystem::remove_all(dir);
+  ASSERT_EQ(lines.size(), 2U);
+  EXPECT_TRUE(lines[0].ends_with(" bus 002#1301000000000000 T")) << lines[0];
+  EXPECT_TRUE(lines[1].ends_with(" R")) << lines[1];
+}
+
+TEST(BusSetup, ARecorderThatCannotWriteStopsTheStartNamingTheBus) {
+  ServiceConfig config;
+  config.buses.push_back(bus("sim:2"));
+  config.buses[0].record = bus::RecorderOptions{"/proc/dh3-no-such-dir"};
+  auto setups = open_buses(config, SystemClock::instance());
+  ASSERT_FALSE(setups.ok());
+  EXPECT_THAT(setups.error(), ::testing::HasSubstr("bus 'bus': flight recorder"));
 }
 
 }  // namespace

@@ -446,5 +446,51 @@ TEST(Config, BadMetricsAddressesNameTheKeyOrOption) {
   EXPECT_THAT(config.error().message, AllOf(HasSubstr("--metrics"), HasSubstr("HOST:PORT")));
 }
 
+TEST(Config, ABusIsRecordedWhenItsFileSaysSo) {
+  auto config = parse_ok(
+      "buses:\n  - spec: sim\n    record: {dir: /var/lib/dh3/rec, max_file_bytes: 8192, "
+      "max_files: 3}\n  - spec: sim:4\n");
+  ASSERT_EQ(config.buses.size(), 2U);
+  ASSERT_TRUE(config.buses[0].record.has_value());
+  EXPECT_EQ(config.buses[0].record->dir, "/var/lib/dh3/rec");
+  EXPECT_EQ(config.buses[0].record->max_file_bytes, 8192U);
+  EXPECT_EQ(config.buses[0].record->max_files, 3U);
+  EXPECT_FALSE(config.buses[1].record.has_value());
+  const auto defaults = parse_ok("buses:\n  - {spec: sim, record: {dir: rec}}\n");
+  EXPECT_EQ(defaults.buses[0].record, bus::RecorderOptions{"rec"});
+}
+
+TEST(Config, RecorderMistakesNameTheKeyAndTheLine) {
+  EXPECT_THAT(parse_error("buses:\n  - spec: sim\n    record: {max_files: 3}\n"),
+              HasSubstr("cell.yaml:3: buses[0].record.dir: missing"));
+  EXPECT_THAT(parse_error("buses:\n  - spec: sim\n    record: {dir: r, max_file_bytes: 10}\n"),
+              HasSubstr("buses[0].record.max_file_bytes: 10 is out of range"));
+  EXPECT_THAT(parse_error("buses:\n  - spec: sim\n    record: {dir: r, max_files: 0}\n"),
+              HasSubstr("buses[0].record.max_files: 0 is out of range"));
+  EXPECT_THAT(parse_error("buses:\n  - spec: sim\n    record: {dir: r, size: 1}\n"),
+              HasSubstr("buses[0].record.size: unknown key"));
+  EXPECT_THAT(parse_error("buses:\n  - spec: sim\n    record: /tmp\n"),
+              HasSubstr("buses[0].record: expected a mapping"));
+}
+
+TEST(Config, RecordOnTheCommandLineRecordsEveryBusKeepingTheFilesCaps) {
+  auto config = parse_ok(
+      "buses:\n  - {spec: sim, record: {dir: a, max_files: 2}}\n  - {spec: 'sim:4'}\n");
+  CommandLine line;
+  line.record_dir = "/tmp/rec";
+  auto recorded = apply_command_line(config, line);
+  ASSERT_TRUE(recorded.ok()) << recorded.error().message;
+  for (const BusSettings& bus : recorded->buses) {
+    ASSERT_TRUE(bus.record.has_value()) << bus.name;
+    EXPECT_EQ(bus.record->dir, "/tmp/rec");
+  }
+  EXPECT_EQ(recorded->buses[0].record->max_files, 2U);
+  EXPECT_EQ(recorded->buses[1].record->max_files, bus::RecorderOptions{}.max_files);
+  line.record_dir = "";
+  auto empty = apply_command_line(config, line);
+  ASSERT_FALSE(empty.ok());
+  EXPECT_THAT(empty.error().message, HasSubstr("--record"));
+}
+
 }  // namespace
 }  // namespace dh3::app

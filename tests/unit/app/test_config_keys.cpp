@@ -29,6 +29,12 @@ std::string file_with(std::string_view path, const std::string& value) {
     if (key != "id") hand += ", " + std::string(key) + ": " + value;
     return "buses:\n  - spec: sim\n    hands: [" + hand + "}]\n";
   }
+  if (path.starts_with("buses[].record.")) {
+    const auto key = path.substr(15);
+    std::string record = "dir: /tmp";
+    if (key != "dir") record += ", " + std::string(key) + ": " + value;
+    return "buses:\n  - spec: sim\n    record: {" + record + "}\n";
+  }
   if (path.starts_with("buses[].sim.")) {
     return "buses:\n  - spec: sim\n    sim: {" + std::string(path.substr(12)) + ": " + value + "}\n";
   }
@@ -66,7 +72,8 @@ TEST(ConfigKeys, EveryNumberIsRefusedJustOutsideItsDeclaredRangeAndTakenAtItsEnd
 }
 
 TEST(ConfigKeys, TheParserKnowsEveryDeclaredKeyUnderEachParent) {
-  for (const auto* parent : {"", "dds", "dds.security", "buses[]", "buses[].sim", "buses[].hands[]"}) {
+  for (const auto* parent :
+       {"", "dds", "dds.security", "buses[]", "buses[].sim", "buses[].record", "buses[].hands[]"}) {
     EXPECT_FALSE(child_keys(parent).empty()) << parent;
   }
   // An undeclared key is refused, and the message lists the declared ones.
@@ -113,6 +120,8 @@ TEST(ConfigKeys, TheParsersDefaultsAreTheDeclaredOnes) {
       {"buses[].sim.bit_rate", std::to_string(bus.sim.bit_rate)},
       {"buses[].sim.position_speed", whole(bus.sim.position_speed)},
       {"buses[].sim.rotation_speed", whole(bus.sim.rotation_speed)},
+      {"buses[].record.max_file_bytes", std::to_string(bus::RecorderOptions{}.max_file_bytes)},
+      {"buses[].record.max_files", std::to_string(bus::RecorderOptions{}.max_files)},
   };
   for (const auto& [path, value] : parsed_defaults) {
     const ConfigKey* key = find_config_key(path);

@@ -148,6 +148,40 @@ TEST_F(SocketCanBusTest, ReceivesEveryFrameThePeerSends) {
   EXPECT_EQ(bus->counters().frames_received, 3u);
 }
 
+TEST_F(SocketCanBusTest, ReceiveTimesAreTheKernelsTimestampsWhenAskedFor) {
+  SocketCanOptions options;
+  options.receive_timestamps = true;
+  auto bus = make_bus(SystemClock::instance(), options);
+  const WallTime before = std::chrono::system_clock::now();
+  write_frame(peer_.get(), make_can_frame(1, {1, 2, 3, 4, 5, 6, 7, 8}));
+  write_frame(peer_.get(), make_can_frame(2, {1, 2, 3, 4, 5, 6, 7, 8}));
+  std::vector<CanFrame> frames;
+  std::vector<WallTime> times;
+  const auto until = std::chrono::steady_clock::now() + test::kBusDeadline;
+  while (frames.size() < 2 && std::chrono::steady_clock::now() < until) {
+    (void)bus->receive(frames, test::kBusSlice);
+    times.insert(times.end(), bus->receive_times().begin(), bus->receive_times().end());
+  }
+  const WallTime after = std::chrono::system_clock::now();
+  ASSERT_EQ(frames.size(), 2u);
+  ASSERT_EQ(times.size(), 2u);  // one per frame, in their order
+  EXPECT_GE(times[0], before);
+  EXPECT_LE(times[0], times[1]);
+  EXPECT_LE(times[1], after);
+}
+
+TEST_F(SocketCanBusTest, ReceiveTimesAreEmptyWithoutTheOption) {
+  auto bus = make_bus(SystemClock::instance());
+  write_frame(peer_.get(), make_can_frame(1, {1, 2, 3, 4, 5, 6, 7, 8}));
+  std::vector<CanFrame> frames;
+  const auto until = std::chrono::steady_clock::now() + test::kBusDeadline;
+  while (frames.empty() && std::chrono::steady_clock::now() < until) {
+    (void)bus->receive(frames, test::kBusSlice);
+  }
+  ASSERT_EQ(frames.size(), 1u);
+  EXPECT_TRUE(bus->receive_times().empty());
+}
+
 TEST_F(SocketCanBusTest, IgnoresFramesNoDh3HandSends) {
   // The kernel filter keeps these off a real CAN socket; the user-space check
   // behind it is what this test sees.

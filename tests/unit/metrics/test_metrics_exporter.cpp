@@ -147,6 +147,21 @@ TEST(MetricsText, ABusThatSeesNoControllerHasNoControllerSeries) {
   EXPECT_THAT(text, Not(HasSubstr("dh3_bus_rx_overflow_drops_total")));
 }
 
+TEST(MetricsText, ARecordedBusHasRecorderSeries) {
+  auto figures = sample_figures();
+  figures[0].diagnostics.recorder = bus::RecorderFigures{1000, 7, 48000, 2, 1};
+  const std::string text = render(figures);
+  EXPECT_EQ(metric_value(text, R"(dh3_recorder_frames_total{bus="left"})"), 1000.0) << text;
+  EXPECT_EQ(metric_value(text, R"(dh3_recorder_dropped_total{bus="left"})"), 7.0);
+  EXPECT_EQ(metric_value(text, R"(dh3_recorder_bytes_total{bus="left"})"), 48000.0);
+  EXPECT_EQ(metric_value(text, R"(dh3_recorder_files_total{bus="left"})"), 2.0);
+  EXPECT_EQ(metric_value(text, R"(dh3_recorder_write_errors_total{bus="left"})"), 1.0);
+}
+
+TEST(MetricsText, ABusWithoutARecorderHasNoRecorderSeries) {
+  EXPECT_THAT(render(sample_figures()), Not(HasSubstr("dh3_recorder_")));
+}
+
 // The names a dashboard filters on are the ones the contract gives the
 // commands a client sends and the results it gets back.
 TEST(MetricsNames, CommandTypesAreTheContractsNames) {

@@ -1,6 +1,9 @@
 #include "dh3/app/bus_setup.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include "dh3/bus/bus_spec.hpp"
+#include "dh3/bus/recording_bus.hpp"
 #include "dh3/sim/sim_bus.hpp"
 
 namespace dh3::app {
@@ -33,6 +36,20 @@ std::unique_ptr<bus::Bus> open_sim_bus(const BusSettings& settings, bus::BusSpec
   sim::SimBusOptions options;
   options.bit_rate = settings.sim.bit_rate;
   return std::make_unique<sim::SimBus>(bus::to_string(spec), std::move(hands), clock, options);
+}
+
+/// `opened` with its flight recorder, when the bus has one.
+Result<std::unique_ptr<bus::Bus>, std::string> with_recorder(const BusSettings& settings,
+                                                             std::unique_ptr<bus::Bus> opened) {
+  if (!settings.record) return opened;
+  auto recorder = bus::FrameRecorder::start(settings.name, *settings.record);
+  if (!recorder) return fail("bus '" + settings.name + "': flight recorder: " + recorder.error());
+  spdlog::info("bus '{}': recording every frame into {}/{}.NNNNNN.log (at most {} files of {} "
+               "bytes)",
+               settings.name, settings.record->dir.string(), (*recorder)->device(),
+               settings.record->max_files, settings.record->max_file_bytes);
+  return std::unique_ptr<bus::Bus>(
+      std::make_unique<bus::RecordingBus>(std::move(opened), std::move(*recorder)));
 }
 
 }  // namespace
@@ -72,16 +89,21 @@ Result<std::vector<dds::BusSetup>, std::string> open_buses(const ServiceConfig& 
     setup.scheduler.allow_admin = config.allow_admin;
     setup.scheduler.interval_margin =
         settings.interval_margin.value_or(default_interval_margin(settings.spec));
+    std::unique_ptr<bus::Bus> opened;
     if (spec->kind == bus::BusKind::sim) {
-      setup.bus = open_sim_bus(settings, std::move(*spec), clock);
+      opened = open_sim_bus(settings, std::move(*spec), clock);
     } else {
       bus::OpenBusOptions options;
       options.socketcan.bit_rate = settings.bit_rate;
+      options.socketcan.receive_timestamps = settings.record.has_value();
       options.transfer_box.can_bit_rate = settings.bit_rate;
-      auto opened = bus::open_bus(*spec, clock, options);
-      if (!opened) return fail("bus '" + settings.name + "': " + opened.error());
-      setup.bus = std::move(*opened);
+      auto backend = bus::open_bus(*spec, clock, options);
+      if (!backend) return fail("bus '" + settings.name + "': " + backend.error());
+      opened = std::move(*backend);
     }
+    auto recorded = with_recorder(settings, std::move(opened));
+    if (!recorded) return fail(recorded.error());
+    setup.bus = std::move(*recorded);
     setups.push_back(std::move(setup));
   }
   return setups;

@@ -369,6 +369,7 @@ class FileParser {
       if (!is_sim) fail_at(sim, key + ".sim", "only a sim bus has simulator settings");
       parse_sim(sim, key + ".sim", bus.sim);
     }
+    if (auto n = node["record"]) bus.record = parse_record(n, key + ".record");
     if (auto hands = node["hands"]) {
       if (!hands.IsSequence() && !hands.IsNull()) {
         fail_at(hands, key + ".hands", "expected a list of hands ({id: 1, name: left})");
@@ -401,6 +402,23 @@ class FileParser {
       sim.bit_rate =
           static_cast<std::uint32_t>(integer(n, key + ".bit_rate", "buses[].sim.bit_rate"));
     }
+  }
+
+  bus::RecorderOptions parse_record(const YAML::Node& node, const std::string& key) const {
+    expect_map(node, key);
+    check_keys(node, key + ".", "buses[].record");
+    bus::RecorderOptions record;
+    const auto dir = node["dir"];
+    if (!dir) fail_at(node, key + ".dir", "missing (the directory the recording goes to)");
+    record.dir = scalar(dir, key + ".dir");
+    if (record.dir.empty()) fail_at(dir, key + ".dir", "the directory is empty");
+    if (auto n = node["max_file_bytes"]) {
+      record.max_file_bytes = integer(n, key + ".max_file_bytes", "buses[].record.max_file_bytes");
+    }
+    if (auto n = node["max_files"]) {
+      record.max_files = integer(n, key + ".max_files", "buses[].record.max_files");
+    }
+    return record;
   }
 
   HandSettings parse_hand(const YAML::Node& node, const std::string& key, bool is_sim,
@@ -635,6 +653,17 @@ Applied apply_bus_options(ServiceConfig& config, const CommandLine& line) {
   return {};
 }
 
+/// --record DIR: every bus recorded into DIR (after --bus, which replaces the buses).
+Applied apply_record_option(ServiceConfig& config, const CommandLine& line) {
+  if (!line.record_dir) return {};
+  if (line.record_dir->empty()) return option_error("--record", "the directory is empty");
+  for (BusSettings& bus : config.buses) {
+    if (!bus.record) bus.record.emplace();
+    bus.record->dir = *line.record_dir;
+  }
+  return {};
+}
+
 }  // namespace
 
 Result<ServiceConfig, ConfigError> apply_command_line(ServiceConfig config,
@@ -642,7 +671,7 @@ Result<ServiceConfig, ConfigError> apply_command_line(ServiceConfig config,
   // In this order: with several bad options, the first one's error is reported.
   for (const auto apply :
        {apply_service_options, apply_transport_options, apply_xml_options, apply_security_identity,
-        apply_metrics_option, apply_security_dir, apply_bus_options}) {
+        apply_metrics_option, apply_security_dir, apply_bus_options, apply_record_option}) {
     if (auto applied = apply(config, line); !applied) return fail(applied.error());
   }
   if (config.buses.empty()) {

@@ -54,11 +54,17 @@ constexpr std::array kKeys{
     ConfigKey{"buses[].discovery_interval_ms", milliseconds, "30000", 0, kDay, "how often a bus without listed hands scans for new ones; 0: never again"},
     ConfigKey{"buses[].probe_spacing_ms", milliseconds, "1", 0, kDay, "the gap between two probes of a scan"},
 
+    ConfigKey{"buses[].record", map, "", 0, 0, "the flight recorder: every frame sent and received, candump log format (README \"Flight recorder and replay\"); absent: off"},
+
     ConfigKey{"buses[].sim.reply_delay_ms", milliseconds, "2", 0, kDay, "how long a simulated hand takes to reply"},
     ConfigKey{"buses[].sim.position_speed", number, "200", 0.001, 1e6, "finger speed, percent of the stroke per second"},
     ConfigKey{"buses[].sim.rotation_speed", number, "200", 0.001, 1e6, "rotation speed, percent of 90 degrees per second"},
     ConfigKey{"buses[].sim.init_time_ms", milliseconds, "300", 0, kDay, "how long a simulated initialization takes"},
     ConfigKey{"buses[].sim.bit_rate", integer, "0", 0, kMaxBitRate, "the simulated line's bit rate; 0: frames take no line time"},
+
+    ConfigKey{"buses[].record.dir", text, "", 0, 0, "required in record: the directory of the files BUS.000001.log, ... (created if missing)"},
+    ConfigKey{"buses[].record.max_file_bytes", integer, "67108864", 4096, 1099511627776.0, "a file's size before the next one starts"},
+    ConfigKey{"buses[].record.max_files", integer, "10", 1, 100000, "files kept; then the oldest is deleted"},
 
     ConfigKey{"buses[].hands[].id", integer, "", 1, 255, "required: the hand's CAN ID, once per bus"},
     ConfigKey{"buses[].hands[].name", text, "", 0, 0, "a name for the hand (1-64 characters)"},

@@ -55,6 +55,22 @@ struct EarlyExit {
   int status = 0;
 };
 
+/// -i, --udp-only, --shared-memory, --discovery-server: straight into `line`.
+void add_transport_options(CLI::App& cli, dh3::app::CommandLine& line) {
+  cli.add_option("-i,--interface", line.interfaces,
+                 "IPv4 address of a network interface for DDS (repeatable), or * for all; "
+                 "default loopback only")
+      ->allow_extra_args(false);
+  cli.add_flag("--udp-only", line.udp_only, "UDP only, no shared memory (the default)");
+  cli.add_flag("--shared-memory", line.shared_memory,
+               "also Fast DDS's shared-memory transport on this host (needs Fast DDS 2.12.1 or "
+               "later: 2.9's listener can go deaf after a peer exits)");
+  cli.add_option("--discovery-server", line.discovery_servers,
+                 "a Fast DDS discovery server as HOST[:PORT] (repeatable; the n-th is the "
+                 "server with id n; replaces the file's); default: ROS_DISCOVERY_SERVER if set")
+      ->allow_extra_args(false);
+}
+
 /// What the command line asks for.
 dh3::Result<Invocation, EarlyExit> parse_command_line(int argc, char** argv) {
   Invocation invocation;
@@ -77,18 +93,7 @@ dh3::Result<Invocation, EarlyExit> parse_command_line(int argc, char** argv) {
       cli.add_option("-l,--log-level", log_level,
                      "trace, debug, info, warn, error, critical or off (default info)");
   cli.add_flag("--allow-admin", line.allow_admin, "accept SET_CAN_ID and SET_BAUD_RATE");
-  cli.add_option("-i,--interface", line.interfaces,
-                 "IPv4 address of a network interface for DDS (repeatable), or * for all; "
-                 "default loopback only")
-      ->allow_extra_args(false);
-  cli.add_flag("--udp-only", line.udp_only, "UDP only, no shared memory (the default)");
-  cli.add_flag("--shared-memory", line.shared_memory,
-               "also Fast DDS's shared-memory transport on this host (needs Fast DDS 2.12.1 or "
-               "later: 2.9's listener can go deaf after a peer exits)");
-  cli.add_option("--discovery-server", line.discovery_servers,
-                 "a Fast DDS discovery server as HOST[:PORT] (repeatable; the n-th is the "
-                 "server with id n; replaces the file's); default: ROS_DISCOVERY_SERVER if set")
-      ->allow_extra_args(false);
+  add_transport_options(cli, line);
   std::string xml_file;
   std::string xml_profile;
   std::string security_dir;
@@ -112,6 +117,11 @@ dh3::Result<Invocation, EarlyExit> parse_command_line(int argc, char** argv) {
   bool print_config_keys = false;
   cli.add_flag("--config-keys", print_config_keys,
                "print every key of the configuration file (Markdown table) and exit");
+  std::string record_dir;
+  auto* record_option = cli.add_option(
+      "--record", record_dir,
+      "flight recorder: write every frame of every bus, with its time and direction, into DIR "
+      "(candump log format, files BUS.000001.log, ...; a bus's record: settings keep their caps)");
   cli.set_version_flag("--version", DH3_VERSION);
   try {
     cli.parse(argc, argv);
@@ -133,6 +143,7 @@ dh3::Result<Invocation, EarlyExit> parse_command_line(int argc, char** argv) {
   if (*security_dir_option) line.security_dir = security_dir;
   if (*security_identity_option) line.security_identity = security_identity;
   if (*metrics_option) line.metrics_address = metrics_address;
+  if (*record_option) line.record_dir = record_dir;
   return invocation;
 }
 

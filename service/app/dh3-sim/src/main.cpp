@@ -13,6 +13,9 @@
 #include <atomic>
 #include <csignal>
 #include <cstdio>
+#include <fstream>
+#include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -99,6 +102,20 @@ std::pair<std::uint8_t, std::int32_t> parse_placement(const std::string& text,
   return {id, position};
 }
 
+/// The recording --replay names; throws CLI::ValidationError saying what is wrong.
+std::shared_ptr<const dh3::sim::ReplayScript> read_recording(const std::string& path) {
+  std::ifstream file(path);
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (!file) throw CLI::ValidationError("--replay", "cannot read " + path);
+  auto script = dh3::sim::ReplayScript::parse(text.str());
+  if (!script) throw CLI::ValidationError("--replay", path + ": " + script.error());
+  if (script->hands().empty()) {
+    throw CLI::ValidationError("--replay", path + ": no hand answered in this recording");
+  }
+  return std::make_shared<const dh3::sim::ReplayScript>(std::move(*script));
+}
+
 /// Prints `ready_line` once a stop signal would reach `server`, runs it until
 /// it stops, then prints the interval line if the interval is checked.
 template <typename Server>
@@ -132,6 +149,7 @@ struct SimArguments {
   int reply_delay_ms = 0;
   int store_delay_ms = 50;
   std::string log_level = "info";
+  std::string replay_file;
 };
 
 void declare_options(CLI::App& app, SimArguments& args) {
@@ -173,6 +191,14 @@ void declare_options(CLI::App& app, SimArguments& args) {
                  "extra time before answering a CAN ID or baud rate write")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  app.add_option("--replay", args.replay_file,
+                 "serve the hands of a recording (dh3-service's flight recorder, one bus): each "
+                 "request is answered with the reply recorded for its register, in the recorded "
+                 "order, and unasked frames come at their recorded offsets")
+      ->check(CLI::ExistingFile)
+      ->excludes("--hands")
+      ->excludes("--object")
+      ->excludes("--obstacle");
   app.add_option("--log-level", args.log_level, "trace, debug, info, warn, error, critical, off")
       ->capture_default_str()
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}));
@@ -220,6 +246,7 @@ dh3::sim::TransferBoxServerOptions server_options(const SimArguments& args) {
     const auto [id, position] = parse_placement(text, "--obstacle");
     find_hand(id, "--obstacle").rotation_obstacle = position;
   }
+  if (!args.replay_file.empty()) options.replay = read_recording(args.replay_file);
   return options;
 }
 
@@ -274,6 +301,13 @@ int main(int argc, char** argv) {
   spdlog::set_default_logger(logger);
   spdlog::set_level(spdlog::level::from_str(args.log_level));
 
+  if (options.replay) {
+    std::string ids;
+    for (const auto& [id, hand] : options.replay->hands()) ids += " " + std::to_string(id);
+    spdlog::info("dh3-sim: replaying {} frames of bus '{}' ({} skipped); hands:{}",
+                 options.replay->frames(), options.replay->device(), options.replay->skipped(),
+                 ids);
+  }
   options.control_in = 0;   // stdin
   options.control_out = 1;  // stdout
   const bool interval_checked = args.min_interval_ms > 0;

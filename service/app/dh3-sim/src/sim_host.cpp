@@ -102,10 +102,23 @@ const std::string_view kControlHelp =
 SimHost::SimHost(SimHostOptions options, const Clock& clock)
     : options_(std::move(options)), clock_(clock), watch_(options_.min_interval) {
   const TimePoint now = clock_.now();
+  if (options_.replay) {
+    replay_.emplace(*options_.replay, now);
+    return;
+  }
   for (const SimHandOptions& hand : options_.hands) {
     if (hands_.add(hand, now))
       spdlog::warn("dh3-sim: hand {} given twice, keeping the last", hand.id);
   }
+}
+
+std::vector<std::uint8_t> SimHost::ids() const {
+  return replay_ ? replay_->ids() : hands_.ids();
+}
+
+bool SimHost::answers_on(std::uint8_t id) const {
+  const std::vector<std::uint8_t> all = ids();
+  return std::find(all.begin(), all.end(), id) != all.end();
 }
 
 Result<void, std::string> SimHost::start() {
@@ -166,14 +179,15 @@ std::size_t SimHost::receive(const protocol::Message& request, std::uint64_t fro
   if (watch_.enabled()) {
     const Duration at = received.value_or(now.time_since_epoch());
     if (request.hand_id != 0) {
-      if (hands_.find(request.hand_id) != nullptr) watch_.note(request.hand_id, at, request);
+      if (answers_on(request.hand_id)) watch_.note(request.hand_id, at, request);
     } else {
-      for (const std::uint8_t id : hands_.ids()) watch_.note(id, at, request);
+      for (const std::uint8_t id : ids()) watch_.note(id, at, request);
     }
   }
   replies_.clear();
   unsolicited_.clear();
-  const std::size_t reached = hands_.deliver(request, now, replies_, unsolicited_);
+  const std::size_t reached = replay_ ? replay_->deliver(request, now, replies_, unsolicited_)
+                                      : hands_.deliver(request, now, replies_, unsolicited_);
   spdlog::debug("dh3-sim: peer {}: {} ({} hand(s), {} repl(ies))", from,
                 protocol::describe(request), reached, replies_.size());
   schedule(replies_, from);
@@ -184,7 +198,11 @@ std::size_t SimHost::receive(const protocol::Message& request, std::uint64_t fro
 void SimHost::serve_due(SimTransport& transport) {
   const TimePoint now = clock_.now();
   unsolicited_.clear();
-  hands_.advance_all(now, unsolicited_);
+  if (replay_) {
+    replay_->advance_all(now, unsolicited_);
+  } else {
+    hands_.advance_all(now, unsolicited_);
+  }
   schedule(unsolicited_, kEveryPeer);
   while (!scheduled_.empty() && scheduled_.top().due <= now) {
     const Scheduled frame = scheduled_.top();
@@ -201,7 +219,8 @@ void SimHost::schedule(const std::vector<Outgoing>& frames, std::uint64_t destin
 }
 
 int SimHost::poll_timeout_ms(TimePoint now, std::optional<TimePoint> timer) const {
-  std::optional<TimePoint> next = hands_.next_unsolicited_at();
+  std::optional<TimePoint> next =
+      replay_ ? replay_->next_unsolicited_at() : hands_.next_unsolicited_at();
   if (!scheduled_.empty() && (!next || scheduled_.top().due < *next)) next = scheduled_.top().due;
   if (timer && (!next || *timer < *next)) next = timer;
   if (!next) return kMaxPollMs;
@@ -273,7 +292,7 @@ std::string SimHost::execute(std::string_view command, SimTransport& transport) 
     std::string answer = "ok hands";
     // Appended, not "literal" + std::string: GCC 12 warns falsely about that at -O3
     // (-Wrestrict inside libstdc++'s string insert, GCC bugs 105329, 105651).
-    for (const std::uint8_t id : hands_.ids()) answer.append(" ").append(std::to_string(id));
+    for (const std::uint8_t id : ids()) answer.append(" ").append(std::to_string(id));
     return answer;
   }
   if (verb == "violations" && words.size() == 1) {
@@ -297,6 +316,7 @@ std::string SimHost::execute_for_hand(std::span<const std::string_view> words,
   if (words.size() != (one ? 2U : 3U)) {
     return "error " + std::string(verb) + " takes " + (one ? "ID" : "ID and a value");
   }
+  if (replay_) return "error replaying a recording: the hands do what it says";
   const std::optional<std::uint8_t> id = parse_hand_id(words[1]);
   if (!id) return "error '" + std::string(words[1]) + "' is no hand ID (1-255)";
   SimHand* hand = hand_now(*id);

@@ -7,8 +7,11 @@
 // receive(); wake() and diagnostics() may be called from any thread.
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <memory>
+#include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -26,6 +29,10 @@ struct CanFrame {
 
   friend bool operator==(const CanFrame&, const CanFrame&) = default;
 };
+
+/// A moment by the wall clock, as the kernel stamps received frames and as
+/// candump logs carry them (seconds since the Unix epoch).
+using WallTime = std::chrono::system_clock::time_point;
 
 enum class BusError : std::uint8_t {
   link_down,      ///< not connected (cable out, box unreachable, interface down)
@@ -57,6 +64,17 @@ enum class ErrorFrameKind : std::uint8_t {
 inline constexpr std::size_t kErrorFrameKinds = 12;
 [[nodiscard]] std::string_view to_string(ErrorFrameKind kind);
 
+/// What a bus's flight recorder (FrameRecorder) did since it was made.
+struct RecorderFigures {
+  std::uint64_t frames_recorded = 0;  ///< written to a file
+  /// Dropped because the writer fell behind and the queue was full, or
+  /// because the file could not be written.
+  std::uint64_t frames_dropped = 0;
+  std::uint64_t bytes_written = 0;
+  std::uint64_t files_opened = 0;  ///< the first file and each rotation
+  std::uint64_t write_errors = 0;  ///< files that could not be opened or written
+};
+
 /// What a backend sees beneath the frames it delivers, counted since it was
 /// made. Only a backend on a CAN controller (SocketCAN) sees these.
 struct BusDiagnostics {
@@ -69,6 +87,8 @@ struct BusDiagnostics {
   /// RTR, id over 0xFF, length over 8, bad size); the kernel filter keeps most
   /// of them out unseen.
   std::uint64_t frames_ignored = 0;
+  /// The bus's flight recorder's figures; nullopt: the bus is not recorded.
+  std::optional<RecorderFigures> recorder;
 };
 
 class Bus {
@@ -88,6 +108,12 @@ class Bus {
   /// received to `out`. Backends that reconnect try to bring the link back up
   /// here, with backoff, and report link_down meanwhile. Returns early on wake().
   virtual Result<void, BusError> receive(std::vector<CanFrame>& out, Duration timeout) = 0;
+
+  /// When each frame the last receive() appended was received, in the order it
+  /// appended them: the kernel's receive timestamp where the backend has one
+  /// (SocketCAN with SocketCanOptions::receive_timestamps). Empty when the
+  /// backend keeps no times; then the caller's own clock is as good as any.
+  [[nodiscard]] virtual std::span<const WallTime> receive_times() const { return {}; }
 
   /// Makes a blocked receive() (or the next one) return at once. Any thread.
   virtual void wake() = 0;

@@ -43,6 +43,9 @@ struct SocketCanOptions {
   ReconnectOptions reconnect;
   /// The interface's bit rate when the user knows it (bit_rate()), e.g. 500000.
   std::uint32_t bit_rate = 0;
+  /// Ask the kernel for each frame's receive timestamp (SO_TIMESTAMPNS) and
+  /// hand them out through receive_times(): what a flight recorder writes.
+  bool receive_timestamps = false;
 };
 
 /// The kinds an error frame (can_id with CAN_ERR_FLAG, 8 data bytes) reports,
@@ -75,6 +78,9 @@ class SocketCanBus final : public Bus {
   [[nodiscard]] LinkState link_state() const override { return tracker_.state(); }
   [[nodiscard]] std::uint32_t bit_rate() const override { return options_.bit_rate; }
   [[nodiscard]] BusDiagnostics diagnostics() const override;
+  /// With SocketCanOptions::receive_timestamps; a frame the kernel did not
+  /// stamp gets the wall clock's time of reading.
+  [[nodiscard]] std::span<const WallTime> receive_times() const override { return receive_times_; }
 
   /// Diagnostics, read on the loop thread.
   struct Counters {
@@ -117,6 +123,7 @@ class SocketCanBus final : public Bus {
   std::array<std::atomic<std::uint64_t>, kErrorFrameKinds> error_kinds_{};
   std::atomic<std::uint64_t> rx_overflow_drops_{0};
   std::atomic<std::uint64_t> frames_ignored_{0};
+  std::vector<WallTime> receive_times_;  ///< of the last receive()'s frames
 };
 
 }  // namespace dh3::bus

@@ -17,6 +17,9 @@
 //   dh3_bus_off                           1 while the controller is bus-off
 //   dh3_bus_rx_overflow_drops_total       frames the kernel dropped, receive queue full
 //   dh3_bus_frames_ignored_total          frames no DH-3 hand sends that got through
+// and for buses with a flight recorder only:
+//   dh3_recorder_frames_total, dh3_recorder_dropped_total, dh3_recorder_bytes_total,
+//   dh3_recorder_files_total, dh3_recorder_write_errors_total
 
 #include <functional>
 #include <memory>

@@ -10,6 +10,7 @@
 //   dds: {interfaces: [10.0.0.5]}
 //   buses:
 //     - {name: left, spec: "socketcan:can0", bit_rate: 1000000, hands: []}
+//       record: {dir: /var/lib/dh3/recordings}   # the flight recorder
 //     - spec: sim              # simulated hands: the ones listed (or sim:IDS)
 //       hands: [{id: 1, object: 40}]
 
@@ -21,6 +22,7 @@
 
 #include "dh3/base/clock.hpp"
 #include "dh3/base/result.hpp"
+#include "dh3/bus/frame_recorder.hpp"
 #include "dh3/hand/bus_scheduler.hpp"
 #include "dh3_participant_options.hpp"
 
@@ -57,6 +59,8 @@ struct BusSettings {
   /// interval_margin_ms; unset: default_interval_margin() of the bus's kind.
   std::optional<Duration> interval_margin;
   SimSettings sim;
+  /// The flight recorder (`record:`, or --record DIR for every bus); nullopt: off.
+  std::optional<bus::RecorderOptions> record;
 };
 
 /// 2 ms on a transfer box (TCP or serial: a frame the path delays shortens the
@@ -119,6 +123,8 @@ struct CommandLine {
   std::optional<std::string> security_dir;
   std::optional<std::string> security_identity;
   std::optional<std::string> metrics_address;  ///< empty text turns the file's off
+  /// Records every bus into this directory; a bus's own `record:` keeps its caps.
+  std::optional<std::string> record_dir;
 };
 
 /// Applies the command line to a configuration and checks the result.

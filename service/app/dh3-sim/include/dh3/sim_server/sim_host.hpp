@@ -17,6 +17,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <queue>
 #include <span>
@@ -30,6 +31,8 @@
 #include "dh3/protocol/codec.hpp"
 #include "dh3/sim/hand_set.hpp"
 #include "dh3/sim/interval_watch.hpp"
+#include "dh3/sim/replay_hands.hpp"
+#include "dh3/sim/replay_script.hpp"
 #include "dh3/sim/sim_hand.hpp"
 
 namespace dh3::sim {
@@ -75,6 +78,9 @@ struct SimHostOptions {
   /// Frames to one hand closer together than this are interval violations
   /// (see IntervalWatch); zero: not checked.
   Duration min_interval = Duration::zero();
+  /// Serve the hands of this recording (ReplayHands) instead of `hands`; the
+  /// world commands (drop, object, mute, ...) are refused meanwhile.
+  std::shared_ptr<const ReplayScript> replay;
 };
 
 class SimHost {
@@ -106,7 +112,7 @@ class SimHost {
   /// Only on run()'s thread, or while run() is not running.
   std::string execute(std::string_view command, SimTransport& transport);
 
-  [[nodiscard]] std::size_t hand_count() const { return hands_.size(); }
+  [[nodiscard]] std::size_t hand_count() const { return ids().size(); }
   [[nodiscard]] bool interval_check_enabled() const { return watch_.enabled(); }
   /// Interval violations over all hands so far.
   [[nodiscard]] std::uint64_t interval_violations() const { return watch_.violations(); }
@@ -132,11 +138,15 @@ class SimHost {
   void answer_control(const std::string& line);
   /// The hand answering on `id`, advanced to now (its unsolicited frames scheduled).
   SimHand* hand_now(std::uint8_t id);
+  /// The CAN IDs answered on, ascending: the simulated hands' or the recording's.
+  [[nodiscard]] std::vector<std::uint8_t> ids() const;
+  [[nodiscard]] bool answers_on(std::uint8_t id) const;
   std::string execute_for_hand(std::span<const std::string_view> words, const std::string& echo);
 
   SimHostOptions options_;
   const Clock& clock_;
   HandSet hands_;
+  std::optional<ReplayHands> replay_;  ///< set: it answers instead of hands_
   IntervalWatch watch_;
   UniqueFd wake_read_;  // the stop request's wake-up pipe
   UniqueFd wake_write_;
