@@ -120,6 +120,17 @@ if ((${#missing_tags[@]})); then
   }
   work=$(mktemp -d)
   trap 'rm -rf "$work"' EXIT
+  # This machine's settings for reaching its archive go with its archive
+  # lines: a proxy, or a snapshot archive whose Release files have expired
+  # (Check-Valid-Until "false") that plain apt would refuse. mmdebstrap keeps
+  # them in the image's /etc/apt/apt.conf.d, so builds on these bases reach
+  # the archive too. apt-config prints the merged configuration one line each.
+  acquire_opts=()
+  if apt-config dump | grep -E '^Acquire::(Check-Valid-Until|Check-Date|Max-ValidTime|https?::|ftp::)' \
+      >"$work/acquire.conf"; then
+    acquire_opts=(--aptopt="$work/acquire.conf")
+    say "with this machine's apt Acquire:: settings ($(wc -l <"$work/acquire.conf") line(s))"
+  fi
   say "mmdebstrap --variant=minbase bookworm from ${#sources[@]} archive line(s) of this machine's apt sources"
   # merged-usr: the /usr merge as debootstrap does it (symlinks and
   # usr-is-merged); otherwise apt satisfies init-system-helpers with the
@@ -128,7 +139,7 @@ if ((${#missing_tags[@]})); then
     --dpkgopt='path-exclude=/usr/share/man/*' --dpkgopt='path-exclude=/usr/share/info/*' \
     --dpkgopt='path-exclude=/usr/share/doc/*' --dpkgopt='path-include=/usr/share/doc/*/copyright' \
     --dpkgopt='path-exclude=/usr/share/locale/*' --dpkgopt='path-exclude=/usr/share/lintian/*' \
-    --customize-hook='mkdir -p "$1/usr/share/man/man1"' \
+    --customize-hook='mkdir -p "$1/usr/share/man/man1"' "${acquire_opts[@]}" \
     bookworm "$work/rootfs.tar" "${sources[@]}"
   for base_tag in "${missing_tags[@]}"; do
     podman import --quiet --change 'CMD ["/bin/bash"]' "$work/rootfs.tar" "$base_tag" >/dev/null
