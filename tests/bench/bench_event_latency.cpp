@@ -11,11 +11,19 @@
 //   32 hands  the simulated CAN line at 500 kbps, every hand holding an object;
 //             one hand at a time drops, is released and grasps again
 // Each cycle: grasp (until GRASPED), wait 0.2-0.8 s, drop, release to 100
-// (until ARRIVED). Then the bus load each state costs a hand (simulated time).
+// (until ARRIVED). Each event's p50 and p99 are printed next to the floor: the
+// hand's frame spacing (command interval + margin), since dh3 hears of a change
+// only by reading a status and may read one per spacing.
+// The service's own latency histograms (its metrics endpoint, started here on
+// loopback and scraped before and after the cycles) are set against what the
+// benchmark measured itself: a command's time from request to reply, as the
+// client saw it, and the histogram's estimate of the same quantile.
+// Then the bus load each state costs a hand (simulated time).
 
 #include <spdlog/spdlog.h>
 
 #include <atomic>
+#include <cmath>
 #include <condition_variable>
 #include <cstdio>
 #include <fstream>
@@ -32,9 +40,12 @@
 #include "dh3/app/bus_setup.hpp"
 #include "dh3/app/config.hpp"
 #include "dh3/client.hpp"
+#include "dh3/registers.hpp"
 #include "dh3/dds/service.hpp"
 #include "dh3/hand/bus_scheduler.hpp"
+#include "dh3/metrics/metrics_exporter.hpp"
 #include "dh3/sim/sim_bus.hpp"
+#include "support/metrics_scrape.hpp"
 
 namespace {
 
@@ -205,24 +216,129 @@ class InProcessSim final : public Sim {
 // ---------------------------------------------------------------------------
 // One scenario.
 
+/// One histogram of the scrape: (upper bound in seconds, cumulative count),
+/// +Inf last, as the text has them.
+using Buckets = std::vector<std::pair<double, double>>;
+
+/// `name`'s buckets for bus `bus` in a scrape's text.
+Buckets buckets_of(const std::string& text, const std::string& name, const std::string& bus) {
+  const std::string prefix = name + "_bucket{bus=\"" + bus + "\",le=\"";
+  Buckets out;
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (line.rfind(prefix, 0) != 0) continue;
+    const std::size_t end = line.find('"', prefix.size());
+    const std::string le = line.substr(prefix.size(), end - prefix.size());
+    const double bound = le == "+Inf" ? INFINITY : std::stod(le);
+    out.emplace_back(bound, std::stod(line.substr(line.find(' ', end) + 1)));
+  }
+  return out;
+}
+
+/// after - before, bucket by bucket: what the cycles alone added.
+Buckets minus(Buckets after, const Buckets& before) {
+  for (std::size_t i = 0; i < after.size() && i < before.size(); ++i) {
+    after[i].second -= before[i].second;
+  }
+  return after;
+}
+
+/// Prometheus' histogram_quantile(q, ...) on one series, in ms; and the width
+/// of the bucket the estimate fell in (the histogram's resolution there).
+struct Estimate {
+  double ms = NAN;
+  double bucket_ms = NAN;
+};
+Estimate histogram_quantile(double q, const Buckets& buckets) {
+  if (buckets.empty() || buckets.back().second <= 0) return {};
+  const double rank = q * buckets.back().second;
+  double lower = 0.0;
+  double below = 0.0;
+  for (const auto& [bound, cumulative] : buckets) {
+    if (cumulative >= rank) {
+      if (std::isinf(bound)) return {lower * 1e3, NAN};  // as Prometheus: the last finite bound
+      const double within = cumulative > below ? (rank - below) / (cumulative - below) : 1.0;
+      return {(lower + (bound - lower) * within) * 1e3, (bound - lower) * 1e3};
+    }
+    lower = bound;
+    below = cumulative;
+  }
+  return {};
+}
+
+/// What one scenario measured.
 struct Latencies {
   std::vector<double> drop, grasp, arrival;  // ms
   int lost = 0;                              // events not seen in time
+  double floor_ms = 0.0;                     // the hand's frame spacing
+  std::vector<double> command_ms;  // release and grasp, request to reply, as the client saw
+  std::vector<double> read_ms;     // grip-status reads after the cycles, the same
+  /// What the service's histograms gained over the cycles (its own scrape),
+  /// and command_to_reply over the reads alone.
+  Buckets command_to_reply, command_to_frame, frame_to_reply, sample_age, read_to_reply;
 };
 
 /// The rows of the latency table, for --json.
 std::string json_rows;
 
-void print_row(const char* scenario, const char* kind, std::vector<double>& ms) {
+void print_row(const char* scenario, const char* kind, std::vector<double>& ms, double floor_ms) {
   const auto p = dh3::bench::percentiles(ms);
-  std::printf("| %-32s | %-8s | %5zu | %7.1f | %7.1f | %7.1f |\n", scenario, kind, p.count, p.p50,
-              p.p99, p.max);
-  char row[400];
+  std::printf("| %-32s | %-8s | %5zu | %7.1f | %7.1f | %7.1f | %5.1f | %5.2fx | %5.2fx |\n",
+              scenario, kind, p.count, p.p50, p.p99, p.max, floor_ms, p.p50 / floor_ms,
+              p.p99 / floor_ms);
+  char row[500];
   std::snprintf(row, sizeof row,
                 "%s{\"scenario\":\"%s\",\"event\":\"%s\",\"count\":%zu,\"p50_ms\":%.2f,"
-                "\"p99_ms\":%.2f,\"max_ms\":%.2f}",
-                json_rows.empty() ? "" : ",", scenario, kind, p.count, p.p50, p.p99, p.max);
+                "\"p99_ms\":%.2f,\"max_ms\":%.2f,\"floor_ms\":%.2f,\"p99_ratio\":%.3f}",
+                json_rows.empty() ? "" : ",", scenario, kind, p.count, p.p50, p.p99, p.max,
+                floor_ms, p.p99 / floor_ms);
   json_rows += row;
+}
+
+void print_rows(const char* scenario, Latencies& l) {
+  print_row(scenario, "DROPPED", l.drop, l.floor_ms);
+  print_row(scenario, "GRASPED", l.grasp, l.floor_ms);
+  print_row(scenario, "ARRIVED", l.arrival, l.floor_ms);
+}
+
+/// A client-side figure against the histogram's estimate of the same quantile.
+void print_agreement(const char* scenario, const char* what, std::vector<double>& ms,
+                     const Buckets& buckets) {
+  const auto client = dh3::bench::percentiles(ms);
+  for (const double q : {0.50, 0.99}) {
+    const Estimate estimate = histogram_quantile(q, buckets);
+    const double seen = q == 0.50 ? client.p50 : client.p99;
+    const bool agree = std::abs(seen - estimate.ms) <= estimate.bucket_ms;
+    std::printf("| %-32s | %-26s p%-2.0f | %5zu | %7.1f | %7.1f | %6.1f | %-5s |\n", scenario, what,
+                q * 100, client.count, seen, estimate.ms, estimate.bucket_ms, agree ? "yes" : "NO");
+  }
+}
+
+/// The service's histograms against the client's own figures.
+void print_histograms(const char* scenario, Latencies& l) {
+  print_agreement(scenario, "read: request -> reply", l.read_ms, l.read_to_reply);
+  print_agreement(scenario, "release, grasp: req.->reply", l.command_ms, l.command_to_reply);
+  const auto show = [&](const char* what, const Buckets& b) {
+    std::printf("| %-32s | %-30s | %5.0f |   p50 %7.1f   p99 %7.1f (histogram only) |\n", scenario,
+                what, b.empty() ? 0.0 : b.back().second, histogram_quantile(0.50, b).ms,
+                histogram_quantile(0.99, b).ms);
+  };
+  show("command request -> first frame", l.command_to_frame);
+  show("frame -> reply", l.frame_to_reply);
+  show("status sample age at publish", l.sample_age);
+}
+
+/// The service's latency histograms for `bus`, as scraped from `port`.
+std::map<std::string, Buckets> scrape_latency(std::uint16_t port, const std::string& bus) {
+  std::map<std::string, Buckets> out;
+  const auto text = dh3::test::scrape_metrics(port);
+  if (!text) return out;
+  for (const char* name : {"command_to_reply", "command_to_frame", "frame_to_reply"}) {
+    out[name] = buckets_of(*text, std::string("dh3_bus_") + name + "_seconds", bus);
+  }
+  out["sample_age"] = buckets_of(*text, "dh3_bus_status_sample_age_seconds", bus);
+  return out;
 }
 
 std::optional<Latencies> run_scenario(const std::string& config_yaml, int domain,
@@ -240,6 +356,7 @@ std::optional<Latencies> run_scenario(const std::string& config_yaml, int domain
     return std::nullopt;
   }
   const std::string bus_name = setups->front().name;
+  const auto spacing = setups->front().scheduler.frame_spacing();
   std::unique_ptr<Sim> sim;
   if (tcp_sim != nullptr) {
     sim = std::make_unique<TcpSim>(*tcp_sim);
@@ -256,6 +373,14 @@ std::optional<Latencies> run_scenario(const std::string& config_yaml, int domain
     std::fprintf(stderr, "the service did not start\n");
     return std::nullopt;
   }
+  auto exporter = dh3::metrics::Exporter::start(
+      "127.0.0.1:0", [&figures = **service] { return figures.metrics(); });
+  if (!exporter) {
+    std::fprintf(stderr, "metrics: %s\n", exporter.error().c_str());
+    return std::nullopt;
+  }
+  const auto port = static_cast<std::uint16_t>(
+      std::stoi((*exporter)->address().substr((*exporter)->address().rfind(':') + 1)));
   dh3::test::Process child(
       dh3::bench::self_path(),
       {"--role", "client", "--domain", std::to_string(domain), "--service", options.name});
@@ -287,6 +412,19 @@ std::optional<Latencies> run_scenario(const std::string& config_yaml, int domain
   }
   std::this_thread::sleep_for(1s);
   Latencies out;
+  out.floor_ms = std::chrono::duration<double, std::milli>(spacing).count();
+  const auto before = scrape_latency(port, bus_name);
+  if (before.empty()) {
+    std::fprintf(stderr, "the service's metrics did not answer\n");
+    return std::nullopt;
+  }
+  const auto timed = [&](auto call) {
+    const auto start = BenchClock::now();
+    auto result = call();
+    out.command_ms.push_back(
+        std::chrono::duration<double, std::milli>(BenchClock::now() - start).count());
+    return result;
+  };
   std::mt19937 random(17);
   std::uniform_int_distribution<int> hold_ms(200, 800);
   std::uniform_int_distribution<std::size_t> pick(0, ids.size() - 1);
@@ -305,7 +443,7 @@ std::optional<Latencies> run_scenario(const std::string& config_yaml, int domain
       ++out.lost;
     }
     // Release to 100: ARRIVED.
-    if (auto r = hand.release(100, 10s); !r.ok()) {
+    if (auto r = timed([&] { return hand.release(100, 10s); }); !r.ok()) {
       std::fprintf(stderr, "hand %u: release: %s\n", id, r.message.c_str());
       ++out.lost;
       continue;
@@ -318,7 +456,8 @@ std::optional<Latencies> run_scenario(const std::string& config_yaml, int domain
     }
     // Grasp again: GRASPED.
     sim->place_object(id, 40);
-    if (auto r = hand.grasp(50, 10s); !r.ok() || r.grasp != dh3::GraspOutcome::grasped) {
+    if (auto r = timed([&] { return hand.grasp(50, 10s); });
+        !r.ok() || r.grasp != dh3::GraspOutcome::grasped) {
       std::fprintf(stderr, "hand %u: grasp: %s\n", id, r.message.c_str());
       ++out.lost;
       continue;
@@ -330,8 +469,30 @@ std::optional<Latencies> run_scenario(const std::string& config_yaml, int domain
       ++out.lost;
     }
   }
+  auto after = scrape_latency(port, bus_name);
+  out.command_to_reply = minus(after["command_to_reply"], before.at("command_to_reply"));
+  out.command_to_frame = minus(after["command_to_frame"], before.at("command_to_frame"));
+  out.frame_to_reply = minus(after["frame_to_reply"], before.at("frame_to_reply"));
+  out.sample_age = minus(after["sample_age"], before.at("sample_age"));
+  // Commands of one frame, at random moments: what a command's wait for the
+  // hand's turn and its reply cost, in the histograms' 1-100 ms range.
+  std::uniform_int_distribution<int> pause_ms(0, 40);
+  for (int i = 0; i < 2 * cycles; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(pause_ms(random)));
+    dh3::Hand& hand = hands.at(ids[pick(random)]);
+    const auto start = BenchClock::now();
+    if (auto r = hand.read(dh3::reg::grip_status, 5s); !r.ok()) {
+      std::fprintf(stderr, "read: %s\n", r.message.c_str());
+      continue;
+    }
+    out.read_ms.push_back(
+        std::chrono::duration<double, std::milli>(BenchClock::now() - start).count());
+  }
+  out.read_to_reply =
+      minus(scrape_latency(port, bus_name)["command_to_reply"], after["command_to_reply"]);
   child.close_stdin();
   child.wait_exit(10s);
+  (*exporter).reset();
   (*service)->stop();
   return out;
 }
@@ -446,13 +607,10 @@ int main(int argc, char** argv) {
   const std::string extra =
       moving_ms.empty() ? std::string() : "    poll_interval_moving_ms: " + moving_ms + "\n";
   std::printf("\nEvent latency: simulated change -> event at a client process, ms\n");
-  std::printf("| %-32s | %-8s | %5s | %7s | %7s | %7s |\n", "scenario", "event", "n", "p50", "p99",
-              "max");
-  std::printf("|%s|%s|%s|%s|%s|%s|\n", std::string(34, '-').c_str(), std::string(10, '-').c_str(),
-              std::string(7, '-').c_str(), std::string(9, '-').c_str(), std::string(9, '-').c_str(),
-              std::string(9, '-').c_str());
   int lost = 0;
   std::string violation_count;
+  std::optional<Latencies> one;
+  std::optional<Latencies> many;
   {
     // dh3-sim counts frames to a hand closer than 20 ms (`violations`).
     dh3::test::Process sim(DH3_SIM_PATH,
@@ -466,11 +624,8 @@ int main(int argc, char** argv) {
     const std::string config =
         "buses:\n  - name: box\n    spec: tcp:" + line->substr(std::string("listening ").size()) +
         "\n    hands: [{id: 2}]\n" + extra;
-    auto one = run_scenario(config, dh3::bench::bench_domain(), {2}, cycles, &sim);
+    one = run_scenario(config, dh3::bench::bench_domain(), {2}, cycles, &sim);
     if (!one) return 1;
-    print_row("1 hand, dh3-sim over TCP", "DROPPED", one->drop);
-    print_row("1 hand, dh3-sim over TCP", "GRASPED", one->grasp);
-    print_row("1 hand, dh3-sim over TCP", "ARRIVED", one->arrival);
     lost += one->lost;
     sim.write_line("violations");
     const auto violations = sim.wait_for_line("ok", 5s);
@@ -481,17 +636,35 @@ int main(int argc, char** argv) {
   {
     std::vector<unsigned> ids;
     for (unsigned id = 1; id <= 32; ++id) ids.push_back(id);
-    auto many = run_scenario(config_for_sim(32) + extra, dh3::bench::bench_domain() + 1, ids,
-                             many_cycles, nullptr);
+    many = run_scenario(config_for_sim(32) + extra, dh3::bench::bench_domain() + 1, ids,
+                        many_cycles, nullptr);
     if (!many) return 1;
-    print_row("32 hands holding, 500 kbps line", "DROPPED", many->drop);
-    print_row("32 hands holding, 500 kbps line", "GRASPED", many->grasp);
-    print_row("32 hands holding, 500 kbps line", "ARRIVED", many->arrival);
     lost += many->lost;
   }
+  const char* kOne = "1 hand, dh3-sim over TCP";
+  const char* kMany = "32 hands holding, 500 kbps line";
+  std::printf(
+      "(floor: the hand's frame spacing, command interval + margin; ratio = figure / floor)\n");
+  std::printf("| %-32s | %-8s | %5s | %7s | %7s | %7s | %5s | %6s | %6s |\n", "scenario", "event",
+              "n", "p50", "p99", "max", "floor", "p50/fl", "p99/fl");
+  std::printf("|%s|%s|%s|%s|%s|%s|%s|%s|%s|\n", std::string(34, '-').c_str(),
+              std::string(10, '-').c_str(), std::string(7, '-').c_str(),
+              std::string(9, '-').c_str(), std::string(9, '-').c_str(), std::string(9, '-').c_str(),
+              std::string(7, '-').c_str(), std::string(8, '-').c_str(),
+              std::string(8, '-').c_str());
+  print_rows(kOne, *one);
+  print_rows(kMany, *many);
   std::printf("events not seen within 5 s: %d\n", lost);
   std::printf("frames to the hand closer than 20 ms, as dh3-sim saw them: %s\n",
               violation_count.c_str());
+  std::printf(
+      "\nThe service's histograms (its /metrics, scraped before and after the cycles) against the "
+      "client's figures, ms\n(agree: the client's figure within one bucket width of the "
+      "histogram's estimate, which is histogram_quantile's)\n");
+  std::printf("| %-32s | %-30s | %5s | %7s | %7s | %6s | %-5s |\n", "scenario", "what", "n",
+              "client", "histo", "bucket", "agree");
+  print_histograms(kOne, *one);
+  print_histograms(kMany, *many);
   if (!common.json_path.empty()) {
     std::ofstream(common.json_path)
         << "{\"event_latency\":[" << json_rows << "],\"lost\":" << lost << "}\n";

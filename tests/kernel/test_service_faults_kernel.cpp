@@ -109,8 +109,9 @@ class ServiceOnCanKernel : public ::testing::Test {
   /// flight: its reply comes when the fingers stop. Its sequence number.
   std::uint64_t start_long_grasp() {
     const auto seq = client_->send(client_->request(hand(1), msg::GRASP, 50));
+    // Its position write went out (the position is not read while it moves).
     EXPECT_TRUE(client_->wait_status(hand(1), [](const auto& s) {
-      return s.position() < 95 && s.position() > 5;
+      return s.grip() == msg::GRIP_MOVING && s.target_position() == 0;
     })) << "the grasp never started";
     EXPECT_EQ(client_->reply_count(seq), 0U) << "the grasp ended before the fault";
     return seq;

@@ -132,7 +132,11 @@ struct HandStatus {
   bool online = false;
   bool initialized = false;
   GripState grip = GripState::unknown;
-  std::int32_t position = -1;         ///< -1 until read
+  /// -1 until read. Not read while the fingers move or hold (their status is
+  /// read in every frame instead): during a motion it is where they were
+  /// before it; a sample with where they stopped follows the motion's event
+  /// within about one command interval.
+  std::int32_t position = -1;
   std::int32_t target_position = -1;  ///< -1 until written
   std::int32_t closing_force = 0;
   std::int32_t opening_force = 0;
@@ -160,9 +164,16 @@ struct HandEvent {
   HandAddress hand;
   std::string name;
   EventKind kind = EventKind::fault;
-  std::int32_t position = 0;  ///< position when it happened
-  std::int32_t target = 0;    ///< target in force
-  std::int32_t value = 0;     ///< status value or force that explains it
+  /// The position (the rotation, for the rotation events) as last read when
+  /// the event went out. An event goes out on the status read that shows it,
+  /// about one command interval after the change at most, before the position
+  /// is read again: for arrived, grasped, missed and the rotation events it is
+  /// where the motion started, not where it stopped. The status that follows
+  /// (and the reply to a grasp or release) says where it stopped. dropped:
+  /// where the fingers held the object.
+  std::int32_t position = 0;
+  std::int32_t target = 0;  ///< target in force
+  std::int32_t value = 0;   ///< status value or force that explains it
   std::string message;
   std::uint64_t timestamp_ns = 0;
   std::uint64_t event_seq = 0;  ///< per service; 0 for events the client made itself

@@ -148,7 +148,10 @@ void bind_hand_event(py::module_& m) {
       .def_readonly("hand", &dh3::HandEvent::hand)
       .def_readonly("name", &dh3::HandEvent::name)
       .def_readonly("kind", &dh3::HandEvent::kind)
-      .def_readonly("position", &dh3::HandEvent::position, "Position when it happened.")
+      .def_readonly("position", &dh3::HandEvent::position,
+                    "Position (rotation, for the rotation events) as last read when the event "
+                    "went out: for an ending motion, where it started; the status that follows "
+                    "says where it stopped.")
       .def_readonly("target", &dh3::HandEvent::target, "Target in force.")
       .def_readonly("value", &dh3::HandEvent::value, "Status value or force that explains it.")
       .def_readonly("message", &dh3::HandEvent::message)

@@ -66,8 +66,10 @@ def test_another_thread_runs_while_one_waits_in_a_blocking_grasp(client, slow_se
         counted = 0
         while counted < 100000:
             counted += 1
-        moving = two.wait_until(lambda s: s.grip == dh3.GripState.MOVING and s.position < 100,
-                                timeout=DEADLINE)
+        # The grasp under way (its position is not read while the fingers move).
+        moving = two.wait_until(
+            lambda s: s.grip == dh3.GripState.MOVING and s.target_position == 0,
+            timeout=DEADLINE)
         worker_saw["counted"] = counted
         worker_saw["moving"] = moving
         worker_saw["stop"] = two.stop()

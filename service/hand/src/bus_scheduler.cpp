@@ -49,7 +49,8 @@ class BusScheduler::Impl {
         clock_(clock),
         observer_(observer),
         roster_(hands),
-        context_{options_, observer_, name_, roster_, unexpected_, [this] { bus_->wake(); }},
+        context_{
+            options_, observer_, name_, roster_, unexpected_, latency_, [this] { bus_->wake(); }},
         discover_(hands.empty()) {
     if (bus_->bit_rate() > 0 && options_.max_line_load > 0.0) {
       // A request and its reply, worst-case bit stuffing, at the allowed load.
@@ -142,6 +143,7 @@ class BusScheduler::Impl {
     out.bit_rate = bit_rate_;
     out.recent_frames_per_second = recent_frames_.frames_per_second();
     out.diagnostics = bus_->diagnostics();
+    out.latency = latency_.snapshot();
     if (bit_rate_ > 0) {
       out.line_load_percent =
           100.0 * out.recent_frames_per_second * kBitsPerFrame / static_cast<double>(bit_rate_);
@@ -605,6 +607,7 @@ class BusScheduler::Impl {
   std::atomic<std::uint64_t> reconnects_{0};
   /// The set of hands and their published states (hand_roster.hpp).
   HandRoster roster_;
+  BusLatencyCounters latency_;
   DriverContext context_;
   /// Per hand; created on first use (from any thread), never removed.
   std::array<std::atomic<HandCounters*>, 256> hand_counters_{};

@@ -9,6 +9,7 @@
 #include "dh3/base/clock.hpp"
 #include "dh3/hand/hand_metrics.hpp"
 #include "dh3/hand/hand_types.hpp"
+#include "dh3/hand/latency_histogram.hpp"
 
 namespace dh3::hand {
 
@@ -38,6 +39,20 @@ class HandCounters {
   std::atomic<std::uint64_t> retries_{0};
   std::array<std::atomic<std::uint64_t>, kRoundTripBuckets.size() + 1> round_trip_{};
   std::atomic<std::uint64_t> round_trip_ns_{0};
+};
+
+/// The histograms behind BusLatency (hand_metrics.hpp), one set per bus: the
+/// scheduler owns them, its drivers observe into them on the loop thread, a
+/// scrape takes snapshot() on its own (LatencyHistogram's threading rule).
+struct BusLatencyCounters {
+  LatencyHistogram command_to_frame;
+  LatencyHistogram frame_to_reply;
+  LatencyHistogram command_to_reply;
+  LatencyHistogram sample_age;
+  [[nodiscard]] BusLatency snapshot() const {
+    return {command_to_frame.snapshot(), frame_to_reply.snapshot(), command_to_reply.snapshot(),
+            sample_age.snapshot()};
+  }
 };
 
 /// Frames over a recent window, for the bus-load figure. count() and roll()

@@ -156,8 +156,6 @@ void HandDriver::lose_link(TimePoint now, LinkLoss loss, const std::string& why)
   end_of_motion_.recheck_arrival = false;
   end_of_rotation_.read_due = false;
   end_of_rotation_.recheck_arrival = false;
-  emit_ending_event(now);
-  emit_rotation_event(now);
   const bool was_online = online() != nullptr;
   // Probed again after the probe interval; a returning link probes at once.
   link_ = Offline{now + options_.offline_probe_interval};
@@ -255,10 +253,9 @@ void HandDriver::on_timeout(TimePoint now) {
     finish_active(fail(CommandError::timeout));
   } else if (lost.purpose == Purpose::confirm_position) {
     end_of_motion_.recheck_arrival = false;  // the status is read again anyway
-    on_position_confirmed(now);              // with the position as last read
+    on_position_confirmed();                 // with the position as last read
   } else if (lost.purpose == Purpose::confirm_rotation) {
     end_of_rotation_.recheck_arrival = false;
-    on_rotation_confirmed(now);
   }
   // Polls and probes are simply read again later.
   if (online() && !anonymous_ && consecutive_timeouts_ >= options_.offline_after_timeouts) {
@@ -341,10 +338,10 @@ void HandDriver::complete(Job& job, const CommandResult& result) {
   counters_.count_command(job.command, result);
   if (!result && job.command.group) {
     // Too late once released (ignored then); before, no member may move.
-    job.command.group->abandon(fmt::format("{}: {} ended {}", label(),
-                                           to_string(job.command.kind), to_string(result.error())));
+    job.command.group->abandon(fmt::format("{}: {} ended {}", label(), to_string(job.command.kind),
+                                           to_string(result.error())));
   }
-  if (job.done) pending_completions_.emplace_back(std::move(job.done), result);
+  pending_completions_.push_back({std::move(job.done), result, job.submitted});
 }
 
 void HandDriver::set_error(CommandError error, std::string message) {
@@ -352,23 +349,13 @@ void HandDriver::set_error(CommandError error, std::string message) {
   state_.last_error_message = std::move(message);
 }
 
-void HandDriver::emit_ending_event(TimePoint now) {
-  if (!end_of_motion_.event) return;
-  const PendingEvent event = *end_of_motion_.event;
-  end_of_motion_.event.reset();
-  emit(event.kind, now, event.value);
-}
-
-void HandDriver::emit_rotation_event(TimePoint now) {
-  if (!end_of_rotation_.event) return;
-  const PendingEvent event = *end_of_rotation_.event;
-  end_of_rotation_.event.reset();
+void HandDriver::emit_rotation_event(EventKind kind, std::int32_t status, TimePoint now) {
   std::string message;
-  if (event.kind == EventKind::rotation_blocked) {
-    message = fmt::format("rotation blocked at {} on the way to {}", state_.rotation,
-                          state_.rotation_target);
+  if (kind == EventKind::rotation_blocked) {
+    message = fmt::format("rotation blocked on the way to {} (last read at {})",
+                          state_.rotation_target, state_.rotation);
   }
-  emit(event.kind, now, event.value, std::move(message), state_.rotation, state_.rotation_target);
+  emit(kind, now, status, std::move(message), state_.rotation, state_.rotation_target);
 }
 
 void HandDriver::emit(EventKind kind, TimePoint now, std::int32_t value, std::string message,
@@ -409,13 +396,20 @@ void HandDriver::flush(TimePoint now) {
   } else {
     reported = false;
   }
+  // The observer writes the sample out before this returns (on_batch_end).
+  if (reported && state_.read_at != TimePoint{}) {
+    context_.latency.sample_age.observe(now - state_.read_at);
+  }
   // Callbacks may call back into the scheduler (submit): take the lists first.
   auto events = std::move(pending_events_);
   pending_events_.clear();
   for (const HandEvent& event : events) context_.observer.on_event(event);
   auto completions = std::move(pending_completions_);
   pending_completions_.clear();
-  for (auto& [done, result] : completions) done(result);
+  for (auto& [done, result, submitted] : completions) {
+    context_.latency.command_to_reply.observe(now - submitted);
+    if (done) done(result);
+  }
   if (reported) context_.observer.on_batch_end(state_.can_id);
 }
 

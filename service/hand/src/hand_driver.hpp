@@ -49,6 +49,7 @@ struct DriverContext {
   /// The bus's hands and their published states, which other threads read.
   HandRoster& roster;
   std::atomic<std::uint64_t>& unexpected_frames;
+  BusLatencyCounters& latency;
   /// Makes the bus loop run a pass soon (from any thread): a group's release.
   std::function<void()> wake;
 };
@@ -142,9 +143,9 @@ class HandDriver {
   void apply_read(protocol::Register reg, const protocol::Message& reply, TimePoint now);
   void on_grip_status(std::int32_t status, TimePoint now, bool may_recheck = true);
   void on_rotation_status(std::int32_t status, TimePoint now, bool may_recheck = true);
-  void on_rotation_confirmed(TimePoint now);
   void on_initialized_flag(std::int32_t value, TimePoint now);
-  void on_position_confirmed(TimePoint now);
+  /// Where the fingers stopped was read: a grasp or release waiting for it ends.
+  void on_position_confirmed();
   void finger_motion_ended(GripState grip, EventKind event, TimePoint now);
 
   // Lifecycle and time (hand_driver.cpp).
@@ -168,8 +169,7 @@ class HandDriver {
   void finish_init_waiter(const CommandResult& result);
   void finish_motion_waiter(const CommandResult& result);
   void fail_everything(CommandError error);
-  void emit_ending_event(TimePoint now);
-  void emit_rotation_event(TimePoint now);
+  void emit_rotation_event(EventKind kind, std::int32_t status, TimePoint now);
   void emit(EventKind kind, TimePoint now, std::int32_t value = 0, std::string message = {},
             std::optional<std::int32_t> position = {}, std::optional<std::int32_t> target = {});
   /// Counts the job's result and queues its completion for flush().
@@ -222,7 +222,13 @@ class HandDriver {
   std::int32_t last_undefined_rotation_status_ = 0;
 
   std::vector<HandEvent> pending_events_;
-  std::vector<std::pair<Completion, CommandResult>> pending_completions_;
+  /// Results to hand back at flush(), with when their command was submitted.
+  struct PendingCompletion {
+    Completion done;
+    CommandResult result;
+    TimePoint submitted{};
+  };
+  std::vector<PendingCompletion> pending_completions_;
 };
 
 }  // namespace dh3::hand

@@ -27,6 +27,7 @@ bool HandDriver::on_frame(const Message& message, TimePoint now) {
     const InFlight sent = *in_flight_;
     in_flight_.reset();
     counters_.observe_round_trip(now - sent.sent);
+    context_.latency.frame_to_reply.observe(now - sent.sent);
     on_answer(now);
     on_reply(sent, message, now);
     flush(now);
@@ -67,7 +68,7 @@ void HandDriver::on_reply(const InFlight& sent, const Message& reply, TimePoint 
         on_grip_status(static_cast<std::int32_t>(FingerStatus::arrived), now, false);
         end_of_motion_.read_due = false;  // this read is where the fingers stopped
       }
-      on_position_confirmed(now);
+      on_position_confirmed();
       return;
     case Purpose::confirm_rotation:
       apply_read(reply.reg, reply, now);
@@ -76,17 +77,11 @@ void HandDriver::on_reply(const InFlight& sent, const Message& reply, TimePoint 
         on_rotation_status(static_cast<std::int32_t>(RotationStatus::arrived), now, false);
         end_of_rotation_.read_due = false;  // this read is where the rotation stopped
       }
-      on_rotation_confirmed(now);
       return;
   }
 }
 
-void HandDriver::on_rotation_confirmed(TimePoint now) {
-  emit_rotation_event(now);
-}
-
-void HandDriver::on_position_confirmed(TimePoint now) {
-  emit_ending_event(now);
+void HandDriver::on_position_confirmed() {
   if (motion_waiter_ && motion_waiter_->outcome) {
     finish_motion_waiter(ok(state_.position, *motion_waiter_->outcome));
   }
@@ -253,9 +248,12 @@ void HandDriver::on_grip_status(std::int32_t status, TimePoint now, bool may_rec
   const GripReading reading =
       read_grip_status(status, FingerView{state_.grip, finger_motion_, hold_untouched_,
                                           state_.position, last_undefined_grip_status_});
+  if (finger_motion_ && status == static_cast<std::int32_t>(FingerStatus::moving)) {
+    finger_motion_->moving_seen = true;
+  }
   if (reading.stale && may_recheck && status == static_cast<std::int32_t>(FingerStatus::arrived)) {
-    // The grip status is watched more often than the position is polled, so a
-    // 2 usually comes before a position near the target: read it now.
+    // A 2 before any 0 of this motion, with the position last read far from
+    // the target: the arrival of a short motion, or from before it. Read now.
     end_of_motion_.recheck_arrival = true;
     end_of_motion_.read_due = true;
     return;
@@ -278,18 +276,17 @@ void HandDriver::on_grip_status(std::int32_t status, TimePoint now, bool may_rec
 
 void HandDriver::finger_motion_ended(GripState grip, EventKind event, TimePoint now) {
   state_.grip = grip;
-  // The position was read before the status that ended the motion, so it may
-  // be a poll old: the event waits for a fresh read of where the fingers stopped.
-  // Not when a read during this motion found them at the target and the status
-  // says they stopped without a catch: they stopped there, and the frame a
-  // further read takes would only delay the event.
+  // The event goes out on this read, one interval at most from the change,
+  // with the position last read (the contract says so). Where the fingers
+  // stopped is read next: a status sample then says it, and a grasp or release
+  // waiting for the motion ends with it. Not when a read during this motion
+  // found them at the target and the status says they stopped without a catch.
   const bool stopped_at_target = event != EventKind::grasped && finger_motion_ &&
                                  finger_motion_->position_read &&
                                  state_.position == finger_motion_->target;
   finger_motion_.reset();
   // A grasp is explained by the force it holds with; an arrival by its status.
-  end_of_motion_.event =
-      PendingEvent{event, event == EventKind::grasped ? state_.closing_force : 2};
+  emit(event, now, event == EventKind::grasped ? state_.closing_force : 2);
   end_of_motion_.read_due = !stopped_at_target;
   if (motion_waiter_ && motion_waiter_->epoch == finger_epoch_ && !motion_waiter_->outcome) {
     // The result carries where the fingers stopped, after the same read.
@@ -297,14 +294,17 @@ void HandDriver::finger_motion_ended(GripState grip, EventKind event, TimePoint 
                               : grip == GripState::no_object ? GraspOutcome::missed
                                                              : GraspOutcome::none;
   }
-  if (stopped_at_target) on_position_confirmed(now);
+  if (stopped_at_target) on_position_confirmed();
 }
 
 void HandDriver::on_rotation_status(std::int32_t status, TimePoint now, bool may_recheck) {
   const RotationReading reading = read_rotation_status(
       status, RotationView{rotation_motion_, state_.rotation, last_undefined_rotation_status_});
+  if (rotation_motion_ && status == static_cast<std::int32_t>(RotationStatus::moving)) {
+    rotation_motion_->moving_seen = true;
+  }
   if (reading.stale && may_recheck) {
-    // The rotation status is watched more often than the rotation is polled.
+    // A 2 before any 0, far from the target as last read: read the rotation.
     end_of_rotation_.recheck_arrival = true;
     end_of_rotation_.read_due = true;
     return;
@@ -313,8 +313,8 @@ void HandDriver::on_rotation_status(std::int32_t status, TimePoint now, bool may
   if (reading.state) state_.rotation_state = *reading.state;
   if (reading.event == EventKind::rotation_arrived ||
       reading.event == EventKind::rotation_blocked) {
-    // Reported once a fresh read says where the rotation stopped (as for fingers).
-    end_of_rotation_.event = PendingEvent{*reading.event, status};
+    // Reported now, with the rotation last read; where it stopped is read next.
+    emit_rotation_event(*reading.event, status, now);
     end_of_rotation_.read_due = true;
   } else if (reading.event == EventKind::fault) {
     last_undefined_rotation_status_ = status;

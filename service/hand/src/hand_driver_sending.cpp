@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <utility>
 
 #include "dh3/hand/command_validation.hpp"
 #include "dh3/hand/group_release.hpp"
@@ -113,8 +114,7 @@ bool HandDriver::at_group_gate() const {
   }
   // The frame that starts the motion (or sets the force): what the group
   // wants to leave together. The steps before it go as they come.
-  if (const auto* grasp = std::get_if<GraspStep>(&active_->step))
-    return *grasp == GraspStep::close;
+  if (const auto* grasp = std::get_if<GraspStep>(&active_->step)) return *grasp == GraspStep::close;
   if (const auto* init = std::get_if<InitializeStep>(&active_->step))
     return *init == InitializeStep::start;
   return true;
@@ -151,6 +151,9 @@ Message HandDriver::send_job(Message message, TimePoint now) {
   const bool retryable =
       // CAN ID and baud rate reply only once stored: a re-send would store twice.
       !(message.access == protocol::Access::write && is_admin_register(message.reg));
+  if (!std::exchange(active_->frame_sent, true)) {
+    context_.latency.command_to_frame.observe(now - active_->job.submitted);
+  }
   return send(message, Purpose::job, now, retryable, reply_timeout_for(active_->job));
 }
 

@@ -28,30 +28,23 @@ PollPlan plan_polls(const PollActivity& activity, const PollIntervals& intervals
   // A hand at rest: everything now and then, its initialization flag included,
   // so that a hand that rebooted (and lost its initialization) is noticed.
   plan.period.fill(intervals.idle);
-  const auto faster = [&](Index i, Duration period) {
-    plan.period[i] = std::min(*plan.period[i], period);
-  };
   if (activity.initializing) {
     // Calibrating: read as while moving; the flag has its own check.
     plan.period[initialize].reset();
-    for (Index i : {position, grip_status, rotation, rotation_status}) faster(i, intervals.moving);
+    for (Index i : {position, grip_status, rotation, rotation_status}) {
+      plan.period[i] = std::min(*plan.period[i], intervals.moving);
+    }
   }
-  switch (activity.fingers) {
-    case FingerActivity::idle:
-      break;
-    case FingerActivity::holding:
-      faster(grip_status, intervals.watch);
-      break;
-    case FingerActivity::closing:
-    case FingerActivity::opening:
-      faster(grip_status, intervals.watch);
-      faster(position, intervals.moving);
-      break;
-  }
-  if (activity.rotating) {
-    faster(rotation_status, intervals.watch);
-    faster(rotation, intervals.moving);
-  }
+  const bool fingers_watched = activity.fingers != FingerActivity::idle;
+  if (activity.initializing || (!fingers_watched && !activity.rotating)) return plan;
+  // A watched status is read in every frame the hand may get: any other read
+  // would take the slot a catch, slip or arrival is heard in, and a change
+  // would wait a whole interval more. The position (rotation) is read once
+  // the motion ended (the driver's confirming read), the idle round when the
+  // hand is at rest again; a hand that rebooted while holding shows as a drop.
+  plan.period.fill(std::nullopt);
+  if (fingers_watched) plan.period[grip_status] = std::min(intervals.watch, intervals.idle);
+  if (activity.rotating) plan.period[rotation_status] = std::min(intervals.watch, intervals.idle);
   return plan;
 }
 

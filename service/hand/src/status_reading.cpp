@@ -39,7 +39,9 @@ GripReading read_moving_or_arrived(FingerStatus status, const FingerView& view) 
     return view.grip == GripState::no_object ? GripReading{}
                                              : GripReading{.grip = GripState::arrived};
   }
-  if (!near(view.position, view.motion->target)) return GripReading{.stale = true};
+  if (!view.motion->moving_seen && !near(view.position, view.motion->target)) {
+    return GripReading{.stale = true};
+  }
   return view.motion->gripping ? finger_motion_ends(GripState::no_object, EventKind::missed)
                                : finger_motion_ends(GripState::arrived, EventKind::arrived);
 }
@@ -64,7 +66,9 @@ RotationReading read_rotation_status(std::int32_t status, const RotationView& vi
       return view.motion ? RotationReading{.state = RotationState::moving} : RotationReading{};
     case RotationStatus::arrived:
       if (!view.motion) return RotationReading{.state = RotationState::arrived};
-      if (!near(view.rotation, view.motion->target)) return RotationReading{.stale = true};
+      if (!view.motion->moving_seen && !near(view.rotation, view.motion->target)) {
+        return RotationReading{.stale = true};
+      }
       return RotationReading{.state = RotationState::arrived,
                              .event = EventKind::rotation_arrived,
                              .motion_ended = true};

@@ -7,10 +7,12 @@
 #include <prometheus/metric_family.h>
 #include <prometheus/text_serializer.h>
 
+#include <array>
 #include <charconv>
 #include <exception>
 #include <initializer_list>
 #include <limits>
+#include <tuple>
 
 namespace dh3::metrics {
 namespace {
@@ -46,14 +48,17 @@ std::vector<ClientMetric::Label> hand_labels(const std::string& bus, const hand:
   return {{"bus", bus}, {"hand", std::to_string(h.can_id)}, {"name", h.name}};
 }
 
+/// A hand-layer histogram (counts per bound, then above the last) as
+/// Prometheus' cumulative buckets; the count is the +Inf bucket.
+template <typename Histogram, std::size_t N>
 void add_histogram(MetricFamily& family, std::vector<ClientMetric::Label> labels,
-                   const hand::RoundTripHistogram& histogram) {
+                   const Histogram& histogram, const std::array<Duration, N>& bounds) {
+  static_assert(std::tuple_size_v<decltype(histogram.counts)> == N + 1);
   ClientMetric::Histogram& out = add(family, std::move(labels)).histogram;
   std::uint64_t cumulative = 0;
-  for (std::size_t i = 0; i < hand::kRoundTripBuckets.size(); ++i) {
+  for (std::size_t i = 0; i < N; ++i) {
     cumulative += histogram.counts[i];
-    out.bucket.push_back(
-        {cumulative, std::chrono::duration<double>(hand::kRoundTripBuckets[i]).count()});
+    out.bucket.push_back({cumulative, std::chrono::duration<double>(bounds[i]).count()});
   }
   cumulative += histogram.counts.back();
   out.bucket.push_back({cumulative, std::numeric_limits<double>::infinity()});
@@ -93,7 +98,7 @@ struct HandFamilies {
     }
     add_counter(timeouts, hand_labels(bus, h), h.timeouts);
     add_counter(retries, hand_labels(bus, h), h.retries);
-    add_histogram(round_trip, hand_labels(bus, h), h.round_trip);
+    add_histogram(round_trip, hand_labels(bus, h), h.round_trip, hand::kRoundTripBuckets);
     if (h.online) add_gauge(online, hand_labels(bus, h), *h.online ? 1.0 : 0.0);
   }
   void take(std::vector<MetricFamily>& out) {
@@ -131,6 +136,40 @@ struct BusFamilies {
   }
   void take(std::vector<MetricFamily>& out) {
     take_filled({&sent, &received, &errors, &reconnects, &link_up, &load}, out);
+  }
+};
+
+/// How long things take on each bus (hand::BusLatency).
+struct LatencyFamilies {
+  MetricFamily command_to_frame =
+      family("dh3_bus_command_to_frame_seconds",
+             "Time from a command taken by the hand layer to its first frame on the bus (the wait "
+             "for the hand's turn: its command interval, the line budget, the command before it)",
+             MetricType::Histogram);
+  MetricFamily frame_to_reply =
+      family("dh3_bus_frame_to_reply_seconds",
+             "Time from any frame sent to a hand (command or poll) to its matching reply",
+             MetricType::Histogram);
+  MetricFamily command_to_reply =
+      family("dh3_bus_command_to_reply_seconds",
+             "Time from a command taken by the hand layer to its result handed back (a grasp or "
+             "release: once the motion ended and where the fingers stopped was read)",
+             MetricType::Histogram);
+  MetricFamily sample_age =
+      family("dh3_bus_status_sample_age_seconds",
+             "Age of each status sample when it is published: time since the hand's reply "
+             "it reflects",
+             MetricType::Histogram);
+
+  void add(const hand::BusMetrics& bus) {
+    const std::vector<ClientMetric::Label> bus_label{{"bus", bus.bus}};
+    add_histogram(command_to_frame, bus_label, bus.latency.command_to_frame, hand::kLatencyBuckets);
+    add_histogram(frame_to_reply, bus_label, bus.latency.frame_to_reply, hand::kLatencyBuckets);
+    add_histogram(command_to_reply, bus_label, bus.latency.command_to_reply, hand::kLatencyBuckets);
+    add_histogram(sample_age, bus_label, bus.latency.sample_age, hand::kLatencyBuckets);
+  }
+  void take(std::vector<MetricFamily>& out) {
+    take_filled({&command_to_frame, &frame_to_reply, &command_to_reply, &sample_age}, out);
   }
 };
 
@@ -202,8 +241,10 @@ std::vector<MetricFamily> families(const std::vector<hand::BusMetrics>& buses) {
   BusFamilies bus_families;
   ControllerFamilies controllers;
   RecorderFamilies recorders;
+  LatencyFamilies latency;
   for (const hand::BusMetrics& bus : buses) {
     bus_families.add(bus);
+    latency.add(bus);
     controllers.add(bus.bus, bus.diagnostics);
     recorders.add(bus.bus, bus.diagnostics);
     for (const hand::HandMetrics& h : bus.hands) hands.add(bus.bus, h);
@@ -211,6 +252,7 @@ std::vector<MetricFamily> families(const std::vector<hand::BusMetrics>& buses) {
   std::vector<MetricFamily> out;
   hands.take(out);
   bus_families.take(out);
+  latency.take(out);
   controllers.take(out);
   recorders.take(out);
   return out;

@@ -7,6 +7,8 @@
 #include <gtest/gtest.h>
 
 #include <functional>
+#include <string>
+#include <vector>
 
 #include "service_fixture.hpp"
 #include "support/metrics_scrape.hpp"
@@ -36,7 +38,6 @@ buses:
     hands:
       - {id: 5}
 )";
-
 
 std::string series(const std::string& name, const std::string& labels) {
   return name + "{" + labels + "}";
@@ -104,6 +105,79 @@ TEST(ServiceMetrics, CountsWhatTheServiceDidAndServesItOnTheLoggedPort) {
   EXPECT_GT(*load, 0.0);
   EXPECT_LT(*load, 50.0);
 
+  EXPECT_EQ(service.stop(), 0);
+}
+
+/// The upper bounds the latency histograms are exported with, as written.
+const std::vector<std::string> kLatencyBounds = {
+    "0.0005", "0.001", "0.002", "0.005", "0.01", "0.015", "0.02", "0.025", "0.03",
+    "0.04",   "0.05",  "0.06",  "0.08",  "0.1",  "0.25",  "1",    "+Inf"};
+
+/// Checks `name`'s buckets for `labels`: every bound there, cumulative (never
+/// falling), the +Inf one equal to the count; returns the count.
+double checked_histogram(const std::string& text, const std::string& name,
+                         const std::string& labels) {
+  double previous = 0.0;
+  for (const std::string& bound : kLatencyBounds) {
+    const auto bucket = metric_value(text, name + "_bucket{" + labels + ",le=\"" + bound + "\"}");
+    EXPECT_TRUE(bucket) << name << " has no bucket " << bound;
+    if (!bucket) continue;
+    EXPECT_GE(*bucket, previous) << name << " falls at " << bound;
+    previous = *bucket;
+  }
+  EXPECT_EQ(metric_value(text, name + "_count{" + labels + "}"), previous) << name;
+  EXPECT_TRUE(metric_value(text, name + "_sum{" + labels + "}")) << name;
+  return previous;
+}
+
+TEST(ServiceMetrics, LatencyHistogramsCountKnownCommandsAndTheirBucketsAgree) {
+  // Every reply takes the sim's 5 ms, so nothing lands at 2 ms or below.
+  TempFile config(R"(
+buses:
+  - name: slow
+    spec: sim
+    poll_interval_idle_ms: 100
+    sim: {reply_delay_ms: 5, init_time_ms: 100}
+    hands:
+      - {id: 3}
+)");
+  MetricsService service(config.path());
+  ASSERT_NE(service.port(), 0) << "dh3-service did not log where it serves metrics";
+  auto client = connected_client(service.name());
+  ASSERT_TRUE(client);
+  const auto hand = DdsTestClient::hand(service.name(), "slow", 3);
+  const auto code = [&](msg::CommandType command, std::int32_t value = 0,
+                        std::uint16_t register_code = 0) {
+    auto reply = client->call(hand, command, value, register_code);
+    return reply ? reply->code() : msg::FAILED;
+  };
+  ASSERT_TRUE(client->wait_status(hand, [](const auto& s) { return s.online(); }));
+  EXPECT_EQ(code(msg::INITIALIZE), msg::OK);
+  EXPECT_EQ(code(msg::MOVE, 40), msg::OK);
+  EXPECT_EQ(code(msg::RELEASE, 90), msg::OK);
+  EXPECT_EQ(code(msg::SET_CLOSING_FORCE, 40), msg::OK);
+  EXPECT_EQ(code(msg::READ_REGISTER, 0, 0x0F01), msg::OK);
+  const double commands = 5;
+
+  const std::string bus = R"(bus="slow")";
+  const std::string to_reply = "dh3_bus_command_to_reply_seconds";
+  const std::string text = scrape_until(service.port(), [&](const std::string& t) {
+    return metric_value(t, to_reply + "_count{" + bus + "}") == commands;
+  });
+  EXPECT_EQ(checked_histogram(text, to_reply, bus), commands) << text;
+  EXPECT_EQ(checked_histogram(text, "dh3_bus_command_to_frame_seconds", bus), commands);
+  // Every frame's reply, polls included: the same count as the hand's own histogram.
+  const double frames = checked_histogram(text, "dh3_bus_frame_to_reply_seconds", bus);
+  const auto hand_frames =
+      metric_value(text, R"(dh3_hand_round_trip_seconds_count{bus="slow",hand="3",name=""})");
+  ASSERT_TRUE(hand_frames);
+  EXPECT_GE(frames, commands);
+  EXPECT_NEAR(frames, *hand_frames, 2.0) << "polls go on between the two reads of one scrape";
+  EXPECT_GT(checked_histogram(text, "dh3_bus_status_sample_age_seconds", bus), 0.0);
+  // Nothing comes back faster than the hand answers.
+  for (const std::string& name : {to_reply, std::string("dh3_bus_frame_to_reply_seconds")}) {
+    EXPECT_EQ(metric_value(text, name + "_bucket{" + bus + R"(,le="0.002"})"), 0.0) << name;
+  }
   EXPECT_EQ(service.stop(), 0);
 }
 

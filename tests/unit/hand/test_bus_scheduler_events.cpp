@@ -1,15 +1,29 @@
 // The states a user cares about, detected from what the hand reports: grasped,
 // missed, dropped, arrived, rotation arrived and blocked, initialized (with the
 // unsolicited frame), and faults. Each event carries the values that explain it.
+// An event goes out on the status read that shows it, with the position (the
+// rotation) last read; a status sample with where the motion stopped follows.
 
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <string>
 
 #include "unit/hand/scheduler_harness.hpp"
 
 namespace dh3::hand::test {
 namespace {
+
+/// The first state of hand `id` published at or after `at` whose position
+/// (rotation) is `value`.
+std::optional<HandState> sample_at(const RecordingObserver& observer, std::uint8_t id, TimePoint at,
+                                   std::int32_t value, bool rotation = false) {
+  for (const HandState& state : observer.states) {
+    if (state.can_id != id || state.updated_at < at) continue;
+    if ((rotation ? state.rotation : state.position) == value) return state;
+  }
+  return std::nullopt;
+}
 
 TEST(BusSchedulerEvents, GraspOnAnObjectEndsGraspedWithWhereTheFingersStopped) {
   auto sim = sim_hands({1});
@@ -25,6 +39,11 @@ TEST(BusSchedulerEvents, GraspOnAnObjectEndsGraspedWithWhereTheFingersStopped) {
   ASSERT_EQ(grasped.size(), 1u);
   EXPECT_EQ(grasped[0].value, 60) << "a grasp is explained by its force";
   EXPECT_EQ(grasped[0].target, 0);
+  EXPECT_EQ(grasped[0].position, 100) << "the position last read, before the motion";
+  const auto stopped = sample_at(h.observer, 1, grasped[0].time, 35);
+  ASSERT_TRUE(stopped) << "a sample says where the fingers stopped";
+  EXPECT_EQ(stopped->grip, GripState::caught);
+  EXPECT_LE(stopped->updated_at - grasped[0].time, 2 * test_options().command_interval);
   EXPECT_EQ(h.state(1)->grip, GripState::caught);
   EXPECT_EQ(h.state(1)->closing_force, 60);
   EXPECT_TRUE(h.observer.events_of(EventKind::missed, 1).empty());
@@ -83,22 +102,29 @@ TEST(BusSchedulerEvents, MoveArrivalIsReportedOncePerMotion) {
   EXPECT_EQ(h.observer.events_of(EventKind::arrived, 1).size(), 1u);
   ASSERT_TRUE(h.call(1, move(20))->ok());
   ASSERT_TRUE(h.run_until([&] { return h.observer.events_of(EventKind::arrived, 1).size() == 2; }));
-  EXPECT_EQ(h.observer.events_of(EventKind::arrived, 1).back().position, 20);
+  EXPECT_EQ(h.observer.events_of(EventKind::arrived, 1).back().target, 20);
 }
 
-TEST(BusSchedulerEvents, ArrivalReportsWhereTheFingersStoppedNotAPollOldPosition) {
+TEST(BusSchedulerEvents, AnArrivalCarriesThePositionLastReadAndASampleWithTheStopFollows) {
   auto sim = sim_hands({1});
-  sim[0].position_speed = 400.0;  // 8 % per 20 ms poll step: a stale read would show
+  sim[0].position_speed = 400.0;  // 8 % per 20 ms: no motion ends within one read
   SchedulerHarness h(sim, configs({1}));
   h.bring_up({1});
+  std::int32_t last_read = 100;  // fully open after initialization
   for (std::int32_t target : {30, 90, 10}) {
     const std::size_t before = h.observer.events_of(EventKind::arrived, 1).size();
     ASSERT_TRUE(h.call(1, move(target))->ok());
     ASSERT_TRUE(
         h.run_until([&] { return h.observer.events_of(EventKind::arrived, 1).size() > before; }));
     const auto arrived = h.observer.events_of(EventKind::arrived, 1).back();
-    EXPECT_EQ(arrived.position, target);
+    EXPECT_EQ(arrived.position, last_read) << "to " << target << ": not read during the motion";
     EXPECT_EQ(arrived.target, target);
+    ASSERT_TRUE(
+        h.run_until([&] { return sample_at(h.observer, 1, arrived.time, target).has_value(); }));
+    const auto stopped = sample_at(h.observer, 1, arrived.time, target);
+    EXPECT_EQ(stopped->grip, GripState::arrived);
+    EXPECT_LE(stopped->updated_at - arrived.time, 2 * test_options().command_interval);
+    last_read = target;
   }
 }
 
@@ -110,13 +136,20 @@ TEST(BusSchedulerEvents, RotationArrivesOrIsBlocked) {
   ASSERT_TRUE(h.call(1, cmd(CommandKind::rotate_to, 30))->ok());
   ASSERT_TRUE(
       h.run_until([&] { return !h.observer.events_of(EventKind::rotation_arrived, 1).empty(); }));
-  EXPECT_EQ(h.observer.events_of(EventKind::rotation_arrived, 1).front().position, 30);
+  const auto arrived = h.observer.events_of(EventKind::rotation_arrived, 1).front();
+  EXPECT_EQ(arrived.position, 0) << "the rotation last read, at home";
+  EXPECT_EQ(arrived.target, 30);
+  ASSERT_TRUE(
+      h.run_until([&] { return sample_at(h.observer, 1, arrived.time, 30, true).has_value(); }));
   ASSERT_TRUE(h.call(1, cmd(CommandKind::rotate_to, 90))->ok());
   ASSERT_TRUE(
       h.run_until([&] { return !h.observer.events_of(EventKind::rotation_blocked, 1).empty(); }));
   const auto blocked = h.observer.events_of(EventKind::rotation_blocked, 1).front();
-  EXPECT_EQ(blocked.position, 40);
+  EXPECT_EQ(blocked.position, 30);
   EXPECT_EQ(blocked.target, 90);
+  ASSERT_TRUE(
+      h.run_until([&] { return sample_at(h.observer, 1, blocked.time, 40, true).has_value(); }));
+  EXPECT_EQ(h.state(1)->rotation, 40);
   EXPECT_EQ(h.state(1)->rotation_state, RotationState::blocked);
 }
 

@@ -39,21 +39,21 @@ TEST(PollPolicy, EachStateReadsWhatCanChangeOftenAndTheRestAtRest) {
       {"idle: everything at the idle period, like the old round",
        {FingerActivity::idle, false, false},
        {500ms, 500ms, 500ms, 500ms, 500ms}},
-      {"holding: the grip status, where a slip shows",
+      {"holding: only the grip status, where a slip shows",
        {FingerActivity::holding, false, false},
-       {500ms, 20ms, 500ms, 500ms, 500ms}},
-      {"closing: the grip status (catch, arrival) and the moving position",
+       {kNever, 20ms, kNever, kNever, kNever}},
+      {"closing: only the grip status (catch, arrival)",
        {FingerActivity::closing, false, false},
-       {50ms, 20ms, 500ms, 500ms, 500ms}},
-      {"opening: the grip status (arrival) and the moving position",
+       {kNever, 20ms, kNever, kNever, kNever}},
+      {"opening: only the grip status (arrival)",
        {FingerActivity::opening, false, false},
-       {50ms, 20ms, 500ms, 500ms, 500ms}},
-      {"rotating: the rotation status and the moving rotation",
+       {kNever, 20ms, kNever, kNever, kNever}},
+      {"rotating: only the rotation status",
        {FingerActivity::idle, true, false},
-       {500ms, 500ms, 50ms, 20ms, 500ms}},
-      {"holding while rotating: both statuses watched",
+       {kNever, kNever, kNever, 20ms, kNever}},
+      {"holding while rotating: both statuses, nothing else",
        {FingerActivity::holding, true, false},
-       {500ms, 20ms, 50ms, 20ms, 500ms}},
+       {kNever, 20ms, kNever, 20ms, kNever}},
       {"initializing: as while moving; the flag has its own check",
        {FingerActivity::idle, false, true},
        {50ms, 50ms, 50ms, 50ms, kNever}},
@@ -70,7 +70,8 @@ TEST(PollPolicy, EachStateReadsWhatCanChangeOftenAndTheRestAtRest) {
 TEST(PollPolicy, AnIntervalShorterThanTheWatchOneIsNeverMadeLonger) {
   // Polls always due (tests and benchmarks set the idle period to 0).
   const PollPlan plan = plan_polls({FingerActivity::holding, true, false}, {20ms, 50ms, 0ms});
-  for (const auto& period : plan.period) EXPECT_EQ(period, Duration::zero());
+  EXPECT_EQ(plan.period[grip_status], Duration::zero());
+  EXPECT_EQ(plan.period[rotation_status], Duration::zero());
 }
 
 /// The registers read, one per `step`, from `start` on, with every register
@@ -112,30 +113,51 @@ TEST(PollPolicy, AHandAtRestReadsItsRoundInOrderThenWaitsTheIdlePeriod) {
   EXPECT_EQ(reads, expected);
 }
 
-TEST(PollPolicy, AHeldObjectsGripStatusWaitsAtMostOneFrameForTheSlowReads) {
-  const PollPlan plan = plan_polls({FingerActivity::holding, false, false}, kIntervals);
-  const auto reads = sequence(plan, 12, 20ms);
-  // The slow reads (all due at once) go one at a time between grip-status reads.
-  const std::vector<Index> expected = {position,        grip_status, rotation,    grip_status,
-                                       rotation_status, grip_status, initialize,  grip_status,
-                                       grip_status,     grip_status, grip_status, grip_status};
-  EXPECT_EQ(reads, expected);
-}
-
-TEST(PollPolicy, ClosingFingersReadThePositionBetweenGripStatusReads) {
-  const PollPlan plan = plan_polls({FingerActivity::closing, false, false}, kIntervals);
-  const auto reads = sequence(plan, 30, 20ms, /*fresh=*/true);
-  int grip = 0;
-  int positions = 0;
-  for (std::size_t i = 0; i < reads.size(); ++i) {
-    if (reads[i] == grip_status) ++grip;
-    if (reads[i] == position) ++positions;
-    if (i > 0 && reads[i] != grip_status) {
-      EXPECT_EQ(reads[i - 1], grip_status) << "two slow reads in a row at " << i;
+/// When each read of `sequence` went out, one chance to send every `step`.
+std::vector<Duration> read_times(const PollPlan& plan, Duration span, Duration step) {
+  const TimePoint start = TimePoint{} + 1h;
+  PollTimes last{};
+  last.fill(start - 10s);  // the idle round was read long ago: all due
+  std::optional<std::size_t> previous;
+  std::vector<Duration> out;
+  for (TimePoint now = start; now < start + span; now += step) {
+    if (auto next = next_poll(plan, last, previous, now)) {
+      out.push_back(now - start);
+      last[*next] = now;
+      previous = next;
     }
   }
-  EXPECT_GE(grip, 18);      // about two frames in three
-  EXPECT_GE(positions, 6);  // every 50 ms: every third frame at 20 ms pacing
+  return out;
+}
+
+TEST(PollPolicy, AWatchedGripStatusTakesEveryFrameSoAChangeIsHeardWithinOneInterval) {
+  // Holding, closing and opening: every chance to send, at 20 ms pacing and at
+  // 22 ms (a transfer box's margin), reads the grip status and nothing else,
+  // so the worst case from a change to its read is one frame interval.
+  for (const auto fingers :
+       {FingerActivity::holding, FingerActivity::closing, FingerActivity::opening}) {
+    const PollPlan plan = plan_polls({fingers, false, false}, kIntervals);
+    for (const Duration step : {Duration(20ms), Duration(22ms)}) {
+      const auto reads = sequence(plan, 40, step);
+      EXPECT_EQ(reads, std::vector<Index>(40, grip_status));
+      const auto times = read_times(plan, 1s, step);
+      for (std::size_t i = 1; i < times.size(); ++i) {
+        EXPECT_EQ(times[i] - times[i - 1], step) << "a chance to send went unused";
+      }
+    }
+  }
+}
+
+TEST(PollPolicy, HoldingWhileRotatingSharesTheFramesBetweenTheTwoStatuses) {
+  // Two watched statuses: each waits at most one frame for the other.
+  const PollPlan plan = plan_polls({FingerActivity::holding, true, false}, kIntervals);
+  const auto reads = sequence(plan, 20, 20ms);
+  for (std::size_t i = 0; i < reads.size(); ++i) {
+    EXPECT_TRUE(reads[i] == grip_status || reads[i] == rotation_status) << i;
+    if (i > 0) {
+      EXPECT_NE(reads[i], reads[i - 1]) << "the same status twice in a row at " << i;
+    }
+  }
 }
 
 TEST(PollPolicy, NothingIsDueBeforeItsPeriodAndTheNextDueTimeSaysWhen) {
@@ -149,9 +171,11 @@ TEST(PollPolicy, NothingIsDueBeforeItsPeriodAndTheNextDueTimeSaysWhen) {
             std::optional<std::size_t>(grip_status));
 }
 
-TEST(PollPolicy, AfterASlowReadTheSlowOnesStillGoWhenNoWatchedOneIsDue) {
-  // Watch period much longer than the pacing: the slow reads need not wait.
-  const PollPlan plan = plan_polls({FingerActivity::holding, false, false}, {200ms, 50ms, 500ms});
+TEST(PollPolicy, AfterASlowReadTheSlowOnesStillGoWhenNoFastOneIsDue) {
+  // A plan with one register faster than the rest, its period much longer
+  // than the pacing: the slow reads need not wait for it.
+  PollPlan plan;
+  plan.period = {500ms, 200ms, 500ms, 500ms, 500ms};
   const TimePoint start = TimePoint{} + 1h;
   PollTimes last{};
   last[grip_status] = start;

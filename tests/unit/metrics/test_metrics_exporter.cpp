@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <string>
 
 #include "dh3/dds/conversions.hpp"
@@ -108,6 +109,30 @@ TEST(MetricsText, BusSeriesCountFramesErrorsReconnectsAndLoad) {
   EXPECT_EQ(metric_value(text, R"(dh3_bus_reconnects_total{bus="left"})"), 3.0);
   EXPECT_EQ(metric_value(text, R"(dh3_bus_link_up{bus="left"})"), 1.0);
   EXPECT_EQ(metric_value(text, R"(dh3_bus_load_percent{bus="left"})"), 22.2);
+}
+
+TEST(MetricsText, LatencyHistogramsAreBusSeriesWithBucketsFromHalfAMillisecondToOneSecond) {
+  auto figures = sample_figures();
+  hand::LatencyHistogram age;
+  for (const auto ms : {0, 15, 20, 21, 2000}) age.observe(std::chrono::milliseconds(ms));
+  figures[0].latency.sample_age = age.snapshot();
+  const std::string text = render(figures);
+  const std::string bucket = R"(dh3_bus_status_sample_age_seconds_bucket{bus="left",le=)";
+  EXPECT_THAT(text, HasSubstr("# TYPE dh3_bus_status_sample_age_seconds histogram"));
+  EXPECT_EQ(metric_value(text, bucket + R"("0.0005"})"), 1.0) << text;
+  EXPECT_EQ(metric_value(text, bucket + R"("0.015"})"), 2.0) << "a bound is in its bucket";
+  EXPECT_EQ(metric_value(text, bucket + R"("0.02"})"), 3.0);
+  EXPECT_EQ(metric_value(text, bucket + R"("0.025"})"), 4.0);
+  EXPECT_EQ(metric_value(text, bucket + R"("1"})"), 4.0);
+  EXPECT_EQ(metric_value(text, bucket + R"("+Inf"})"), 5.0);
+  EXPECT_EQ(metric_value(text, R"(dh3_bus_status_sample_age_seconds_count{bus="left"})"), 5.0);
+  EXPECT_NEAR(*metric_value(text, R"(dh3_bus_status_sample_age_seconds_sum{bus="left"})"), 2.056,
+              1e-9);
+  // The others are there, empty.
+  for (const char* name : {"dh3_bus_command_to_frame_seconds", "dh3_bus_frame_to_reply_seconds",
+                           "dh3_bus_command_to_reply_seconds"}) {
+    EXPECT_EQ(metric_value(text, std::string(name) + R"(_count{bus="left"})"), 0.0) << name;
+  }
 }
 
 TEST(MetricsText, ABusWithoutABitRateHasNoLoadSeries) {

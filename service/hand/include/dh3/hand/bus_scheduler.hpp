@@ -37,9 +37,9 @@ struct SchedulerOptions {
   /// Status polling by what can change (poll_policy.hpp): the status register
   /// that shows the change a hand waits for (the grip status of fingers that
   /// hold an object or move, the rotation status while rotating) is read every
-  /// poll_interval_watch; the position of moving fingers (rotation of a running
-  /// rotation) every poll_interval_moving; everything else, and a hand at rest
-  /// that holds nothing, every poll_interval_idle. Never closer than
+  /// poll_interval_watch, and then nothing else is polled; the registers of an
+  /// initializing hand every poll_interval_moving; a hand at rest that holds
+  /// nothing reads all five every poll_interval_idle. Never closer than
   /// command_interval, and within the line budget.
   Duration poll_interval_watch = std::chrono::milliseconds(20);
   Duration poll_interval_moving = std::chrono::milliseconds(50);

@@ -8,9 +8,9 @@
 //                   Initialized; the 0x0802 write echoed --> Initializing --flag 1-->
 //                   Initialized; its deadline --> NotInitialized
 //   Motions         FingerMotion and RotationMotion exist only while a commanded
-//                   motion runs; EndOfMotion holds the event of a finger motion (and
-//                   EndOfRotation of a rotation) that
-//                   ended until a fresh position read confirms where the fingers stopped
+//                   motion runs; its event goes out on the status read that ended it,
+//                   and EndOfMotion (EndOfRotation) says that where the fingers (the
+//                   rotation) stopped is still to be read
 //   Commands        ActiveJob: the one command being sent, with a step per frame for the
 //                   commands that take several (initialize, grasp, stop); InitWaiter and
 //                   MotionWaiter: commands whose frames are done and that wait for the
@@ -83,34 +83,33 @@ struct FingerMotion {
   bool gripping = false;       ///< a grasp or a move to 0: ending without a catch is a miss
   bool closing = false;        ///< towards a smaller position: a catch can end it
   bool position_read = false;  ///< a position read was answered since the motion began
+  /// A grip status 0 was read since the motion began: the hand took the
+  /// command, so a 2 read after it is this motion's arrival, not a reading
+  /// from before it, wherever the position was last read.
+  bool moving_seen = false;
 };
 
 /// A commanded rotation, from its write until its status ends it.
 struct RotationMotion {
   std::int32_t target = 0;
+  bool moving_seen = false;  ///< as FingerMotion's, for the rotation status
 };
 
-struct PendingEvent {
-  EventKind kind{};
-  std::int32_t value = 0;
-};
-
-/// A finger motion ended: its event waits for a fresh position read, so that it
-/// reports where the fingers stopped, not a position one poll old (unless a read
-/// during the motion found them at the target: an arrival stops there).
+/// A finger motion ended: its event went out with the position last read, and
+/// where the fingers stopped is read next (a status sample then says it, and a
+/// grasp or release waiting for the motion ends with it), unless a read during
+/// the motion found them at the target: an arrival stops there.
 struct EndOfMotion {
-  std::optional<PendingEvent> event;
   bool read_due = false;  ///< the confirming position read is still to be sent
-  /// A grip status 2 came while the position last read was far from the target:
-  /// the arrival, or a reading from before the motion. The position read at once
-  /// (read_due) tells which, instead of a position poll some frames later.
+  /// A grip status 2 came before any 0 of this motion, while the position last
+  /// read was far from the target: the arrival, or a reading from before the motion. The position
+  /// read at once (read_due) tells which, instead of a position poll some frames later.
   bool recheck_arrival = false;
 };
 
-/// The same for a rotation: its event waits for a fresh rotation read, and a
+/// The same for a rotation: where it stopped is read after its event, and a
 /// status 2 far from the target as last read is checked with a read at once.
 struct EndOfRotation {
-  std::optional<PendingEvent> event;
   bool read_due = false;
   bool recheck_arrival = false;
 };
@@ -140,6 +139,7 @@ struct ActiveJob {
   bool check_initialized_first = false;
   std::int32_t held = -1;    ///< stop: the position / rotation read, to be written back
   bool motion_sent = false;  ///< its motion frame went out: it can no longer be taken back
+  bool frame_sent = false;   ///< its first frame went out (counted in command_to_frame)
   /// A group member: its held frame was reported ready to the group, and the
   /// group released it (group_release.hpp).
   bool group_ready = false;

@@ -14,6 +14,7 @@
 #include "dh3/base/clock.hpp"
 #include "dh3/bus/bus.hpp"
 #include "dh3/hand/hand_types.hpp"
+#include "dh3/hand/latency_histogram.hpp"
 #include "dh3/protocol/registers.hpp"
 
 namespace dh3::hand {
@@ -79,6 +80,21 @@ struct SchedulerCounters {
   std::uint64_t reconnects = 0;
 };
 
+/// How long things take on one bus (LatencyHistogram snapshots, every hand
+/// of the bus together; observed on the loop thread).
+struct BusLatency {
+  /// A command from its submission (the request taken) to its first frame
+  /// handed to the bus; commands that end without a frame are not counted.
+  LatencySnapshot command_to_frame;
+  /// Any frame to a hand (command or poll) to its matching reply (the echo).
+  LatencySnapshot frame_to_reply;
+  /// A command from its submission to its result handed back (any result).
+  LatencySnapshot command_to_reply;
+  /// Each status sample when it is published (a changed state, or the same
+  /// one read again): how long since the hand's reply it reflects.
+  LatencySnapshot sample_age;
+};
+
 struct BusMetrics {
   std::string bus;
   bool link_up = false;
@@ -92,6 +108,7 @@ struct BusMetrics {
   /// The backend's own view of the controller (error frames, kernel drops).
   bus::BusDiagnostics diagnostics;
   std::vector<HandMetrics> hands;  ///< by CAN ID
+  BusLatency latency;
 };
 
 }  // namespace dh3::hand

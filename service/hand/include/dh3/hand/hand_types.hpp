@@ -127,9 +127,12 @@ struct HandEvent {
   EventKind kind = EventKind::fault;
   std::uint8_t can_id = 0;
   TimePoint time{};
-  std::int32_t position = -1;  ///< position when it happened
-  std::int32_t target = -1;    ///< the target in force
-  std::int32_t value = 0;      ///< status value, force, or similar that explains it
+  /// The position (the rotation, for the rotation events) as last read when
+  /// the event went out: for an ending motion, where it started (the state
+  /// published after the next read says where it stopped).
+  std::int32_t position = -1;
+  std::int32_t target = -1;  ///< the target in force
+  std::int32_t value = 0;    ///< status value, force, or similar that explains it
   std::string message;
 };
 

@@ -1,10 +1,13 @@
 #pragma once
 // Which status registers a hand's poller reads and how often, from what the
-// hand is doing. A hand may get a frame every command_interval at most, so the
-// frames go where a change matters: the grip status of fingers that hold an
-// object or move (a catch, a slip, an arrival), the rotation status while
-// rotating, the position of moving fingers, and little on a hand at rest.
-// Pure: it is told the time and what was read when; the driver keeps those.
+// hand is doing. A hand may get a frame every command_interval at most, and
+// dh3 hears of a catch, a slip or an arrival only by reading a status, so the
+// floor for hearing of one is one interval. Fingers that hold an object or
+// move, and a rotation in progress, have their status read in every frame
+// the hand gets and nothing else polled (an event goes out on that read; the
+// driver reads where the motion stopped afterwards); a hand at rest reads its
+// round now and then. Pure: it is told the time and what was read when; the
+// driver keeps those.
 
 #include <array>
 #include <cstddef>
@@ -43,7 +46,7 @@ struct PollActivity {
 struct PollIntervals {
   /// The status register that shows the change a state waits for.
   Duration watch = std::chrono::milliseconds(20);
-  /// The position (rotation) of moving fingers (a rotation in progress).
+  /// The registers of a hand that initializes (it calibrates).
   Duration moving = std::chrono::milliseconds(50);
   /// Everything else, and all of a hand at rest.
   Duration idle = std::chrono::milliseconds(500);

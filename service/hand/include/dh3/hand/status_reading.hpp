@@ -7,11 +7,13 @@
 //   motion it is a stale reading from before the command and ignored.
 // - 0 or 2 while holding a catch with no finger command since is a drop; after
 //   a drop nothing changes until the next finger command.
-// - 2 "arrived" ends a motion near its target: a grasp or a move to 0 with
-//   nothing caught is a miss, any other an arrival; far from the target it is
-//   a stale reading. Without a motion it only says the fingers are at rest.
+// - 2 "arrived" ends a motion: a grasp or a move to 0 with nothing caught is a
+//   miss, any other an arrival. Before any 0 of the motion and far from the
+//   target as last read, it may be a stale reading from before the command
+//   (the caller then reads the position to tell). Without a motion it only
+//   says the fingers are at rest.
 // - 0 is "moving" during a motion and the hand's "default" otherwise.
-// Rotation: 0 moving, 2 arrived (near the target, else stale), 3 blocked.
+// Rotation: 0 moving, 2 arrived (after a 0, or near the target, else stale), 3 blocked.
 // Any other value is a fault, unless it is the one last reported on that axis
 // (`last_undefined`, which the caller keeps).
 

@@ -12,6 +12,10 @@
 //   dh3_bus_errors_total{kind}            unexpected_frame | bus_error
 //   dh3_bus_reconnects_total, dh3_bus_link_up
 //   dh3_bus_load_percent                  only for buses that know their bit rate
+//   dh3_bus_command_to_frame_seconds      histogram, command taken -> first frame
+//   dh3_bus_frame_to_reply_seconds        histogram, any frame -> its reply
+//   dh3_bus_command_to_reply_seconds      histogram, command taken -> result
+//   dh3_bus_status_sample_age_seconds     histogram, a sample's age when published
 // and for buses on a CAN controller (SocketCAN) only:
 //   dh3_bus_error_frames_total{kind}      error frames by bus::ErrorFrameKind name
 //   dh3_bus_off                           1 while the controller is bus-off
