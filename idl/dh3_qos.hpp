@@ -68,6 +68,15 @@ inline eprosima::fastdds::dds::DataWriterQos writer_qos(TopicRole role) {
   auto qos = qos_for<eprosima::fastdds::dds::DataWriterQos>(role);
   qos.reliable_writer_qos().times.heartbeatPeriod =
       eprosima::fastrtps::Duration_t(0, kHeartbeatPeriodNs);
+  // The writers that filter for their readers (replies by client, statuses,
+  // events and service info by followed cell) do so for any number of
+  // readers: Fast DDS filters for 32 by default and sends the 33rd reader
+  // and later every sample (README "Scaling to a plant"). Each filter costs
+  // its evaluation per sample and 16 bytes of signature in each sample sent.
+  if (role != TopicRole::request) {
+    qos.writer_resource_limits().reader_filters_allocation =
+        eprosima::fastrtps::ResourceLimitedContainerConfig::dynamic_allocation_configuration();
+  }
   return qos;
 }
 

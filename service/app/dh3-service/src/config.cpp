@@ -260,7 +260,10 @@ class FileParser {
     expect_map(dds, "dds");
     check_keys(dds, "dds.",
                {"interfaces", "udp_only", "shared_memory", "discovery_servers", "xml_profile_file",
-                "xml_profile", "security"});
+                "xml_profile", "security", "status_refresh_ms"});
+    if (auto n = dds["status_refresh_ms"]) {
+      config.status_refresh = millis(n, "dds.status_refresh_ms");
+    }
     if (auto list = dds["interfaces"]) {
       if (!list.IsSequence()) fail_at(list, "dds.interfaces", "expected a list of IPv4 addresses");
       for (std::size_t i = 0; i < list.size(); ++i) {

@@ -16,6 +16,8 @@
 //     discovery_servers: [10.0.0.2:11811]  # HOST[:PORT]; n-th is `fastdds discovery -i n`
 //     xml_profile_file: /etc/dh3/fastdds.xml  # participant QoS from a Fast DDS XML file
 //     xml_profile: dh3_udp     # the participant profile in it (default: its default)
+//     status_refresh_ms: 5000  # a hand's unchanged status (only read again) goes out at most
+//                              # this often; any change at once (0: every idle read)
 //     security:                # DDS Security (PKI-DH, Access-Permissions, AES-GCM-GMAC)
 //       dir: /etc/dh3/pki      # laid out as deploy/security/make-test-pki.sh writes it
 //       identity: service      # the sub-directory with this participant's credentials
@@ -107,6 +109,8 @@ struct ServiceConfig {
   contract::ParticipantOptions participant = service_participant();
   std::string log_level = "info";
   bool allow_admin = false;
+  /// dds.status_refresh_ms (dds::ServiceOptions::status_refresh).
+  Duration status_refresh = std::chrono::seconds(5);
   /// Where /metrics is served ("IPv4:PORT" or "[IPv6]:PORT"); empty: not served.
   std::string metrics_address;
   std::vector<BusSettings> buses;
