@@ -48,9 +48,12 @@ inline Qos qos_for(TopicRole role) {
       // A client may send its request as soon as its request writer matched
       // the service, before the service's reply writer has discovered the
       // client's reply reader; a volatile reply written in that window would
-      // be lost. Kept replies reach the reader when it matches; clients take
-      // only replies carrying their own client_id, which the writer filters
-      // for them (dh3_reply_filter.hpp).
+      // be lost. Kept replies reach a TRANSIENT_LOCAL reader (another
+      // vendor's client) when it matches; clients take only replies carrying
+      // their own client_id, which the writer filters for them
+      // (dh3_reply_filter.hpp). dh3's own client reads VOLATILE, so that it
+      // is sent none of the replies kept for others, and dh3-service holds a
+      // reply to it until its reader matched (service/dds ReplyGate).
       qos.durability().kind = dds::TRANSIENT_LOCAL_DURABILITY_QOS;
       qos.history().depth = kStreamDepth;
       break;

@@ -53,9 +53,18 @@ void ClientCore::Dds::create_command_endpoints(const EndpointCreator& creator,
   fdds::TopicDescription* own_replies =
       contract::create_own_replies_topic(participant->participant(), topics.reply, client_id);
   if (own_replies == nullptr) own_replies = topics.reply;
+  // VOLATILE, though the service's reply writer is TRANSIENT_LOCAL (for other
+  // vendors' clients, which the contract tells to read it so): a new client
+  // is then sent none of the replies the writer keeps from before it joined
+  // (Fast DDS filters a writer's history only for the readers matched when
+  // each reply was written, so they would all come, to be dropped here).
+  // Nothing of its own is lost: the service holds a reply to a dh3 client
+  // until the client's reply reader has matched its writer (ReplyGate).
+  auto reply_qos = contract::reader_qos(TopicRole::reply);
+  reply_qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
   reply_reader = creator.create_reader(ClientEndpoint::reply_reader, participant->subscriber(),
-                                       own_replies, contract::reader_qos(TopicRole::reply),
-                                       &reader_listener, data_and_matches());
+                                       own_replies, reply_qos, &reader_listener,
+                                       data_and_matches());
 }
 
 void ClientCore::Dds::create_group_endpoints(const EndpointCreator& creator) {

@@ -221,9 +221,9 @@ struct CommandTraffic {
   /// Replies carrying this client's id.
   std::uint64_t own_replies = 0;
   /// Replies to other clients that reached this client and were dropped here.
-  /// A dh3 service sends each dh3 client only its own replies, so this stays
-  /// 0, but for the replies the service still keeps from before this client
-  /// joined (at most the reply topic's history, 64), which reach it once.
+  /// A dh3 service sends each dh3 client only its own replies, and the
+  /// client reads replies VOLATILE, so none of those the service keeps from
+  /// before it joined: this stays 0 but with services that do not filter.
   std::uint64_t foreign_replies = 0;
 };
 

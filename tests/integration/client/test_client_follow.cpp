@@ -250,6 +250,28 @@ TEST(ClientFollow, ThirtySixClientsEachGetOnlyTheirOwnReplies) {
   EXPECT_EQ(foreign, 0U) << "replies to other clients reached the clients";
 }
 
+TEST(ClientFollow, ANewClientIsSentNoReplyOfTheClientsBeforeIt) {
+  // The service keeps its last replies (TRANSIENT_LOCAL, for other vendors'
+  // clients); a dh3 client reads replies VOLATILE and gets none of them.
+  RunningService service(sim_config());
+  ASSERT_TRUE(service.started());
+  {
+    Client earlier(client_options());
+    ASSERT_TRUE(earlier.wait_for_service(test_service_name(), kClientDeadline));
+    for (std::uint16_t id = 1; id <= 3; ++id) {
+      ASSERT_TRUE(earlier.hand(hand_address(id)).read(0x0602));
+    }
+  }
+  Client later(client_options());
+  ASSERT_TRUE(later.wait_for_service(test_service_name(), kClientDeadline));
+  const Reply own = later.hand(hand_address(1)).read(0x0602);
+  ASSERT_TRUE(own) << own.message;
+  // The kept replies would have come as its reader matched, before its own.
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  EXPECT_EQ(later.command_traffic().own_replies, 1U);
+  EXPECT_EQ(later.command_traffic().foreign_replies, 0U);
+}
+
 TEST(ClientFollow, AHandAtRestIsRepublishedOncePerRefreshAndAChangeAtOnce) {
   const std::string slow = test_service_name() + "slow";
   const std::string every = test_service_name() + "every";
