@@ -209,6 +209,8 @@ def run_one(bins, args, services, discovery):
         cmd["load"] = plantlib.loadavg()
         result["commanding"] = cmd
         for c in commanders:
+            if not plant.ready_time(c):
+                continue  # never ready: it commands nothing, and never stops
             plant_wait = time.time() + 60
             while time.time() < plant_wait and not c.first("stopped"):
                 time.sleep(0.1)
