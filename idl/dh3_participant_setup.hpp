@@ -21,6 +21,7 @@
 
 #include "dh3/base/result.hpp"
 #include "dh3_discovery.hpp"
+#include "dh3_follow_filter.hpp"
 #include "dh3_participant.hpp"
 #include "dh3_participant_options.hpp"
 #include "dh3_reply_filter.hpp"
@@ -191,6 +192,11 @@ class Participant {
   [[nodiscard]] const ReplyFilterCounts& reply_filter_counts() const {
     return reply_filters_.counts();
   }
+  /// What this participant's follow filters decided: on a service, its
+  /// writers' (writer-side filtering); on a client, its readers'.
+  [[nodiscard]] const FollowFilterCounts& follow_filter_counts() const {
+    return follow_filters_.counts();
+  }
   /// The client_id this participant puts in its CommandRequests.
   [[nodiscard]] std::string client_id() const {
     return client_id_for(participant_->guid().guidPrefix);
@@ -207,6 +213,11 @@ class Participant {
     if (participant_->register_content_filter_factory(kReplyFilterClass, &reply_filters_) !=
         eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
       return fail("cannot register the reply content filter");
+    }
+    // Likewise the follow filter, for the status, event and info writers.
+    if (participant_->register_content_filter_factory(kFollowFilterClass, &follow_filters_) !=
+        eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
+      return fail("cannot register the follow content filter");
     }
     topics_ = create_topics(*participant_);
     const std::pair<fdds::Topic*, const std::string&> topics[] = {
@@ -229,6 +240,7 @@ class Participant {
 
   /// Outlives participant_ (members are destroyed after ~Participant's body).
   ReplyFilterFactory reply_filters_;
+  FollowFilterFactory follow_filters_;
   eprosima::fastdds::dds::DomainParticipant* participant_ = nullptr;
   Topics topics_;
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;

@@ -48,9 +48,12 @@ inline Qos qos_for(TopicRole role) {
       // A client may send its request as soon as its request writer matched
       // the service, before the service's reply writer has discovered the
       // client's reply reader; a volatile reply written in that window would
-      // be lost. Kept replies reach the reader when it matches; clients take
-      // only replies carrying their own client_id, which the writer filters
-      // for them (dh3_reply_filter.hpp).
+      // be lost. Kept replies reach a TRANSIENT_LOCAL reader (another
+      // vendor's client) when it matches; clients take only replies carrying
+      // their own client_id, which the writer filters for them
+      // (dh3_reply_filter.hpp). dh3's own client reads VOLATILE, so that it
+      // is sent none of the replies kept for others, and dh3-service holds a
+      // reply to it until its reader matched (service/dds ReplyGate).
       qos.durability().kind = dds::TRANSIENT_LOCAL_DURABILITY_QOS;
       qos.history().depth = kStreamDepth;
       break;
@@ -68,6 +71,15 @@ inline eprosima::fastdds::dds::DataWriterQos writer_qos(TopicRole role) {
   auto qos = qos_for<eprosima::fastdds::dds::DataWriterQos>(role);
   qos.reliable_writer_qos().times.heartbeatPeriod =
       eprosima::fastrtps::Duration_t(0, kHeartbeatPeriodNs);
+  // The writers that filter for their readers (replies by client, statuses,
+  // events and service info by followed cell) do so for any number of
+  // readers: Fast DDS filters for 32 by default and sends the 33rd reader
+  // and later every sample (README "Scaling to a plant"). Each filter costs
+  // its evaluation per sample and 16 bytes of signature in each sample sent.
+  if (role != TopicRole::request) {
+    qos.writer_resource_limits().reader_filters_allocation =
+        eprosima::fastrtps::ResourceLimitedContainerConfig::dynamic_allocation_configuration();
+  }
   return qos;
 }
 

@@ -5,13 +5,13 @@
 // reader and sends it only its own replies (Fast DDS 2.9 filters on the
 // writer's side when the writer's liveliness lease is infinite, its
 // writer_resource_limits().reader_filters_allocation.maximum is above 0 (32 by
-// default), the reader is not reached by data-sharing (never for dh3's types:
+// default; no limit on dh3's writers, dh3_qos.hpp), the reader is not reached by data-sharing (never for dh3's types:
 // their strings are unbounded) and the reader announced no multicast locator).
 // A reader on the plain topic, e.g. a participant of another vendor, still
-// gets every reply and keeps its own. Where the writer does not filter (more
-// than 32 filtered readers, or, as seen in tests/unit/contract/
-// test_reply_filter.cpp, a reader in the writer's own process) the reader
-// applies the same filter to what it receives.
+// gets every reply and keeps its own. Where the writer does not filter (as
+// seen in tests/unit/contract/test_reply_filter.cpp, a reader in the
+// writer's own process; replies the writer kept from before the reader
+// matched) the reader applies the same filter to what it receives.
 //
 // The filter is dh3's own filter class rather than DDSSQL: Fast DDS's DDSSQL
 // filter needs the types' TypeObjects and deserializes each sample into a

@@ -28,6 +28,10 @@ void add_client_options(CLI::App& app, ClientOptions& options) {
   app.add_option("--security-identity", options.security_identity,
                  "DDS Security: the identity (folder) in --security-dir to use (default "
                  "operator; monitor: read-only)");
+  app.add_option("--follow", options.follow,
+                 "follow one cell, SERVICE or SERVICE/BUS: the services send this program only "
+                 "its statuses, events and service info (a plant's other cells cost it nothing); "
+                 "default: every service of the domain");
 }
 
 }  // namespace dh3::ctl

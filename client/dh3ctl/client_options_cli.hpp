@@ -9,7 +9,7 @@
 namespace dh3::ctl {
 
 /// --domain, --interface, --udp-only, --shared-memory, --xml, --profile,
-/// --discovery-server, --security-dir and --security-identity, bound to `options`.
+/// --discovery-server, --security-dir, --security-identity and --follow, bound to `options`.
 void add_client_options(CLI::App& app, ClientOptions& options);
 
 }  // namespace dh3::ctl

@@ -515,11 +515,19 @@ CLI::Option* declare_commands(CLI::App& app, Args& a) {
 }
 
 /// The client's options as the command line gave them, under dh3ctl's name
-/// and with --timeout the default of its calls.
-ClientOptions client_options(const Globals& g) {
+/// and with --timeout the default of its calls. A command about one hand
+/// given as SERVICE/BUS/ID needs nothing of the other services: it follows
+/// that hand's service unless --follow says otherwise, so in a plant it is
+/// not sent every cell's statuses.
+ClientOptions client_options(const Globals& g, const Args& a) {
   ClientOptions options = g.client;
   options.participant_name = "dh3ctl";
   options.default_timeout = g.timeout();
+  if (options.follow.empty() && !a.hand.empty()) {
+    if (auto parsed = parse_hand_spec(a.hand); parsed && parsed->is_full()) {
+      options.follow = *parsed->service;
+    }
+  }
   return options;
 }
 
@@ -558,7 +566,7 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err,
     return kExitUsage;
   }
 
-  Client client(client_options(g));
+  Client client(client_options(g, a));
   if (!client.connected()) {
     err << "dh3ctl: " << client.error() << std::endl;
     return kExitFailed;

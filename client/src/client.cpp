@@ -219,6 +219,9 @@ std::string Client::client_id() const {
 CommandTraffic Client::command_traffic() const {
   return core_->command_traffic();
 }
+WatchTraffic Client::watch_traffic() const {
+  return core_->watch_traffic();
+}
 
 int Client::domain() const {
   return core_->options().domain;

@@ -120,6 +120,7 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   /// No command request writer or no reply reader: commands end DENIED.
   [[nodiscard]] bool read_only() const { return !can_command_; }
   [[nodiscard]] CommandTraffic command_traffic() const;
+  [[nodiscard]] WatchTraffic watch_traffic() const;
   [[nodiscard]] const ClientOptions& options() const { return options_; }
   [[nodiscard]] std::chrono::milliseconds effective(Timeout timeout) const {
     return timeout > Timeout::zero() ? timeout : options_.default_timeout;
@@ -223,6 +224,8 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   /// Ends every pending group call with NOT_CONNECTED (close()).
   void close_group_calls_locked();
   // Following services (service_tracker.cpp).
+  /// False for a service (or bus) outside what options_.follow names.
+  [[nodiscard]] bool followed(std::string_view service, std::string_view bus = {}) const;
   void on_match(std::multiset<std::string>& set, const std::string& prefix, bool matched);
 
   // All *_locked: `mutex_` held. Following services (service_tracker.cpp):
@@ -246,6 +249,10 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   [[nodiscard]] std::vector<KnownHand> known_hands_locked() const;
 
   const ClientOptions options_;
+  /// What options_.follow names (empty service: everything); set up before
+  /// the readers and constant after.
+  std::string follow_service_;
+  std::string follow_bus_;
   std::string error_;
   std::string client_id_;
   std::unique_ptr<Dds> dds_;
@@ -293,6 +300,9 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   std::atomic<std::uint64_t> requests_written_{0};
   std::atomic<std::uint64_t> own_replies_{0};
   std::atomic<std::uint64_t> foreign_replies_taken_{0};  ///< got past the reply filter
+  std::atomic<std::uint64_t> statuses_taken_{0};
+  std::atomic<std::uint64_t> events_taken_{0};
+  std::atomic<std::uint64_t> infos_taken_{0};
 
   Dispatcher dispatcher_;
   std::thread io_thread_;

@@ -53,9 +53,18 @@ void ClientCore::Dds::create_command_endpoints(const EndpointCreator& creator,
   fdds::TopicDescription* own_replies =
       contract::create_own_replies_topic(participant->participant(), topics.reply, client_id);
   if (own_replies == nullptr) own_replies = topics.reply;
+  // VOLATILE, though the service's reply writer is TRANSIENT_LOCAL (for other
+  // vendors' clients, which the contract tells to read it so): a new client
+  // is then sent none of the replies the writer keeps from before it joined
+  // (Fast DDS filters a writer's history only for the readers matched when
+  // each reply was written, so they would all come, to be dropped here).
+  // Nothing of its own is lost: the service holds a reply to a dh3 client
+  // until the client's reply reader has matched its writer (ReplyGate).
+  auto reply_qos = contract::reader_qos(TopicRole::reply);
+  reply_qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
   reply_reader = creator.create_reader(ClientEndpoint::reply_reader, participant->subscriber(),
-                                       own_replies, contract::reader_qos(TopicRole::reply),
-                                       &reader_listener, data_and_matches());
+                                       own_replies, reply_qos, &reader_listener,
+                                       data_and_matches());
 }
 
 void ClientCore::Dds::create_group_endpoints(const EndpointCreator& creator) {
@@ -72,28 +81,49 @@ void ClientCore::Dds::create_group_endpoints(const EndpointCreator& creator) {
       contract::reader_qos(TopicRole::reply), &reader_listener, data_and_matches());
 }
 
-void ClientCore::Dds::create_watch_endpoints(const EndpointCreator& creator) {
+void ClientCore::Dds::create_watch_endpoints(const EndpointCreator& creator,
+                                             const std::optional<contract::Follow>& follow) {
   using contract::TopicRole;
   const contract::Topics& topics = participant->topics();
   auto& subscriber = participant->subscriber();
   const auto data = fdds::StatusMask::data_available();
+  // A follower reads each topic through the follow filter, which the
+  // services' writers evaluate for it (dh3_follow_filter.hpp). Should Fast
+  // DDS refuse a filtered topic, the plain one still works: ClientCore keeps
+  // only what it follows.
+  const auto view = [&](fdds::Topic* topic, bool by_bus) -> fdds::TopicDescription* {
+    if (!follow) return topic;
+    fdds::TopicDescription* filtered =
+        contract::create_follow_topic(participant->participant(), topic, *follow, by_bus);
+    return filtered != nullptr ? filtered : topic;
+  };
   status_reader =
-      creator.create_reader(ClientEndpoint::status_reader, subscriber, topics.status,
+      creator.create_reader(ClientEndpoint::status_reader, subscriber, view(topics.status, true),
                             contract::reader_qos(TopicRole::hand_status), &reader_listener, data);
-  event_reader = creator.create_reader(ClientEndpoint::event_reader, subscriber, topics.event,
+  event_reader = creator.create_reader(ClientEndpoint::event_reader, subscriber,
+                                       view(topics.event, true),
                                        contract::reader_qos(TopicRole::hand_event),
                                        &reader_listener, data_and_matches());
   // Only if statuses and events are readable (set_up_dds() fails otherwise).
   if (status_reader == nullptr || event_reader == nullptr) return;
-  info_reader =
-      creator.create_reader(ClientEndpoint::info_reader, subscriber, topics.info,
-                            contract::reader_qos(TopicRole::service_info), &reader_listener, data);
+  info_reader = creator.create_reader(ClientEndpoint::info_reader, subscriber,
+                                      view(topics.info, false),
+                                      contract::reader_qos(TopicRole::service_info),
+                                      &reader_listener, data);
 }
 
 Result<void, std::string> ClientCore::set_up_dds(const EndpointCreator& creator) {
   // The library writes no log, so the report is not shown; what an XML profile
   // overrides is said where ClientOptions is documented.
   contract::SetupReport report;
+  std::optional<contract::Follow> follow;
+  if (!options_.follow.empty()) {
+    auto parsed = contract::parse_follow(options_.follow);
+    if (!parsed) return fail(std::move(parsed).error());
+    follow = std::move(parsed).value();
+    follow_service_ = follow->service;
+    follow_bus_ = follow->bus;
+  }
   auto created = contract::Participant::create(participant_options(options_), report,
                                                &dds_->participant_listener);
   if (!created) return fail(std::move(created).error());
@@ -107,7 +137,7 @@ Result<void, std::string> ClientCore::set_up_dds(const EndpointCreator& creator)
   dds_->create_group_endpoints(creator);
   // Every identity must read statuses and events; a refused command endpoint
   // above is a read-only client (below).
-  dds_->create_watch_endpoints(creator);
+  dds_->create_watch_endpoints(creator, follow);
   if (dds_->status_reader == nullptr || dds_->event_reader == nullptr) {
     return fail(access_control ? "DDS Security: this identity may not read hand statuses and events"
                                : "cannot create the dh3 readers");

@@ -15,7 +15,9 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 #include <memory>
+#include <optional>
 #include <string>
+#include <string_view>
 
 #include "client_core.hpp"
 #include "dh3_participant_setup.hpp"
@@ -131,7 +133,7 @@ struct ClientCore::Dds {
     explicit ReaderListener(ClientCore& core) : core_(core) {}
     void on_data_available(fdds::DataReader* reader) override {
       const OnDdsListener on_listener;
-      const std::string& topic = reader->get_topicdescription()->get_name();
+      const std::string topic = plain_topic_name(*reader);
       if (topic == own_replies_topic_ || topic == topics::COMMAND_REPLY) {
         take<msg::CommandReply>(
             reader, [this](const msg::CommandReply& r, const std::string&) { core_.on_reply(r); });
@@ -155,7 +157,7 @@ struct ClientCore::Dds {
     void on_subscription_matched(fdds::DataReader* reader,
                                  const fdds::SubscriptionMatchedStatus& status) override {
       const OnDdsListener on_listener;
-      const std::string& topic = reader->get_topicdescription()->get_name();
+      const std::string topic = plain_topic_name(*reader);
       const bool matched = status.current_count_change > 0;
       if (topic == own_replies_topic_ || topic == topics::COMMAND_REPLY) {
         core_.on_reply_writer_matched(prefix_of(status.last_publication_handle), matched);
@@ -167,6 +169,14 @@ struct ClientCore::Dds {
     }
 
    private:
+    /// The topic a reader reads, without the "/follow" of a follower's
+    /// filtered view of it (contract::create_follow_topic).
+    static std::string plain_topic_name(fdds::DataReader& reader) {
+      constexpr std::string_view kFollow = "/follow";
+      std::string name = reader.get_topicdescription()->get_name();
+      if (std::string_view(name).ends_with(kFollow)) name.resize(name.size() - kFollow.size());
+      return name;
+    }
     template <typename T, typename Handle>
     static void take(fdds::DataReader* reader, Handle handle) {
       T sample;
@@ -195,8 +205,10 @@ struct ClientCore::Dds {
   /// The group request writer and group reply reader; nullptr where refused
   /// (group calls then end DENIED).
   void create_group_endpoints(const EndpointCreator& creator);
-  /// The status, event and service info readers; nullptr where refused.
-  void create_watch_endpoints(const EndpointCreator& creator);
+  /// The status, event and service info readers, on the topics filtered to
+  /// `follow` if given; nullptr where refused.
+  void create_watch_endpoints(const EndpointCreator& creator,
+                              const std::optional<contract::Follow>& follow);
 
   ParticipantListener participant_listener;
   RequestWriterListener request_listener;

@@ -233,7 +233,8 @@ void ClientCore::on_reply(const msg::CommandReply& reply) {
     // The hand's status as the command left it, cached (and posted) before the
     // call ends; the same sample on the status topic is then not news.
     if (reply.status().update_seq() != 0 && !closed_ && !it->second.sent_to.empty() &&
-        !reply.status().service().empty()) {
+        !reply.status().service().empty() &&
+        followed(reply.status().service(), reply.status().bus())) {
       take_status_locked(it->second.sent_to, reply.status());
     }
     done = std::move(it->second.done);

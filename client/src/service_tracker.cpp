@@ -27,6 +27,11 @@ void count_match(std::multiset<std::string>& set, const std::string& prefix, boo
 
 }  // namespace
 
+bool ClientCore::followed(std::string_view service, std::string_view bus) const {
+  if (follow_service_.empty()) return true;
+  return service == follow_service_ && (bus.empty() || follow_bus_.empty() || bus == follow_bus_);
+}
+
 bool ClientCore::ready_locked(const std::string& service) const {
   const auto it = services_.find(service);
   if (it == services_.end() || !it->second.alive || it->second.incarnation.empty()) return false;
@@ -118,6 +123,8 @@ void ClientCore::lose_locked(const std::string& service, const std::string& why,
 
 void ClientCore::on_participant_found(const std::string& prefix, const std::string& name) {
   if (!std::string_view(name).starts_with(kServiceParticipantPrefix)) return;
+  // A follower knows only the service it follows.
+  if (!followed(std::string_view(name).substr(kServiceParticipantPrefix.size()))) return;
   Actions out;
   {
     std::lock_guard lock(mutex_);
@@ -187,6 +194,8 @@ void ClientCore::on_event_writer_matched(const std::string& prefix, bool matched
 }
 
 void ClientCore::on_info(const std::string& prefix, const msg::ServiceInfo& info) {
+  infos_taken_.fetch_add(1, std::memory_order_relaxed);
+  if (!followed(info.service())) return;
   Actions out;
   {
     std::lock_guard lock(mutex_);

@@ -4,11 +4,14 @@
 #include <algorithm>
 
 #include "client_core.hpp"
+#include "client_endpoints.hpp"
 #include "conversions.hpp"
 
 namespace dh3::detail {
 
 void ClientCore::on_status(const std::string& prefix, const msg::HandStatus& sample) {
+  statuses_taken_.fetch_add(1, std::memory_order_relaxed);
+  if (!followed(sample.service(), sample.bus())) return;
   Actions out;
   {
     std::lock_guard lock(mutex_);
@@ -87,6 +90,18 @@ std::vector<KnownHand> ClientCore::known_hands() const {
   return known_hands_locked();
 }
 
+WatchTraffic ClientCore::watch_traffic() const {
+  WatchTraffic traffic;
+  traffic.statuses = statuses_taken_.load(std::memory_order_relaxed);
+  traffic.events = events_taken_.load(std::memory_order_relaxed);
+  traffic.infos = infos_taken_.load(std::memory_order_relaxed);
+  if (dds_ != nullptr && dds_->participant != nullptr) {
+    traffic.dropped_on_arrival =
+        dds_->participant->follow_filter_counts().rejected.load(std::memory_order_relaxed);
+  }
+  return traffic;
+}
+
 Found<ServiceInfo> ClientCore::wait_for_service(std::string_view name, Timeout timeout) {
   std::unique_lock lock(mutex_);
   std::optional<ServiceInfo> found;
@@ -126,6 +141,7 @@ bool ClientCore::wait_for_statuses(Timeout timeout) {
         continue;
       }
       for (const auto& bus : state.info->buses) {
+        if (!followed(name, bus.name)) continue;  // a follower of one bus has no other's
         for (const auto& hand : bus.hands) {
           if (statuses_.count(HandAddress{name, bus.name, hand.can_id}) == 0) return false;
         }

@@ -21,6 +21,8 @@ void run_guarded(F&& f) {
 }  // namespace
 
 void ClientCore::on_event(const std::string& prefix, const msg::HandEvent& sample) {
+  events_taken_.fetch_add(1, std::memory_order_relaxed);
+  if (!followed(sample.hand().service(), sample.hand().bus())) return;
   std::lock_guard lock(mutex_);
   if (closed_ || prefix_is_dead_locked(prefix)) return;
   post_event_locked(to_public(sample));

@@ -2,7 +2,7 @@
 """A client process of the plant (tests/scale/plant.sh), on the dh3 Python module.
 
     plant_client.py commander --hand cell01/bus0/1 --out FILE [DDS options]
-    plant_client.py watcher --cell cell01 --hands 8 --out FILE [DDS options]
+    plant_client.py watcher --cell cell01 --hands 8 --out FILE [--follow] [DDS options]
     plant_client.py oneshot --hand cell01/bus0/1 --out FILE [DDS options]
 
 Each writes JSON lines to --out, flushed as they happen, so the plant reads
@@ -27,6 +27,9 @@ oneshot: a client that joins a running plant, or starts with many others:
   ready as a commander, then one cycle, then --linger seconds; {"ev": "done",
   "ok": bool, and what reached it for its commands (own and other clients'
   replies)}; exit 0 only if every command answered OK.
+--follow (not for a watcher of all): the client follows its cell
+  (dh3.Client(follow=...)), so the services send it only that cell's
+  statuses, events and service info.
 SIGTERM (any role): {"ev": "exit"} and exit 0.
 """
 
@@ -52,10 +55,14 @@ def emit(record: dict) -> None:
 
 
 def make_client(args) -> dh3.Client:
+    follow = ""
+    if args.follow:
+        # A commander or one-shot client its hand's service, a watcher its cell.
+        follow = args.hand.split("/")[0] if args.hand else args.cell
     client = dh3.Client(domain=args.domain, participant_name=f"plant-{args.role}",
                         interfaces=args.interface, udp_only=args.udp_only,
                         discovery_servers=args.discovery_server,
-                        default_timeout=args.timeout)
+                        default_timeout=args.timeout, follow=follow)
     if not client.connected():
         emit({"ev": "error", "what": "connect", "message": client.error()})
         sys.exit(1)
@@ -101,8 +108,10 @@ def traffic(client: dh3.Client) -> dict:
     """What reached this client for its commands: its own replies, and other
     clients' replies that DDS delivered to it anyway."""
     t = client.command_traffic()
+    w = client.watch_traffic()
     return {"requests": t.requests_written, "own_replies": t.own_replies,
-            "foreign_replies": t.foreign_replies}
+            "foreign_replies": t.foreign_replies, "statuses_in": w.statuses,
+            "dropped_on_arrival": w.dropped_on_arrival}
 
 
 def commander(args) -> int:
@@ -207,6 +216,9 @@ def main() -> int:
     parser.add_argument("--reads", type=int, default=5, help="register reads per cycle")
     parser.add_argument("--linger", type=float, default=0.0,
                         help="oneshot: seconds to stay after its cycle before counting its traffic")
+    parser.add_argument("--follow", action="store_true",
+                        help="follow only its cell (the service of --hand, or --cell): the "
+                             "services send it nothing of the other cells")
     parser.add_argument("-d", "--domain", type=int, default=0)
     parser.add_argument("-i", "--interface", action="append", default=[])
     parser.add_argument("--udp-only", action="store_true")

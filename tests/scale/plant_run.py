@@ -119,12 +119,14 @@ def run_one(bins, args, services, discovery):
     started = datetime.datetime.now(datetime.timezone.utc)
     result = {"date": started.strftime("%Y-%m-%d %H:%M UTC"), "services": services,
               "hands": args.hands, "discovery": discovery, "client_hosts": client_hosts,
-              "load_before": plantlib.loadavg(), "command": " ".join(sys.argv)}
+              "load_before": plantlib.loadavg(), "command": " ".join(sys.argv),
+              "follow": args.follow}
     log(f"== plant: {services} services x {args.hands} hands, {discovery} discovery, "
         f"{client_hosts + 1} client hosts; load average {result['load_before']}")
     with Plant(bins, services=services, hands=args.hands, client_hosts=client_hosts,
                discovery=discovery, domain=args.domain,
                workdir=os.path.join(args.workdir, f"s{services}-{discovery}")) as plant:
+        plant.follow = args.follow
         plant.start_discovery_servers()
         t_services = time.time()
         plant.start_services()
@@ -207,6 +209,8 @@ def run_one(bins, args, services, discovery):
         cmd["load"] = plantlib.loadavg()
         result["commanding"] = cmd
         for c in commanders:
+            if not plant.ready_time(c):
+                continue  # never ready: it commands nothing, and never stops
             plant_wait = time.time() + 60
             while time.time() < plant_wait and not c.first("stopped"):
                 time.sleep(0.1)
@@ -233,6 +237,11 @@ def run_one(bins, args, services, discovery):
     return result
 
 
+def setup(r):
+    """The setup column: discovery, and "+f" where the clients followed their cell."""
+    return r["discovery"] + ("+f" if r.get("follow") else "")
+
+
 def mib(kib):
     return f"{kib / 1024:.1f}"
 
@@ -243,7 +252,7 @@ def print_tables(results):
         f"load  others' CPU %")
     for r in results:
         rd = r["ready"]
-        log(f"{r['discovery']:8} {r['services']:>3} x {r['hands']:<2} {r['clients']:>7} "
+        log(f"{setup(r):8} {r['services']:>3} x {r['hands']:<2} {r['clients']:>7} "
             f"{rd['p50_s'] if rd['p50_s'] is not None else '-':>8}s {rd['max_s'] or '-':>6}s "
             f"{len(rd['not_ready']):>9}  {r['load_before'][0]:>4.1f}  {rd['machine']['others_pct']:>6.1f}")
     for phase, title in (("rest", "At rest"), ("commanding", "Commanding")):
@@ -261,7 +270,7 @@ def print_tables(results):
                 text = (f"{v['cpu_pct_mean']:.1f}/{v['cpu_pct_max']:.1f} {mib(v['rss_kib_mean'])}"
                         if width == 14 else f"{v['cpu_pct_mean']:.1f} {mib(v['rss_kib_mean'])}")
                 return f"{text:>{width}}"
-            log(f"{r['discovery']:8} {r['services']:>3} x {r['hands']:<2}  {cell('service')} "
+            log(f"{setup(r):8} {r['services']:>3} x {r['hands']:<2}  {cell('service')} "
                 f"{cell('py-commander')} {cell('py-watcher')} {cell('py-plantwatcher')} "
                 f"{cell('ctl-events', 10)} {cell('discovery-server', 10)} "
                 f"{r[phase]['cpu_pct_total']:>9.1f} {r[phase]['machine']['others_pct']:>6.1f}")
@@ -275,7 +284,7 @@ def print_tables(results):
         def cols(n):
             return (f"{n['sent_Bps'] / 1000:>9.1f} {n['sent_disc_Bps'] / 1000:>7.1f} "
                     f"{n['sent_data_Bps'] / 1000:>7.1f} {n['delivered_Bps'] / 1000:>8.1f}")
-        log(f"{r['discovery']:8} {r['services']:>3} x {r['hands']:<2}  {cols(r['rest']['net'])}   "
+        log(f"{setup(r):8} {r['services']:>3} x {r['hands']:<2}  {cols(r['rest']['net'])}   "
             f"{cols(r['commanding']['net'])}")
     log("\nCommands and one cell's watcher (cell01's, alone on its host)")
     log(f"{'setup':8} {'S x H':>7}  {'cmds/s':>6} {'failed':>6} {'read p50':>8} {'p99 ms':>7}   "
@@ -289,7 +298,7 @@ def print_tables(results):
 
         def ms(v):
             return f"{v:.2f}" if v is not None else "-"
-        log(f"{r['discovery']:8} {r['services']:>3} x {r['hands']:<2}  {c['per_s']:>6} {c['failed']:>6} "
+        log(f"{setup(r):8} {r['services']:>3} x {r['hands']:<2}  {c['per_s']:>6} {c['failed']:>6} "
             f"{ms(c['read_ms_p50']):>8} {ms(c['read_ms_p99']):>7}   "
             f"{wr.get('status_all', '-'):>18} {wr.get('status_cell', '-'):>5} {hr:>7.1f}   "
             f"{wc.get('status_all', '-'):>17} {wc.get('status_cell', '-'):>5} "
@@ -299,7 +308,7 @@ def print_tables(results):
         f"{'commanders: requests':>20} {'own replies':>11} {'others':>6}")
     for r in results:
         j, t = r["late_joiner"], r["commander_traffic"]
-        log(f"{r['discovery']:8} {r['services']:>3} x {r['hands']:<2}  {j['ready_s'] or '-':>7} "
+        log(f"{setup(r):8} {r['services']:>3} x {r['hands']:<2}  {j['ready_s'] or '-':>7} "
             f"{'yes' if j['ok'] else 'NO':>3} {j['foreign_replies'] if j['foreign_replies'] is not None else '-':>28}   "
             f"{t['requests']:>20} {t['own_replies']:>11} {t['foreign_replies']:>6}")
 
@@ -325,6 +334,10 @@ def main():
     parser.add_argument("--ctl-status", action="store_true",
                         help="also a `dh3ctl --json status --watch` of the whole plant (it spins a "
                              "core when its output is not a terminal: off by default)")
+    parser.add_argument("--follow", action="store_true",
+                        help="the commanders, cell watchers and the late joiner follow their cell "
+                             "(dh3.Client(follow=...)): the services send each only its cell's "
+                             "statuses and events; the plant watchers still follow everything")
     parser.add_argument("--out", default="", help="directory for the JSON files (default BUILD/scale)")
     parser.add_argument("--workdir", default="", help="logs (default: a fresh folder in /tmp)")
     parser.add_argument("--check", action="store_true",
@@ -355,7 +368,8 @@ def main():
         for discovery in args.discovery.split(","):
             result = run_one(bins, args, services, discovery)
             stamp = time.strftime("%Y%m%d-%H%M%S", time.gmtime())
-            path = os.path.join(args.out, f"plant-{discovery}-{services}x{args.hands}-{stamp}.json")
+            kind = discovery + ("-follow" if args.follow else "")
+            path = os.path.join(args.out, f"plant-{kind}-{services}x{args.hands}-{stamp}.json")
             with open(path, "w") as f:
                 json.dump(result, f, indent=1)
             log(f"   written {path}")
@@ -381,7 +395,7 @@ def main():
 def check(results):
     problems = []
     for r in results:
-        what = f"{r['discovery']} {r['services']}x{r['hands']}"
+        what = f"{setup(r)} {r['services']}x{r['hands']}"
         if r["ready"]["not_ready"]:
             problems.append(f"{what}: not ready: {', '.join(r['ready']['not_ready'])}")
         cmds = r["commanding"]["commands"]

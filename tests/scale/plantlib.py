@@ -469,19 +469,28 @@ class Plant:
         proc.out = os.path.join(self.workdir, f"{name}.jsonl")
         return proc
 
+    # Whether the commanders, one-shot clients and cell watchers follow their
+    # cell (dh3.Client(follow=...)): the services then send each only its
+    # cell's statuses and events. The plant watchers follow everything.
+    follow = False
+
+    def follow_args(self, cell="all"):
+        return ["--follow"] if self.follow and cell != "all" else []
+
     def start_commander(self, host, hand_spec, name=None, reads=5):
         return self.start_python("commander", host, name or f"cmd-{hand_spec.replace('/', '-')}",
-                                 "--hand", hand_spec, "--reads", reads)
+                                 "--hand", hand_spec, "--reads", reads,
+                                 *self.follow_args(hand_spec))
 
     def start_oneshot(self, host, hand_spec, name, reads=2, linger=0.0):
         return self.start_python("oneshot", host, name, "--hand", hand_spec, "--reads", reads,
-                                 "--linger", linger)
+                                 "--linger", linger, *self.follow_args(hand_spec))
 
     def start_watcher(self, host, cell, name=None):
         """A Python watcher of one cell, or of the whole plant (cell "all")."""
         hands = self.hands * self.services if cell == "all" else self.hands
         proc = self.start_python("watcher", host, name or f"watch-{cell}-{host}",
-                                 "--cell", cell, "--hands", hands)
+                                 "--cell", cell, "--hands", hands, *self.follow_args(cell))
         if cell == "all":
             proc.kind = "py-plantwatcher"
         return proc

@@ -3,9 +3,9 @@
 
     tests/scale/plot.py --out docs/benchmarks/plant build/scale/plant-*.json
 
-One figure per cost, a line per discovery setup, plant size (services) on
-the x axis; where several runs have the same setup and size, the newest is
-plotted. Needs Debian's python3-matplotlib (deploy/install-deps.sh).
+One figure per cost, a line per discovery setup (and with plant.sh --follow
+apart), plant size (services) on the x axis; where several runs have the
+same setup and size, the newest is plotted. Needs Debian's python3-matplotlib (deploy/install-deps.sh).
 """
 
 import argparse
@@ -17,7 +17,9 @@ import matplotlib
 matplotlib.use("Agg")  # no display: files only
 import matplotlib.pyplot as plt  # noqa: E402
 
-STYLE = {"simple": ("simple discovery", "o-"), "server": ("discovery-server pair", "s--")}
+STYLE = {"simple": ("simple discovery", "o-"), "server": ("discovery-server pair", "s--"),
+         # plant.sh --follow: the clients of a cell follow only it
+         "simple+f": ("simple, following", "v:"), "server+f": ("server pair, following", "^-.")}
 
 
 def get(result, path):
@@ -72,7 +74,8 @@ def main():
     for path in sorted(args.files):  # names end in a UTC stamp: later overrides earlier
         with open(path) as f:
             result = json.load(f)
-        runs[(result["discovery"], result["services"])] = result
+        setup = result["discovery"] + ("+f" if result.get("follow") else "")
+        runs[(setup, result["services"])] = result
     os.makedirs(args.out, exist_ok=True)
     hands = sorted({r["hands"] for r in runs.values()})
     sizes = sorted({s for _, s in runs})

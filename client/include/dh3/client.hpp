@@ -102,6 +102,14 @@ struct ClientOptions {
   std::string security_identity = "operator";
   /// The timeout of calls and waits that are given none (Timeout{0}).
   std::chrono::milliseconds default_timeout{10'000};
+  /// Follow one cell: "SERVICE" or "SERVICE/BUS". The client then knows only
+  /// that service (only that bus's hands): the services filter their
+  /// statuses, events and service info for it on their side (a writer-side
+  /// content filter), so what it receives and spends does not grow with the
+  /// other cells of the domain, and it commands only that service's hands
+  /// (others end NO_SERVICE). Empty: every service of the domain. A
+  /// malformed one leaves the client unconnected, error() saying why.
+  std::string follow;
 };
 
 /// Keeps a callback registered; unsubscribes when destroyed. After
@@ -213,10 +221,23 @@ struct CommandTraffic {
   /// Replies carrying this client's id.
   std::uint64_t own_replies = 0;
   /// Replies to other clients that reached this client and were dropped here.
-  /// A dh3 service sends each dh3 client only its own replies, so this stays
-  /// 0, but for the replies the service still keeps from before this client
-  /// joined (at most the reply topic's history, 64), which reach it once.
+  /// A dh3 service sends each dh3 client only its own replies, and the
+  /// client reads replies VOLATILE, so none of those the service keeps from
+  /// before it joined: this stays 0 but with services that do not filter.
   std::uint64_t foreign_replies = 0;
+};
+
+/// What reached this client of the watched topics (statuses, events, service
+/// info) since it was created (diagnostics, tests and benchmarks).
+struct WatchTraffic {
+  std::uint64_t statuses = 0;  ///< status samples taken (before the newest-only check)
+  std::uint64_t events = 0;
+  std::uint64_t infos = 0;
+  /// Samples that reached a following client from another cell and were
+  /// dropped on arrival: a writer did not filter them for it (a service's
+  /// kept statuses as the client joins, the last of each hand, once; a
+  /// writer that does not know dh3's filter). 0 for a client that follows nothing.
+  std::uint64_t dropped_on_arrival = 0;
 };
 
 class DH3_CLIENT_API Client {
@@ -242,6 +263,7 @@ class DH3_CLIENT_API Client {
   [[nodiscard]] int domain() const;
   [[nodiscard]] std::chrono::milliseconds default_timeout() const;
   [[nodiscard]] CommandTraffic command_traffic() const;
+  [[nodiscard]] WatchTraffic watch_traffic() const;
 
   /// Every service seen on the domain, by name (ready says which are here now).
   [[nodiscard]] std::vector<ServiceInfo> services() const;

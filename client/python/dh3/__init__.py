@@ -41,6 +41,7 @@ from ._dh3 import (
     Reply,
     ServiceInfo,
     Subscription,
+    WatchTraffic,
     firmware_version_text,
     parse_hand_address,
     parse_register,
@@ -53,7 +54,7 @@ __all__ = [
     "BusInfo", "Client", "Code", "CommandTraffic", "Error", "EventKind", "GraspOutcome", "GripState",
     "GroupCommand", "GroupMemberReply", "GroupReply", "Hand",
     "HandAddress", "HandEvent", "HandInfo", "HandStatus", "Reply", "RotationState",
-    "ServiceInfo", "Subscription", "firmware_version_text", "parse_hand_address",
+    "ServiceInfo", "Subscription", "WatchTraffic", "firmware_version_text", "parse_hand_address",
     "parse_register", "reg", "register_name",
 ]
 

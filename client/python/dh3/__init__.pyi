@@ -246,6 +246,18 @@ class BusInfo:
     @property
     def hands(self) -> list[HandInfo]: ...
 
+class WatchTraffic:
+    """What reached this client of the statuses, events and service info."""
+    @property
+    def statuses(self) -> int: ...
+    @property
+    def events(self) -> int: ...
+    @property
+    def infos(self) -> int: ...
+    @property
+    def dropped_on_arrival(self) -> int:
+        """Samples of cells it does not follow that reached it and were dropped."""
+
 class CommandTraffic:
     """What reached this client over DDS for its commands."""
     @property
@@ -353,7 +365,8 @@ class Client:
                  xml_profile_file: str = "", xml_profile: str = "",
                  interfaces: list[str] = [], udp_only: bool = False,
                  shared_memory: bool = False, discovery_servers: list[str] = [], security_dir: str = "",
-                 security_identity: str = "operator", default_timeout: float = 10.0) -> None: ...
+                 security_identity: str = "operator", default_timeout: float = 10.0,
+                 follow: str = "") -> None: ...
     def close(self) -> None:
         """Leaves the domain: pending calls end NOT_CONNECTED, callbacks stop."""
     def __enter__(self) -> Client: ...
@@ -365,6 +378,9 @@ class Client:
     def client_id(self) -> str: ...
     def command_traffic(self) -> CommandTraffic:
         """What reached this client over DDS for its commands, since it was created."""
+    def watch_traffic(self) -> WatchTraffic:
+        """What reached this client of the statuses, events and service info, since it was
+        created."""
     def domain(self) -> int: ...
     def default_timeout(self) -> float: ...
     def services(self) -> list[ServiceInfo]: ...

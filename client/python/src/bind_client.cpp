@@ -27,7 +27,7 @@ std::unique_ptr<PyClient> make_client(int domain, std::string participant_name,
                                       bool shared_memory,
                                       std::vector<std::string> discovery_servers,
                                       std::string security_dir, std::string security_identity,
-                                      double default_timeout) {
+                                      double default_timeout, std::string follow) {
   dh3::ClientOptions options;
   options.domain = domain;
   options.participant_name = std::move(participant_name);
@@ -40,6 +40,7 @@ std::unique_ptr<PyClient> make_client(int domain, std::string participant_name,
   options.security_dir = std::move(security_dir);
   options.security_identity = std::move(security_identity);
   options.default_timeout = to_milliseconds(default_timeout, "default_timeout");
+  options.follow = std::move(follow);
   return std::make_unique<PyClient>(std::move(options));
 }
 
@@ -74,13 +75,16 @@ void def_life_cycle(py::class_<PyClient>& cls) {
           "interfaces"_a = std::vector<std::string>{}, "udp_only"_a = false,
           "shared_memory"_a = false, "discovery_servers"_a = std::vector<std::string>{},
           "security_dir"_a = "", "security_identity"_a = "operator", "default_timeout"_a = 10.0,
+          "follow"_a = "",
           "Joins the DDS domain. domain: 0-232. interfaces: IPv4 addresses of network "
           "interfaces (empty: loopback only; [\"*\"]: all). udp_only: UDP only (the default). "
           "shared_memory: also Fast DDS's shared-memory transport (needs Fast DDS 2.12.1 or "
           "later). discovery_servers: \"HOST[:PORT]\" each. xml_profile_file/xml_profile: a "
           "Fast DDS XML profile (replaces interfaces, udp_only and shared_memory). security_dir/"
           "security_identity: DDS Security credentials. default_timeout: seconds for calls "
-          "given no timeout.")
+          "given no timeout. follow: \"SERVICE\" or \"SERVICE/BUS\": only that cell's "
+          "statuses, events and service info are sent to this client (the services filter "
+          "them); malformed, the client is not connected and error() says why.")
       .def("close", &PyClient::close,
            "Leaves the domain: pending calls end NOT_CONNECTED, callbacks stop; the client's "
            "Hands answer NOT_CONNECTED from now on.")
@@ -110,6 +114,9 @@ void def_queries(py::class_<PyClient>& cls) {
       .def("client_id", without_gil(&dh3::Client::client_id))
       .def("command_traffic", without_gil(&dh3::Client::command_traffic),
            "What reached this client over DDS for its commands, since it was created.")
+      .def("watch_traffic", without_gil(&dh3::Client::watch_traffic),
+           "What reached this client of the statuses, events and service info, since it was "
+           "created.")
       .def("domain", [](PyClient& c) { return c.client()->domain(); })
       .def(
           "default_timeout",

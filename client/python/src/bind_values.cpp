@@ -182,6 +182,14 @@ void bind_service_info(py::module_& m) {
                     "Replies carrying this client's id.")
       .def_readonly("foreign_replies", &dh3::CommandTraffic::foreign_replies,
                     "Replies to other clients that reached this client and were dropped.");
+  py::class_<dh3::WatchTraffic>(m, "WatchTraffic",
+                                "What reached this client of the statuses, events and service "
+                                "info.")
+      .def_readonly("statuses", &dh3::WatchTraffic::statuses)
+      .def_readonly("events", &dh3::WatchTraffic::events)
+      .def_readonly("infos", &dh3::WatchTraffic::infos)
+      .def_readonly("dropped_on_arrival", &dh3::WatchTraffic::dropped_on_arrival,
+                    "Samples of cells it does not follow that reached it and were dropped.");
   py::class_<dh3::ServiceInfo>(m, "ServiceInfo")
       .def_readonly("name", &dh3::ServiceInfo::name)
       .def_readonly("version", &dh3::ServiceInfo::version)

@@ -95,3 +95,18 @@ def test_a_raising_predicate_raises_from_wait_until(hand):
 
     with pytest.raises(RuntimeError, match="from the predicate"):
         hand.wait_until(predicate, timeout=DEADLINE)
+
+
+def test_follow_one_service_or_refuse_a_malformed_one(service, slow_service):
+    """follow=: only that service's hands reach the client; a malformed one
+    leaves the client unconnected, saying why."""
+    with dh3.Client(domain=DOMAIN, default_timeout=DEADLINE, follow=SLOW) as follower:
+        assert follower.connected(), follower.error()
+        follower.wait_for_service(SLOW, timeout=DEADLINE)
+        assert follower.wait_for_statuses(timeout=DEADLINE)
+        assert {s.address.service for s in follower.hands()} == {SLOW}
+        assert [s.name for s in follower.services()] == [SLOW]
+        assert follower.watch_traffic().statuses > 0
+    bad = dh3.Client(domain=DOMAIN, follow="cell/bus0/3")
+    assert not bad.connected()
+    assert "cannot follow 'cell/bus0/3'" in bad.error(), bad.error()

@@ -93,8 +93,9 @@ class Service::Impl {
    public:
     BusObserver(Impl& impl, std::uint16_t bus) : impl_(impl), bus_(bus) {}
     void on_state(const hand::HandState& state) override { impl_.on_state(bus_, state); }
-    // The same values, read again: republished so that read_at_ns shows it.
-    void on_fresh(const hand::HandState& state) override { impl_.on_state(bus_, state); }
+    // The same values, read again: republished, once per status_refresh, so
+    // that read_at_ns shows it.
+    void on_fresh(const hand::HandState& state) override { impl_.on_fresh(bus_, state); }
     void on_event(const hand::HandEvent& event) override { impl_.on_event(bus_, event); }
     void on_link(bus::LinkState state) override { impl_.on_link(bus_, state); }
     void on_batch_end(std::uint8_t can_id) override { impl_.send_held_status(bus_, can_id); }
@@ -174,6 +175,7 @@ class Service::Impl {
     bool announced = false;  ///< the service info lists it
     bool written = false;    ///< `sample` was filled from a reported state
     bool held = false;       ///< `sample` is prepared and not sent yet
+    TimePoint sent_at{};     ///< when a sample of this hand was last written
     msg::HandStatus sample;  ///< the last sample, reused for every sample of this hand
   };
 
@@ -197,6 +199,9 @@ class Service::Impl {
 
   // Scheduler callbacks (bus threads).
   void on_state(std::uint16_t bus, const hand::HandState& state);
+  /// The same values read again: published if the last sample is older than
+  /// options_.status_refresh.
+  void on_fresh(std::uint16_t bus, const hand::HandState& state);
   void on_event(std::uint16_t bus, const hand::HandEvent& event);
   void on_link(std::uint16_t bus, bus::LinkState state);
 

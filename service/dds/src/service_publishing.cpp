@@ -27,6 +27,7 @@ void Service::Impl::prepare_status_locked(std::uint16_t bus, std::uint8_t can_id
 
 void Service::Impl::send_status_locked(std::uint16_t bus, std::uint8_t can_id, HandSlot& slot) {
   slot.held = false;
+  slot.sent_at = clock_.now();
   if (status_writer_ == nullptr) return;  // DDS set-up failed or is gone
   std::lock_guard write_lock(status_write_mutex_);
   if (!status_writer_->write(&slot.sample)) {
@@ -82,6 +83,20 @@ void Service::Impl::hold_republished_status(HandKey hand, msg::CommandReply& rep
 
 void Service::Impl::on_state(std::uint16_t bus_index, const hand::HandState& state) {
   std::lock_guard lock(buses_[bus_index]->status_mutex);
+  on_state_locked(bus_index, state, true);  // sent at the batch's end (on_batch_end)
+}
+
+void Service::Impl::on_fresh(std::uint16_t bus_index, const hand::HandState& state) {
+  BusRuntime& bus = *buses_[bus_index];
+  std::lock_guard lock(bus.status_mutex);
+  const HandSlot* slot = bus.hands[state.can_id].get();
+  // Only the read time is new: a watcher learns the hand is alive and its
+  // values fresh from one sample per refresh; more would cost every watcher
+  // of the domain a sample per idle read. A held sample goes out anyway.
+  if (slot != nullptr && slot->written && !slot->held &&
+      clock_.now() - slot->sent_at < options_.status_refresh) {
+    return;
+  }
   on_state_locked(bus_index, state, true);  // sent at the batch's end (on_batch_end)
 }
 

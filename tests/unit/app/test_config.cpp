@@ -169,6 +169,17 @@ TEST(Config, SimulatorSettingsOnlyOnSimBuses) {
               HasSubstr("out of range (0-100)"));
 }
 
+// A hand at rest republished every 5 s unless the file says otherwise (issue 24).
+TEST(Config, StatusRefreshIsFiveSecondsUnlessTheFileSays) {
+  EXPECT_EQ(default_config().status_refresh, std::chrono::seconds(5));
+  auto from_file =
+      parse_config("dds:\n  status_refresh_ms: 250\nbuses:\n  - spec: sim\n", "cell.yaml");
+  ASSERT_TRUE(from_file.ok()) << from_file.error().message;
+  EXPECT_EQ(from_file->status_refresh, std::chrono::milliseconds(250));
+  EXPECT_THAT(parse_error("dds:\n  status_refresh_ms: -1\nbuses:\n  - spec: sim\n"),
+              HasSubstr("dds.status_refresh_ms"));
+}
+
 // UDP alone unless shared memory is asked for (issue 23): the file's choice,
 // and the command line's over it.
 TEST(Config, SharedMemoryIsOffUnlessAskedForAndTheCommandLineDecides) {

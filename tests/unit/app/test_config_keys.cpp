@@ -43,6 +43,7 @@ std::string file_with(std::string_view path, const std::string& value) {
     const std::string spec = key == "bit_rate" ? "tcp:127.0.0.1:9000" : "sim";
     return "buses:\n  - spec: " + spec + "\n    " + std::string(key) + ": " + value + "\n";
   }
+  if (path.starts_with("dds.")) return "dds:\n  " + std::string(path.substr(4)) + ": " + value + "\n";
   return std::string(path) + ": " + value + "\n";
 }
 
@@ -100,6 +101,7 @@ TEST(ConfigKeys, TheParsersDefaultsAreTheDeclaredOnes) {
       {"log_level", config.log_level},
       {"allow_admin", config.allow_admin ? "true" : "false"},
       {"dds.security.identity", config.participant.security_identity},
+      {"dds.status_refresh_ms", ms(config.status_refresh)},
       {"buses[].bit_rate", std::to_string(bus.bit_rate)},
       {"buses[].command_interval_ms", ms(s.command_interval)},
       {"buses[].poll_interval_watch_ms", ms(s.poll_interval_watch)},

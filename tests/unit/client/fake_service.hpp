@@ -13,6 +13,7 @@
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/DataWriterListener.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
@@ -23,6 +24,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -79,8 +81,9 @@ class FakeService {
                                                  contract::writer_qos(TopicRole::hand_event));
     info_writer_ = publisher->create_datawriter(contract_topics.info,
                                                 contract::writer_qos(TopicRole::service_info));
-    reply_writer_ =
-        publisher->create_datawriter(contract_topics.reply, contract::writer_qos(TopicRole::reply));
+    reply_writer_ = publisher->create_datawriter(
+        contract_topics.reply, contract::writer_qos(TopicRole::reply), &reply_matches_,
+        fdds::StatusMask::publication_matched());
 
     msg::ServiceInfo service_info;
     service_info.service(name_);
@@ -180,6 +183,7 @@ class FakeService {
           replies = fake_.handler_(request);
         }
         fake_.changed_.notify_all();
+        fake_.reply_matches_.wait_for_reader_of(request.client_id());
         for (auto& reply : replies) fake_.reply_writer_->write(&reply);
       }
     }
@@ -188,8 +192,43 @@ class FakeService {
     FakeService& fake_;
   };
 
+  /// The participants whose reply readers the reply writer has matched. As
+  /// dh3-service's ReplyGate does, a reply waits for its client's reader
+  /// (here at most 2 s, on the listener's thread): dh3's client reads
+  /// replies VOLATILE, so a reply written before the writer matched it
+  /// would be lost.
+  class ReplyMatches final : public eprosima::fastdds::dds::DataWriterListener {
+   public:
+    void on_publication_matched(eprosima::fastdds::dds::DataWriter* /*writer*/,
+                                const eprosima::fastdds::dds::PublicationMatchedStatus& status)
+        override {
+      const std::string prefix = contract::client_id_for(
+          eprosima::fastrtps::rtps::iHandle2GUID(status.last_subscription_handle).guidPrefix);
+      {
+        std::lock_guard lock(mutex_);
+        if (status.current_count_change > 0) {
+          prefixes_.insert(prefix);
+        } else if (auto it = prefixes_.find(prefix); it != prefixes_.end()) {
+          prefixes_.erase(it);
+        }
+      }
+      matched_.notify_all();
+    }
+    void wait_for_reader_of(const std::string& client_id) {
+      std::unique_lock lock(mutex_);
+      matched_.wait_for(lock, std::chrono::seconds(2),
+                        [&] { return prefixes_.count(client_id) > 0; });
+    }
+
+   private:
+    std::mutex mutex_;
+    std::condition_variable matched_;
+    std::multiset<std::string> prefixes_;
+  };
+
   std::string name_;
   std::vector<std::uint16_t> ids_;
+  ReplyMatches reply_matches_;  ///< before participant_: its writer calls it
   std::unique_ptr<contract::Participant> participant_;
   eprosima::fastdds::dds::DataWriter* status_writer_ = nullptr;
   eprosima::fastdds::dds::DataWriter* event_writer_ = nullptr;

@@ -248,6 +248,9 @@ class FileParser {
   void parse_dds(const YAML::Node& dds, ServiceConfig& config) const {
     expect_map(dds, "dds");
     check_keys(dds, "dds.", "dds");
+    if (auto n = dds["status_refresh_ms"]) {
+      config.status_refresh = millis(n, "dds.status_refresh_ms", "dds.status_refresh_ms");
+    }
     if (auto list = dds["interfaces"]) {
       if (!list.IsSequence()) fail_at(list, "dds.interfaces", "expected a list of IPv4 addresses");
       for (std::size_t i = 0; i < list.size(); ++i) {

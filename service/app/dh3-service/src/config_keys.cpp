@@ -29,6 +29,7 @@ constexpr std::array kKeys{
     ConfigKey{"dds.discovery_servers", list, "", 0, 0, "HOST[:PORT] of each discovery server, the n-th is `fastdds discovery -i n`; absent: ROS_DISCOVERY_SERVER, else multicast"},
     ConfigKey{"dds.xml_profile_file", text, "", 0, 0, "a Fast DDS XML file with the participant's QoS"},
     ConfigKey{"dds.xml_profile", text, "", 0, 0, "the participant profile in that file (absent: its default profile)"},
+    ConfigKey{"dds.status_refresh_ms", milliseconds, "5000", 0, kDay, "a hand's status that only was read again goes out at most this often (any change at once); 0: after every read"},
     ConfigKey{"dds.security", map, "", 0, 0, "DDS Security (PKI-DH, Access-Permissions, AES-GCM-GMAC); absent: none"},
     ConfigKey{"dds.security.dir", text, "", 0, 0, "the credentials, laid out as deploy/security/make-test-pki.sh writes them (required in dds.security)"},
     ConfigKey{"dds.security.identity", text, "service", 0, 0, "the sub-directory with this participant's credentials"},

@@ -176,6 +176,7 @@ int run_service(const dh3::app::ServiceConfig& config, const sigset_t& stop_sign
   options.name = config.name;
   options.participant = config.participant;
   options.allow_admin = config.allow_admin;
+  options.status_refresh = config.status_refresh;
   options.version = DH3_VERSION;
   options.host = host_name();
   auto service = dh3::dds::Service::create(options, std::move(*buses), clock);

@@ -31,6 +31,13 @@ struct ServiceOptions {
   bool allow_admin = false;  ///< SET_CAN_ID and SET_BAUD_RATE are refused unless set
   std::string version;       ///< published in the service info
   std::string host;          ///< published in the service info
+  /// A hand's status whose values did not change, only their read time (the
+  /// hand read again at rest), is republished at most this often; any
+  /// change goes out at once. Every watcher receives each sample, so at
+  /// rest this is what a hand costs the network: with the idle poll's 500
+  /// ms, 2 samples/s per hand to each watcher would go out instead of 0.2.
+  /// Zero: every idle read is published.
+  Duration status_refresh = std::chrono::seconds(5);
   /// How long stop() waits for subscribers to acknowledge the last samples.
   Duration shutdown_ack_timeout = std::chrono::seconds(2);
   /// Test seam (request_trace_seam.hpp): called at each TracePoint of every

@@ -85,6 +85,8 @@ struct ServiceConfig {
   contract::ParticipantOptions participant = service_participant();
   std::string log_level = "info";
   bool allow_admin = false;
+  /// dds.status_refresh_ms (dds::ServiceOptions::status_refresh).
+  Duration status_refresh = std::chrono::seconds(5);
   /// Where /metrics is served ("IPv4:PORT" or "[IPv6]:PORT"); empty: not served.
   std::string metrics_address;
   std::vector<BusSettings> buses;
