@@ -18,27 +18,10 @@ set -euo pipefail
 build=$(cd "${1:?build dir}" && pwd)
 mode=${2:?vcan or vxcan}
 here=$(cd "$(dirname "$0")" && pwd)
-sim=$build/service/app/dh3-sim/dh3-sim
-service=$build/service/app/dh3-service/dh3-service
-ctl_bin=$build/client/dh3ctl
-work=$(mktemp -d /tmp/dh3-e2e.XXXXXX)
-domain=$((100 + RANDOM % 100))
-pids=()
-
-cleanup() {
-  for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  ip netns del dh3hands 2>/dev/null || true
-  rm -rf "$work"
-}
-trap cleanup EXIT
-fail() {
-  echo "FAIL: $*"
-  for f in service.log sim.out sim.err; do
-    [[ -f $work/$f ]] && { echo "---- $f (last 30 lines)"; tail -n 30 "$work/$f"; }
-  done
-  exit 1
-}
+# shellcheck source=script_lib.sh
+source "$here/script_lib.sh"
+kernel_script_setup e2e
+extra_cleanup() { ip netns del dh3hands 2>/dev/null || true; }
 
 case $mode in
   vcan)
@@ -72,13 +55,6 @@ mkfifo "$work/sim.in"
 sim_pid=$!
 pids+=($sim_pid)
 exec 3>"$work/sim.in"  # the sim's control channel stays open until we close it
-wait_for() {  # wait_for FILE PATTERN SECONDS
-  for _ in $(seq $(($3 * 20))); do
-    grep -q -- "$2" "$1" 2>/dev/null && return 0
-    sleep 0.05
-  done
-  return 1
-}
 wait_for "$work/sim.out" "serving 2 hands on $sim_iface" 20 || fail "dh3-sim did not start"
 
 cat >"$work/service.yaml" <<YAML

@@ -12,34 +12,11 @@
 # must play the recording onto a second interface frame for frame.
 set -euo pipefail
 build=$(cd "${1:?build dir}" && pwd)
-sim=$build/service/app/dh3-sim/dh3-sim
-service=$build/service/app/dh3-service/dh3-service
-ctl_bin=$build/client/dh3ctl
-work=$(mktemp -d /tmp/dh3-record.XXXXXX)
-domain=$((100 + RANDOM % 100))
-pids=()
-
-cleanup() {
-  for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  ip link del vcan1 2>/dev/null || true
-  rm -rf "$work"
-}
-trap cleanup EXIT
-fail() {
-  echo "FAIL: $*"
-  for f in service.log sim.out sim.err; do
-    [[ -f $work/$f ]] && { echo "---- $f (last 30 lines)"; tail -n 30 "$work/$f"; }
-  done
-  exit 1
-}
-wait_for() {  # wait_for FILE PATTERN SECONDS
-  for _ in $(seq $(($3 * 20))); do
-    grep -q -- "$2" "$1" 2>/dev/null && return 0
-    sleep 0.05
-  done
-  return 1
-}
+here=$(cd "$(dirname "$0")" && pwd)
+# shellcheck source=script_lib.sh
+source "$here/script_lib.sh"
+kernel_script_setup record
+extra_cleanup() { ip link del vcan1 2>/dev/null || true; }
 
 ip link show vcan0 >/dev/null 2>&1 || ip link add dev vcan0 type vcan
 ip link set up dev vcan0
