@@ -207,26 +207,52 @@ std::vector<std::string> too_close(const RecordingBus& bus, Duration interval) {
   return out;
 }
 
+/// 32 hands on a 500 kbps line (135-bit frames, a controller queue of 4),
+/// each with an object at 40: more grip-status reads than 80 % of the line
+/// carries, for the line budget to share.
+struct HoldingLine {
+  static std::vector<std::uint8_t> hand_ids() {
+    std::vector<std::uint8_t> ids;
+    for (int id = 1; id <= 32; ++id) ids.push_back(static_cast<std::uint8_t>(id));
+    return ids;
+  }
+  static std::vector<sim::SimHandOptions> holding(const std::vector<std::uint8_t>& ids) {
+    auto sim = sim_hands(ids);
+    for (auto& hand : sim) hand.object_position = 40;
+    return sim;
+  }
+  static sim::SimBusOptions full_line() {
+    sim::SimBusOptions line;
+    line.bit_rate = 500'000;
+    line.bits_per_frame = 135;
+    line.tx_queue_length = 4;
+    return line;
+  }
+
+  std::vector<std::uint8_t> ids = hand_ids();
+  SchedulerHarness h{holding(ids), configs(ids), test_options(), full_line()};
+
+  /// Brings every hand up and grasps with each; false unless every grasp
+  /// ended within 10 s.
+  [[nodiscard]] bool grasp_all(std::map<std::uint8_t, std::optional<CommandResult>>& results) {
+    h.bring_up(ids);
+    for (auto id : ids) {
+      h.scheduler->submit(id, grasp(50),
+                          [&results, id](const CommandResult& r) { results[id] = r; });
+    }
+    return h.run_until([&] { return results.size() == ids.size(); }, 10s);
+  }
+};
+
 TEST(BusSchedulerPolling, ManyHoldingHandsKeepThePacingAndTheLineBudget) {
   // 32 hands on a 500 kbps line, all holding: they would like a grip-status
   // read each every 20 ms, more than 80 % of the line carries; the budget
   // shares what it carries and every hand's slips are still watched.
-  const int n = 32;
-  std::vector<std::uint8_t> ids;
-  for (int id = 1; id <= n; ++id) ids.push_back(static_cast<std::uint8_t>(id));
-  auto sim = sim_hands(ids);
-  for (auto& hand : sim) hand.object_position = 40;
-  sim::SimBusOptions line;
-  line.bit_rate = 500'000;
-  line.bits_per_frame = 135;
-  line.tx_queue_length = 4;
-  SchedulerHarness h(sim, configs(ids), test_options(), line);
-  h.bring_up(ids);
+  HoldingLine line;
+  SchedulerHarness& h = line.h;
+  const std::vector<std::uint8_t>& ids = line.ids;
   std::map<std::uint8_t, std::optional<CommandResult>> results;
-  for (auto id : ids) {
-    h.scheduler->submit(id, grasp(50), [&results, id](const CommandResult& r) { results[id] = r; });
-  }
-  ASSERT_TRUE(h.run_until([&] { return results.size() == ids.size(); }, 10s));
+  ASSERT_TRUE(line.grasp_all(results));
   for (auto& [id, result] : results) ASSERT_TRUE(result->ok()) << "hand " << int(id);
   const TimePoint from = h.clock.now();
   const std::size_t sent_before = h.recorder().sent.size();
@@ -251,26 +277,15 @@ TEST(BusSchedulerPolling, HoldingHandsKeepTheirSpacingWhileAnotherHandCycles) {
   // The others' grip status is still read once per round of the line budget
   // (32 requests at 0.675 ms: 21.6 ms), never a round later: a slip is heard
   // within one spacing of it.
-  const int n = 32;
-  std::vector<std::uint8_t> ids;
-  for (int id = 1; id <= n; ++id) ids.push_back(static_cast<std::uint8_t>(id));
-  auto sim = sim_hands(ids);
-  for (auto& hand : sim) hand.object_position = 40;
-  sim::SimBusOptions line;
-  line.bit_rate = 500'000;
-  line.bits_per_frame = 135;
-  line.tx_queue_length = 4;
-  SchedulerHarness h(sim, configs(ids), test_options(), line);
-  h.bring_up(ids);
+  HoldingLine line;
+  SchedulerHarness& h = line.h;
+  const std::vector<std::uint8_t>& ids = line.ids;
   std::map<std::uint8_t, std::optional<CommandResult>> results;
-  for (auto id : ids) {
-    h.scheduler->submit(id, grasp(50), [&results, id](const CommandResult& r) { results[id] = r; });
-  }
-  ASSERT_TRUE(h.run_until([&] { return results.size() == ids.size(); }, 10s));
+  ASSERT_TRUE(line.grasp_all(results));
   const TimePoint from = h.clock.now();
   std::set<std::uint8_t> cycled;
   for (int c = 0; c < 10; ++c) {
-    const auto id = static_cast<std::uint8_t>(1 + (c * 7) % n);
+    const auto id = static_cast<std::uint8_t>(1 + (c * 7) % ids.size());
     cycled.insert(id);
     h.run_for(std::chrono::milliseconds(200 + 13 * c));  // at varied phases
     h.sim_bus().with_hand(id, [](sim::SimHand& hand) { hand.drop_object(); });
