@@ -119,10 +119,7 @@ expect "4.1.2.0" version e2e/can/1
 
 echo "violations" >&3
 wait_for "$work/sim.out" "^ok " 10 || fail "dh3-sim did not answer 'violations'"
-kill -TERM "$service_pid"
-service_status=0
-wait "$service_pid" || service_status=$?
-((service_status == 0)) || fail "dh3-service exited $service_status on SIGTERM"
+stop_service "$service_pid"
 echo "quit" >&3
 exec 3>&-
 sim_status=0

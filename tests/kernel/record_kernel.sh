@@ -58,10 +58,7 @@ for _ in $(seq 100); do
   sleep 0.1
 done
 
-kill -TERM "$service_pid"
-service_status=0
-wait "$service_pid" || service_status=$?
-((service_status == 0)) || fail "dh3-service exited $service_status on SIGTERM"
+stop_service "$service_pid"
 echo "quit" >&3
 exec 3>&-
 wait "$sim_pid" || true

@@ -6,6 +6,7 @@
 #                              script defines one, runs on exit too
 #   fail MESSAGE               says why, prints the programs' logs, exits 1
 #   wait_for FILE PATTERN SECONDS
+#   stop_service PID           SIGTERM to dh3-service; fails unless it exits 0
 kernel_script_setup() {
   sim=$build/service/app/dh3-sim/dh3-sim
   service=$build/service/app/dh3-service/dh3-service
@@ -37,4 +38,11 @@ wait_for() {  # wait_for FILE PATTERN SECONDS
     sleep 0.05
   done
   return 1
+}
+
+stop_service() {
+  kill -TERM "$1"
+  local status=0
+  wait "$1" || status=$?
+  ((status == 0)) || fail "dh3-service exited $status on SIGTERM"
 }
