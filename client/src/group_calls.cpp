@@ -131,7 +131,10 @@ GroupReply ClientCore::group_call(GroupCommand command, const std::vector<HandAd
 }
 
 void ClientCore::on_group_reply(const msg::GroupReply& reply) {
-  if (reply.client_id() != client_id_) return;
+  if (reply.client_id() != client_id_) {
+    foreign_replies_taken_.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
   std::shared_ptr<std::promise<GroupReply>> promise;
   {
     std::lock_guard lock(mutex_);
