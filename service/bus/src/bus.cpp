@@ -2,6 +2,18 @@
 
 namespace dh3::bus {
 
+Result<std::size_t, BusError> Bus::send_burst(std::span<const CanFrame> frames) {
+  std::size_t taken = 0;
+  for (const CanFrame& frame : frames) {
+    if (auto sent = send(frame); !sent) {
+      if (taken == 0) return dh3::fail(sent.error());
+      break;
+    }
+    ++taken;
+  }
+  return taken;
+}
+
 std::string_view to_string(BusError error) {
   switch (error) {
     case BusError::link_down:

@@ -11,6 +11,16 @@ Result<void, BusError> RecordingBus::send(const CanFrame& frame) {
   return sent;
 }
 
+Result<std::size_t, BusError> RecordingBus::send_burst(std::span<const CanFrame> frames) {
+  auto taken = inner_->send_burst(frames);
+  if (!taken) return taken;
+  const WallTime sent_at = std::chrono::system_clock::now();
+  for (std::size_t i = 0; i < taken.value(); ++i) {
+    recorder_->record(FrameDirection::sent, frames[i], sent_at);
+  }
+  return taken;
+}
+
 Result<void, BusError> RecordingBus::receive(std::vector<CanFrame>& out, Duration timeout) {
   const std::size_t before = out.size();
   auto received = inner_->receive(out, timeout);

@@ -147,21 +147,43 @@ void SocketCanBus::end_bus_off(std::string_view why) {
 }
 
 Result<void, BusError> SocketCanBus::send(const CanFrame& frame) {
-  if (frame.id > CAN_SFF_MASK || frame.length > CAN_MAX_DLEN) {
+  auto sent = send_burst(std::span(&frame, 1));
+  if (!sent) return dh3::fail(sent.error());
+  return {};
+}
+
+Result<std::size_t, BusError> SocketCanBus::send_burst(std::span<const CanFrame> frames) {
+  // A group has at most GROUP_MAX_HANDS (64) members; larger bursts go in rounds.
+  constexpr std::size_t kMaxBurst = 64;
+  std::size_t count = std::min(frames.size(), kMaxBurst);
+  const auto invalid = std::find_if(frames.begin(), frames.begin() + count, [](const CanFrame& f) {
+    return f.id > CAN_SFF_MASK || f.length > CAN_MAX_DLEN;
+  });
+  count = static_cast<std::size_t>(invalid - frames.begin());
+  if (count == 0) {
+    if (frames.empty()) return std::size_t{0};
     return dh3::fail(BusError::frame_invalid);
   }
   if (!can_carry_frames()) return dh3::fail(BusError::link_down);
-  can_frame raw{};
-  raw.can_id = frame.id;
-  raw.len = frame.length;
-  std::copy_n(frame.data.begin(), frame.length, raw.data);
+  std::array<can_frame, kMaxBurst> raw{};
+  std::array<iovec, kMaxBurst> io{};
+  std::array<mmsghdr, kMaxBurst> messages{};
+  for (std::size_t i = 0; i < count; ++i) {
+    raw[i].can_id = frames[i].id;
+    raw[i].len = frames[i].length;
+    std::copy_n(frames[i].data.begin(), frames[i].length, raw[i].data);
+    io[i] = iovec{&raw[i], sizeof raw[i]};
+    messages[i].msg_hdr.msg_iov = &io[i];
+    messages[i].msg_hdr.msg_iovlen = 1;
+  }
   for (;;) {
-    const ssize_t n = ::send(fd_.get(), &raw, sizeof raw, MSG_DONTWAIT | MSG_NOSIGNAL);
-    if (n == static_cast<ssize_t>(sizeof raw)) {
-      ++frames_sent_;
-      return {};
+    const int n = ::sendmmsg(fd_.get(), messages.data(), static_cast<unsigned>(count),
+                             MSG_DONTWAIT | MSG_NOSIGNAL);
+    if (n > 0) {
+      frames_sent_ += static_cast<std::uint64_t>(n);
+      return static_cast<std::size_t>(n);
     }
-    if (n >= 0) return dh3::fail(BusError::io_error);  // a datagram is never cut
+    if (n == 0) return dh3::fail(BusError::io_error);
     const int error = errno;
     switch (error) {
       case EINTR:

@@ -212,7 +212,7 @@ class ListBus final : public Bus {
  public:
   const std::string& spec() const override { return spec_; }
   Result<void, BusError> send(const CanFrame& frame) override {
-    if (refuse) return dh3::fail(BusError::would_block);
+    if (refuse || sent.size() >= room) return dh3::fail(BusError::would_block);
     sent.push_back(frame);
     return {};
   }
@@ -228,6 +228,7 @@ class ListBus final : public Bus {
   LinkState link_state() const override { return LinkState::up; }
 
   bool refuse = false;
+  std::size_t room = SIZE_MAX;  ///< frames it takes before it says would_block
   std::vector<CanFrame> sent;
   std::vector<CanFrame> incoming;
   std::vector<WallTime> incoming_times;
@@ -264,6 +265,34 @@ TEST(RecordingBus, RecordsWhatTheBackendSentAndReceivedWithTheBackendsTimes) {
   EXPECT_TRUE(lines[0].ends_with(" bus0 002#0F01000000000000 T")) << lines[0];
   EXPECT_EQ(lines[1], "(0000000007.000000) bus0 002#0F01000003000000 R");
   EXPECT_EQ(lines[2], "(0000000008.000000) bus0 002#0F01000003000000 R");
+}
+
+TEST(RecordingBus, ABurstIsSentOneByOneByDefaultAndOnlyWhatWasTakenIsRecorded) {
+  TempDir dir;
+  auto list = std::make_unique<ListBus>();
+  ListBus& backend = *list;
+  backend.room = 2;
+  auto recorder = FrameRecorder::start("bus0", RecorderOptions{dir.path()});
+  ASSERT_TRUE(recorder);
+  auto bus = std::make_unique<RecordingBus>(std::move(list), std::move(*recorder));
+  const std::vector<CanFrame> group{{1, 8, {0x06, 0x02, 0x01, 0, 0x3C, 0, 0, 0}},
+                                    {2, 8, {0x06, 0x02, 0x01, 0, 0x3C, 0, 0, 0}},
+                                    {3, 8, {0x06, 0x02, 0x01, 0, 0x3C, 0, 0, 0}}};
+  const auto taken = bus->send_burst(group);
+  ASSERT_TRUE(taken);
+  EXPECT_EQ(taken.value(), 2u) << "the first two; the caller offers the third again";
+  ASSERT_EQ(backend.sent.size(), 2u);
+  EXPECT_EQ(backend.sent[1].id, 2u);
+  const auto none = bus->send_burst(std::span(group).subspan(2));
+  ASSERT_FALSE(none);
+  EXPECT_EQ(none.error(), BusError::would_block);
+  EXPECT_EQ(bus->send_burst({}).value(), 0u);
+  const fs::path file = dir.path() / "bus0.000001.log";
+  bus.reset();
+  const auto lines = lines_of(file);
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_TRUE(lines[0].ends_with(" bus0 001#060201003C000000 T")) << lines[0];
+  EXPECT_TRUE(lines[1].ends_with(" bus0 002#060201003C000000 T")) << lines[1];
 }
 
 }  // namespace

@@ -132,6 +132,44 @@ TEST_F(SocketCanBusTest, SendAcceptsEveryStandardIdAndRejectsInvalidFrames) {
   EXPECT_FALSE(read_datagram(peer_.get(), 0).has_value());  // the invalid ones never left
 }
 
+TEST_F(SocketCanBusTest, SendBurstWritesEveryFrameInOrderAsItsOwnDatagram) {
+  auto bus = make_bus(SystemClock::instance());
+  std::vector<CanFrame> group;
+  for (std::uint32_t id : {3U, 1U, 2U}) {
+    // spec "Position": 06 02 01 00 3C 00 00 00, to three hands
+    group.push_back(test::to_can_frame(protocol::make_write(id, protocol::reg::kPosition, 60)));
+  }
+  const auto taken = bus->send_burst(group);
+  ASSERT_TRUE(taken.ok());
+  EXPECT_EQ(taken.value(), 3u);
+  for (std::uint32_t id : {3U, 1U, 2U}) {
+    const auto datagram = read_datagram(peer_.get());
+    ASSERT_TRUE(datagram.has_value());
+    ASSERT_EQ(datagram->size(), sizeof(can_frame));
+    can_frame seen{};
+    std::memcpy(&seen, datagram->data(), sizeof seen);
+    EXPECT_EQ(seen.can_id, id);
+    EXPECT_EQ(std::vector<std::uint8_t>(seen.data, seen.data + 8),
+              (std::vector<std::uint8_t>{0x06, 0x02, 0x01, 0x00, 0x3C, 0x00, 0x00, 0x00}));
+  }
+  EXPECT_EQ(bus->counters().frames_sent, 3u);
+}
+
+TEST_F(SocketCanBusTest, SendBurstStopsBeforeAnInvalidFrame) {
+  auto bus = make_bus(SystemClock::instance());
+  CanFrame valid;
+  valid.id = 5;
+  CanFrame invalid;
+  invalid.id = 0x800;
+  const std::vector<CanFrame> frames{valid, invalid, valid};
+  const auto taken = bus->send_burst(frames);
+  ASSERT_TRUE(taken.ok());
+  EXPECT_EQ(taken.value(), 1u);
+  EXPECT_EQ(bus->send_burst(std::span(frames).subspan(1)).error(), BusError::frame_invalid);
+  EXPECT_TRUE(read_datagram(peer_.get()).has_value());
+  EXPECT_FALSE(read_datagram(peer_.get(), 0).has_value()) << "only the first left";
+}
+
 TEST_F(SocketCanBusTest, ReceivesEveryFrameThePeerSends) {
   auto bus = make_bus(SystemClock::instance());
   const auto reply = protocol::make_write(2, protocol::reg::kRotation, 67);

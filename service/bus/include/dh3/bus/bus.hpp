@@ -104,6 +104,14 @@ class Bus {
   /// Sends one frame. Never blocks. link_down when the link is down.
   virtual Result<void, BusError> send(const CanFrame& frame) = 0;
 
+  /// Sends `frames` back to back, in order (a group command's frames), and
+  /// says how many it took: all, or the first few when the send buffer
+  /// filled or a frame was invalid (the caller offers the rest again). Fails,
+  /// having sent none, when not even the first was taken. Never blocks. The
+  /// default sends them one by one; SocketCAN hands them to the kernel in one
+  /// system call, so nothing else runs between them on this machine.
+  virtual Result<std::size_t, BusError> send_burst(std::span<const CanFrame> frames);
+
   /// Waits at most `timeout` (0: do not wait) for frames and appends every one
   /// received to `out`. Backends that reconnect try to bring the link back up
   /// here, with backoff, and report link_down meanwhile. Returns early on wake().

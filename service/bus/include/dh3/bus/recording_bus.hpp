@@ -19,6 +19,8 @@ class RecordingBus final : public Bus {
 
   [[nodiscard]] const std::string& spec() const override { return inner_->spec(); }
   Result<void, BusError> send(const CanFrame& frame) override;
+  /// The backend's own burst; the frames it took are recorded.
+  Result<std::size_t, BusError> send_burst(std::span<const CanFrame> frames) override;
   Result<void, BusError> receive(std::vector<CanFrame>& out, Duration timeout) override;
   [[nodiscard]] std::span<const WallTime> receive_times() const override {
     return inner_->receive_times();

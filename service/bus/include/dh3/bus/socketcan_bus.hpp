@@ -71,6 +71,9 @@ class SocketCanBus final : public Bus {
   /// frame_invalid for ids over 0x7FF or lengths over 8; would_block when the
   /// kernel's transmit queue is full.
   Result<void, BusError> send(const CanFrame& frame) override;
+  /// One sendmmsg() for all of them: the kernel queues them back to back
+  /// before this thread can be preempted. Validates every frame first.
+  Result<std::size_t, BusError> send_burst(std::span<const CanFrame> frames) override;
   /// Frames received before the link dropped are returned with success; the
   /// drop is reported by the next call.
   Result<void, BusError> receive(std::vector<CanFrame>& out, Duration timeout) override;
