@@ -6,15 +6,18 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <map>
 #include <mutex>
 #include <thread>
 
 #include "dh3/hand/command_validation.hpp"
 #include "dh3/hand/group_release.hpp"
 #include "dh3/protocol/codec.hpp"
+#include "discovery_scan.hpp"
 #include "hand_counters.hpp"
 #include "hand_driver.hpp"
+#include "id_zero_reservation.hpp"
+#include "line_budget.hpp"
+#include "link_monitor.hpp"
 
 namespace dh3::hand {
 namespace {
@@ -22,11 +25,6 @@ namespace {
 /// The longest the loop sleeps in receive() with nothing due, so that a
 /// reconnecting backend is retried and stop() is noticed promptly.
 constexpr Duration kMaxIdleWait = std::chrono::milliseconds(100);
-
-/// An 8-byte CAN 2.0A frame with worst-case bit stuffing.
-constexpr double kWorstCaseBitsPerFrame = 135.0;
-/// Requests the line budget may catch up with after an idle moment.
-constexpr int kLineBurst = 4;
 
 bus::CanFrame to_frame(const protocol::Message& message) {
   bus::CanFrame frame;
@@ -51,22 +49,18 @@ class BusScheduler::Impl {
         roster_(hands),
         context_{
             options_, observer_, name_, roster_, unexpected_, latency_, [this] { bus_->wake(); }},
-        discover_(hands.empty()) {
-    if (bus_->bit_rate() > 0 && options_.max_line_load > 0.0) {
-      // A request and its reply, worst-case bit stuffing, at the allowed load.
-      const double seconds = 2.0 * kWorstCaseBitsPerFrame / static_cast<double>(bus_->bit_rate()) /
-                             options_.max_line_load;
-      line_spacing_ = std::chrono::duration_cast<Duration>(std::chrono::duration<double>(seconds));
-    }
-    bit_rate_ = bus_->bit_rate();
-    link_up_ = bus_->link_state() == bus::LinkState::up;
-    link_.store(bus_->link_state());
+        bit_rate_(bus_->bit_rate()),
+        link_(bus_->link_state()),
+        line_(bit_rate_, options_.max_line_load),
+        id_zero_(options_.frame_spacing()),
+        scan_(DiscoveryOptions{hands.empty(), options_.discovery_interval, options_.probe_spacing,
+                               options_.reply_timeout},
+              clock_.now()) {
     const TimePoint now = clock_.now();
     for (HandConfig& hand : hands) {
       if (hand.can_id == 0 || drivers_[hand.can_id]) continue;
       add_driver(std::move(hand), now)->publish_now(now);
     }
-    next_discovery_at_ = now;
   }
 
   ~Impl() {
@@ -124,7 +118,7 @@ class BusScheduler::Impl {
 
   SchedulerCounters counters() const {
     SchedulerCounters out{frames_sent_.load(), frames_received_.load(), unexpected_.load(), 0, 0,
-                          bus_errors_.load(),  reconnects_.load()};
+                          bus_errors_.load(),  link_.reconnects()};
     // Retries and timeouts are counted per hand only; the bus's are their sum.
     for (const auto& slot : hand_counters_) {
       if (const HandCounters* hand = slot.load(std::memory_order_acquire)) {
@@ -138,7 +132,7 @@ class BusScheduler::Impl {
   BusMetrics metrics() const {
     BusMetrics out;
     out.bus = name_;
-    out.link_up = link_.load() == bus::LinkState::up;
+    out.link_up = link_.state() == bus::LinkState::up;
     out.counters = counters();
     out.bit_rate = bit_rate_;
     out.recent_frames_per_second = recent_frames_.frames_per_second();
@@ -166,7 +160,7 @@ class BusScheduler::Impl {
   }
 
   const std::string& name() const { return name_; }
-  bus::LinkState link_state() const { return link_.load(); }
+  bus::LinkState link_state() const { return link_.state(); }
 
   void start() {
     if (running_.exchange(true)) return;
@@ -232,16 +226,11 @@ class BusScheduler::Impl {
     auto consider = [&](TimePoint t) {
       if (!earliest || t < *earliest) earliest = t;
     };
-    if (link_up_) {
+    if (link_.up()) {
       for (std::uint8_t id : order_) {
-        if (auto t = drivers_[id]->next_wakeup()) consider(line_allows(*t) ? *t : line_next_at_);
+        if (auto t = drivers_[id]->next_wakeup()) consider(line_.allows(*t) ? *t : line_.next_at());
       }
-      if (scan_) {
-        if (scan_->next_id <= 255) consider(scan_->next_probe_at);
-        for (const auto& [id, probe] : scan_->pending) consider(probe.deadline);
-      } else if (discover_ && options_.discovery_interval > Duration::zero()) {
-        consider(next_discovery_at_);
-      }
+      if (auto t = scan_.next_wakeup()) consider(*t);
     }
     return earliest.value_or(now + kMaxIdleWait);
   }
@@ -252,24 +241,13 @@ class BusScheduler::Impl {
     HandDriver::Job job;
   };
 
-  /// A probe of IDs 1-255 for hands nobody configured.
-  struct Scan {
-    std::vector<ScanCompletion> waiting;
-    int next_id = 1;
-    TimePoint next_probe_at{};
-    struct Probe {
-      TimePoint sent{};
-      TimePoint deadline{};
-    };
-    std::map<std::uint8_t, Probe> pending;  ///< probed, not answered yet
-  };
-
   HandDriver* add_driver(HandConfig config, TimePoint now) {
     const std::uint8_t id = config.can_id;
     drivers_[id] = std::make_unique<HandDriver>(std::move(config), context_, queued_[id],
                                                 counters_for(id), now, id == 0);
     order_.push_back(id);
     roster_.add(id);
+    scan_.known(id);
     return drivers_[id].get();
   }
 
@@ -289,11 +267,8 @@ class BusScheduler::Impl {
     recent_frames_.roll(now);
     recent_frames_.count(frames_.size());
     if (!received && received.error() == bus::BusError::io_error) bus_errors_.fetch_add(1);
-    if (!received && received.error() == bus::BusError::link_down) {
-      if (link_up_) on_link_down(now);
-    } else if (!link_up_ && bus_->link_state() == bus::LinkState::up) {
-      on_link_up(now);
-    }
+    const bool link_lost = !received && received.error() == bus::BusError::link_down;
+    on_link_change(link_lost ? link_.on_link_lost() : link_.on_reported(bus_->link_state()), now);
     drain_inbox(now);
     for (const bus::CanFrame& frame : frames_) on_frame(frame, now);
     for (std::uint8_t id : order_) drivers_[id]->on_time(now);
@@ -310,7 +285,7 @@ class BusScheduler::Impl {
       scans.swap(scan_requests_);
     }
     for (Submitted& item : items) {
-      if (!link_up_) {
+      if (!link_.up()) {
         queued_[item.can_id].fetch_sub(1);
         refuse(item.can_id, item.job.command, item.job.done, CommandError::bus_down);
         continue;
@@ -320,12 +295,13 @@ class BusScheduler::Impl {
       driver->enqueue(std::move(item.job), now);
     }
     for (ScanCompletion& done : scans) {
-      if (!link_up_) {
+      if (!link_.up()) {
         done({});
         continue;
       }
-      if (!scan_) start_scan(now);
-      scan_->waiting.push_back(std::move(done));
+      if (scan_.request(std::move(done), now)) {
+        spdlog::debug("{}: probing CAN IDs 1-255 for hands", name_);
+      }
     }
   }
 
@@ -346,13 +322,12 @@ class BusScheduler::Impl {
       if (!driver->on_frame(*message, now)) unexpected(protocol::describe(*message));
       return;
     }
-    if (scan_ && message->reg == protocol::reg::kFirmwareVersion) {
-      if (const auto probe = scan_->pending.find(id); probe != scan_->pending.end()) {
+    if (message->reg == protocol::reg::kFirmwareVersion) {
+      if (const auto probe_sent = scan_.answered(id)) {
         spdlog::info("{}: found a hand with CAN ID {}", name_, id);
         HandDriver* found = add_driver(HandConfig{id, {}}, now);
         // The probe was this hand's first frame: its own reads keep the interval to it.
-        found->hold_sends_until(probe->second.sent + options_.frame_spacing());
-        scan_->pending.erase(probe);
+        found->hold_sends_until(*probe_sent + options_.frame_spacing());
         found->on_discovered(*message, now);
         return;
       }
@@ -369,7 +344,7 @@ class BusScheduler::Impl {
   }
 
   void send_due(TimePoint pass_started) {
-    if (!link_up_) return;
+    if (!link_.up()) return;
     if (!send_group_frames()) return;
     reserve_for_id_zero(pass_started);
     const std::size_t n = order_.size();
@@ -378,12 +353,12 @@ class BusScheduler::Impl {
       // before it got here: pace on the time of each send, not of the pass.
       const TimePoint now = clock_.now();
       const std::size_t index = (rr_ + k) % n;
-      if (!line_allows(now)) {
+      if (!line_.allows(now)) {
         rr_ = index;  // this hand goes first when the line has room again
         return;
       }
       const std::uint8_t id = order_[index];
-      if (id == 0 && !id_zero_may_send(now)) continue;
+      if (id == 0 && !id_zero_.may_send(now)) continue;
       HandDriver& driver = *drivers_[id];
       const auto message = driver.next_frame(now);
       if (!message) continue;
@@ -404,17 +379,18 @@ class BusScheduler::Impl {
     if (sent) {
       frames_sent_.fetch_add(1);
       recent_frames_.count(1);
-      line_used(now);
+      line_.used(now);
       // The interval counts from when the frame left, which is after now.
       const TimePoint left = clock_.now();
       driver.hold_sends_until(left + options_.frame_spacing());
-      last_sent_[id] = left;
-      if (id == 0) id_zero_sent(left);
+      id_zero_.frame_sent(id, left);
+      // A frame to ID 0 reached every hand: each waits the interval after it.
+      if (id == 0) hold_others(left + options_.frame_spacing());
       return true;
     }
     driver.unsend();
     if (sent.error() == bus::BusError::link_down) {
-      on_link_down(now);
+      on_link_change(link_.on_link_lost(), now);
       return false;
     }
     if (sent.error() != bus::BusError::would_block) {
@@ -439,159 +415,83 @@ class BusScheduler::Impl {
     return true;
   }
 
-  // ---- pacing across senders ------------------------------------------------
-  //
-  // Each driver paces its own frames (SchedulerOptions::frame_spacing()). Two
-  // kinds of frame reach a hand from elsewhere: the scan's discovery probes
-  // (handled where a probe is answered) and frames to ID 0, which every hand on
-  // the bus receives. A frame to ID 0 therefore waits until no hand, and no
-  // probe, had a frame within the interval, and every hand and the scan wait the
-  // interval after it. While it waits, the others are held, so it cannot starve
-  // behind hands that keep polling.
+  // ---- pacing across senders (id_zero_reservation.hpp) ---------------------
 
   void reserve_for_id_zero(TimePoint now) {
     HandDriver* id_zero = drivers_[0].get();
-    if (!id_zero || !id_zero->has_command_frame()) {
-      id_zero_slot_.reset();
-      return;
-    }
-    if (id_zero_slot_) return;
-    TimePoint slot = std::max({now, id_zero->paced_until(), others_clear_at()});
-    id_zero_slot_ = slot;
-    id_zero->hold_sends_until(slot);
+    const bool waiting = id_zero && id_zero->has_command_frame();
+    const auto slot =
+        id_zero_.reserve(waiting, waiting ? std::max(now, id_zero->paced_until()) : now);
+    if (!slot) return;
+    id_zero->hold_sends_until(*slot);
+    hold_others(*slot + options_.frame_spacing());
+  }
+
+  /// Every hand but ID 0 sends nothing before `until`.
+  void hold_others(TimePoint until) {
     for (std::uint8_t id : order_) {
-      if (id != 0) drivers_[id]->hold_sends_until(slot + options_.frame_spacing());
+      if (id != 0) drivers_[id]->hold_sends_until(until);
     }
   }
 
-  /// When the interval since the last frame to any hand (or probe) has passed.
-  [[nodiscard]] TimePoint others_clear_at() const {
-    TimePoint clear{};
-    for (std::uint8_t id : order_) {
-      if (id != 0 && last_sent_[id]) clear = std::max(clear, *last_sent_[id]);
-    }
-    if (last_probe_at_) clear = std::max(clear, *last_probe_at_);
-    return clear + options_.frame_spacing();
-  }
-
-  [[nodiscard]] bool id_zero_may_send(TimePoint now) {
-    if (now >= others_clear_at()) return true;
-    id_zero_slot_.reset();  // something went out after all (a delayed send): reserve again
-    return false;
-  }
-
-  void id_zero_sent(TimePoint now) {
-    id_zero_slot_.reset();
-    for (std::uint8_t id : order_) {
-      if (id != 0) drivers_[id]->hold_sends_until(now + options_.frame_spacing());
-    }
-  }
-
-  /// Probes wait while a frame to ID 0 waits, and the interval after one.
-  [[nodiscard]] TimePoint probes_allowed_at() const {
-    TimePoint allowed{};
-    if (last_sent_[0]) allowed = *last_sent_[0] + options_.frame_spacing();
-    if (id_zero_slot_) allowed = std::max(allowed, *id_zero_slot_ + options_.frame_spacing());
-    return allowed;
-  }
-
-  // ---- line budget -----------------------------------------------------------
-
-  [[nodiscard]] bool line_allows(TimePoint now) const {
-    return line_spacing_ == Duration::zero() || line_next_at_ <= now;
-  }
-  void line_used(TimePoint now) {
-    if (line_spacing_ == Duration::zero()) return;
-    line_next_at_ = std::max(line_next_at_, now - kLineBurst * line_spacing_) + line_spacing_;
-  }
-
-  // ---- discovery -------------------------------------------------------------
-
-  void start_scan(TimePoint now) {
-    scan_.emplace();
-    scan_->next_probe_at = now;
-    spdlog::debug("{}: probing CAN IDs 1-255 for hands", name_);
-  }
+  // ---- discovery (discovery_scan.hpp) ----------------------------------------
 
   void send_probes(TimePoint now) {
-    if (!scan_) return;
-    if (const TimePoint allowed = probes_allowed_at(); now < allowed) {
-      scan_->next_probe_at = std::max(scan_->next_probe_at, allowed);
+    if (!scan_.active()) return;
+    if (const TimePoint allowed = id_zero_.probes_allowed_at(); now < allowed) {
+      scan_.hold_until(allowed);
       return;
     }
-    while (scan_->next_id <= 255 && now >= scan_->next_probe_at && line_allows(now)) {
-      const auto id = static_cast<std::uint8_t>(scan_->next_id);
-      if (drivers_[id]) {
-        ++scan_->next_id;  // known hands answer their own polls
-        continue;
-      }
-      const auto probe = protocol::make_read(id, protocol::reg::kFirmwareVersion);
-      const auto sent = bus_->send(to_frame(probe));
+    while (line_.allows(now)) {
+      const auto id = scan_.due_probe(now);
+      if (!id) return;
+      const auto sent =
+          bus_->send(to_frame(protocol::make_read(*id, protocol::reg::kFirmwareVersion)));
       if (!sent) {
-        if (sent.error() == bus::BusError::link_down) on_link_down(now);
+        if (sent.error() == bus::BusError::link_down) on_link_change(link_.on_link_lost(), now);
         if (sent.error() == bus::BusError::io_error) bus_errors_.fetch_add(1);
         return;  // would_block: the next pass tries this ID again
       }
       frames_sent_.fetch_add(1);
       recent_frames_.count(1);
-      line_used(now);
+      line_.used(now);
       const TimePoint left = clock_.now();
-      last_probe_at_ = left;
-      scan_->pending[id] = Scan::Probe{left, left + options_.reply_timeout};
-      ++scan_->next_id;
-      scan_->next_probe_at = now + options_.probe_spacing;
-      if (options_.probe_spacing > Duration::zero()) return;
+      id_zero_.probe_sent(left);
+      if (!scan_.probe_sent(now, left)) return;
     }
   }
 
   void scan_on_time(TimePoint now) {
-    if (!scan_) {
-      if (discover_ && link_up_ && now >= next_discovery_at_ &&
-          (options_.discovery_interval > Duration::zero() || !discovered_once_)) {
-        start_scan(now);
-      }
-      return;
-    }
-    std::erase_if(scan_->pending, [&](const auto& entry) { return now >= entry.second.deadline; });
-    if (scan_->next_id > 255 && scan_->pending.empty()) {
-      finish_scan();
-      discovered_once_ = true;
-      next_discovery_at_ = now + options_.discovery_interval;
-    }
+    const ScanTick tick = scan_.on_time(now, link_.up());
+    if (tick == ScanTick::started) spdlog::debug("{}: probing CAN IDs 1-255 for hands", name_);
+    if (tick == ScanTick::complete) finish_scan();
   }
 
   void finish_scan() {
-    if (!scan_) return;
+    if (!scan_.active()) return;
     std::vector<std::uint8_t> found;
     for (std::uint8_t id : order_) {
       if (id != 0 && drivers_[id]->state().online) found.push_back(id);
     }
     std::sort(found.begin(), found.end());
-    auto waiting = std::move(scan_->waiting);
-    scan_.reset();
     spdlog::debug("{}: scan found {} hands", name_, found.size());
-    for (ScanCompletion& done : waiting) done(found);
+    scan_.finish(found);
   }
 
-  // ---- link ------------------------------------------------------------------
+  // ---- link (link_monitor.hpp) -------------------------------------------------
 
-  void on_link_down(TimePoint now) {
-    link_up_ = false;
-    link_.store(bus::LinkState::down);
-    spdlog::warn("{}: bus down ({})", name_, bus_->spec());
-    observer_.on_link(bus::LinkState::down);
-    for (std::uint8_t id : order_) drivers_[id]->on_link_down(now);
-    finish_scan();
-  }
-
-  void on_link_up(TimePoint now) {
-    reconnects_.fetch_add(1);
-    link_up_ = true;
-    link_.store(bus::LinkState::up);
-    spdlog::info("{}: bus up ({})", name_, bus_->spec());
-    observer_.on_link(bus::LinkState::up);
-    for (std::uint8_t id : order_) drivers_[id]->on_link_up(now);
-    if (discover_) next_discovery_at_ = now;
+  void on_link_change(LinkChange change, TimePoint now) {
+    if (change == LinkChange::went_down) {
+      spdlog::warn("{}: bus down ({})", name_, bus_->spec());
+      observer_.on_link(bus::LinkState::down);
+      for (std::uint8_t id : order_) drivers_[id]->on_link_down(now);
+      finish_scan();
+    } else if (change == LinkChange::came_up) {
+      spdlog::info("{}: bus up ({})", name_, bus_->spec());
+      observer_.on_link(bus::LinkState::up);
+      for (std::uint8_t id : order_) drivers_[id]->on_link_up(now);
+      scan_.on_link_up(now);
+    }
   }
 
   std::string name_;
@@ -604,7 +504,6 @@ class BusScheduler::Impl {
   std::atomic<std::uint64_t> frames_received_{0};
   std::atomic<std::uint64_t> unexpected_{0};
   std::atomic<std::uint64_t> bus_errors_{0};
-  std::atomic<std::uint64_t> reconnects_{0};
   /// The set of hands and their published states (hand_roster.hpp).
   HandRoster roster_;
   BusLatencyCounters latency_;
@@ -613,10 +512,11 @@ class BusScheduler::Impl {
   std::array<std::atomic<HandCounters*>, 256> hand_counters_{};
   std::uint32_t bit_rate_ = 0;
   RecentFrames recent_frames_{clock_.now()};
+  /// Its state is read by metrics() and link_state() on any thread.
+  LinkMonitor link_;
 
   // Read by submit() on any thread; written by the loop.
   std::array<std::atomic<int>, 256> queued_{};
-  std::atomic<bus::LinkState> link_{bus::LinkState::down};
 
   std::mutex inbox_mutex_;
   std::vector<Submitted> inbox_;
@@ -627,19 +527,10 @@ class BusScheduler::Impl {
   std::array<std::unique_ptr<HandDriver>, 256> drivers_{};
   std::vector<std::uint8_t> order_;
   std::size_t rr_ = 0;
-  bool link_up_ = false;
-  bool discover_ = false;
-  bool discovered_once_ = false;
-  TimePoint next_discovery_at_{};
-  std::optional<Scan> scan_;
   std::vector<bus::CanFrame> frames_;
-  /// When a frame last went out to each CAN ID (ID 0 included), and the last probe.
-  std::array<std::optional<TimePoint>, 256> last_sent_{};
-  std::optional<TimePoint> last_probe_at_;
-  /// A frame to ID 0 waits for this time; the others are held past it.
-  std::optional<TimePoint> id_zero_slot_;
-  Duration line_spacing_{};  ///< zero: no line budget
-  TimePoint line_next_at_{};
+  LineBudget line_;
+  IdZeroReservation id_zero_;
+  DiscoveryScan scan_;
 
   std::atomic<bool> running_{false};
   std::thread thread_;

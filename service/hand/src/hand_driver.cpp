@@ -31,6 +31,8 @@ HandDriver::HandDriver(HandConfig config, DriverContext& context, std::atomic<in
       queued_(queued),
       counters_(counters),
       anonymous_(anonymous),
+      outbox_(context.observer, context.roster, context.latency, context.options.poll_interval_idle,
+              anonymous),
       link_(Offline{now}),
       next_send_at_(now) {
   state_.can_id = config.can_id;
@@ -341,7 +343,7 @@ void HandDriver::complete(Job& job, const CommandResult& result) {
     job.command.group->abandon(fmt::format("{}: {} ended {}", label(), to_string(job.command.kind),
                                            to_string(result.error())));
   }
-  pending_completions_.push_back({std::move(job.done), result, job.submitted});
+  outbox_.add_completion(std::move(job.done), result, job.submitted);
 }
 
 void HandDriver::set_error(CommandError error, std::string message) {
@@ -371,46 +373,13 @@ void HandDriver::emit(EventKind kind, TimePoint now, std::int32_t value, std::st
   event.message = std::move(message);
   spdlog::info("{}: {}{}{}", label(), to_string(kind), event.message.empty() ? "" : ": ",
                event.message);
-  pending_events_.push_back(std::move(event));
+  outbox_.add_event(std::move(event));
 }
 
 void HandDriver::publish_now(TimePoint now) {
   if (anonymous_) return;
-  ever_published_ = false;
+  outbox_.publish_again();
   flush(now);
-}
-
-void HandDriver::flush(TimePoint now) {
-  bool reported = true;
-  if (!anonymous_ && (!ever_published_ || context_.roster.differs_from_published(state_))) {
-    ever_published_ = true;
-    ++state_.sequence;
-    state_.updated_at = now;
-    published_read_at_ = state_.read_at;
-    context_.roster.publish(state_);
-    context_.observer.on_state(state_);
-  } else if (!anonymous_ && state_.read_at >= published_read_at_ + options_.poll_interval_idle) {
-    published_read_at_ = state_.read_at;
-    context_.roster.publish(state_);  // the same fields, read again
-    context_.observer.on_fresh(state_);
-  } else {
-    reported = false;
-  }
-  // The observer writes the sample out before this returns (on_batch_end).
-  if (reported && state_.read_at != TimePoint{}) {
-    context_.latency.sample_age.observe(now - state_.read_at);
-  }
-  // Callbacks may call back into the scheduler (submit): take the lists first.
-  auto events = std::move(pending_events_);
-  pending_events_.clear();
-  for (const HandEvent& event : events) context_.observer.on_event(event);
-  auto completions = std::move(pending_completions_);
-  pending_completions_.clear();
-  for (auto& [done, result, submitted] : completions) {
-    context_.latency.command_to_reply.observe(now - submitted);
-    if (done) done(result);
-  }
-  if (reported) context_.observer.on_batch_end(state_.can_id);
 }
 
 }  // namespace dh3::hand

@@ -19,7 +19,9 @@
 //
 // The code is split by job: hand_driver.cpp (commands in, lifecycle, time,
 // reporting), hand_driver_sending.cpp (which frame goes next, the steps of each
-// command), hand_driver_receiving.cpp (replies and what they change).
+// command), hand_driver_receiving.cpp (replies and what they change). What a
+// pass reports (state, events, completions) waits in a HandOutbox until the
+// pass ends (hand_outbox.hpp).
 
 #include <atomic>
 #include <cstdint>
@@ -38,6 +40,7 @@
 #include "dh3/hand/hand_types.hpp"
 #include "dh3/protocol/codec.hpp"
 #include "hand_counters.hpp"
+#include "hand_outbox.hpp"
 
 namespace dh3::hand {
 
@@ -177,7 +180,7 @@ class HandDriver {
   void set_error(CommandError error, std::string message);
   /// Publishes the state if it changed, then the events, then the completions,
   /// so that whoever hears of an event or a result finds the state behind it.
-  void flush(TimePoint now);
+  void flush(TimePoint now) { outbox_.deliver(state_, now); }
   [[nodiscard]] Duration reply_timeout_for(const Job& job) const;
   [[nodiscard]] std::string label() const;
 
@@ -190,9 +193,8 @@ class HandDriver {
   /// the copy it publishes to the roster (DriverContext::roster). `online` and
   /// `initialized` mirror link_ (initialized: as last known while unknown).
   HandState state_;
-  bool ever_published_ = false;
-  /// read_at of the last state told to the observer (on_state or on_fresh).
-  TimePoint published_read_at_{};
+  /// Events and completions of this pass, delivered with the state at flush().
+  HandOutbox outbox_;
 
   Link link_;
   int consecutive_timeouts_ = 0;
@@ -220,15 +222,6 @@ class HandDriver {
   /// Status values outside the document, reported once per axis.
   std::int32_t last_undefined_grip_status_ = 0;
   std::int32_t last_undefined_rotation_status_ = 0;
-
-  std::vector<HandEvent> pending_events_;
-  /// Results to hand back at flush(), with when their command was submitted.
-  struct PendingCompletion {
-    Completion done;
-    CommandResult result;
-    TimePoint submitted{};
-  };
-  std::vector<PendingCompletion> pending_completions_;
 };
 
 }  // namespace dh3::hand
