@@ -374,45 +374,75 @@ class BusScheduler::Impl {
   /// Sends one driver's frame; false if the bus took it not (the driver will
   /// offer it again) and the pass should send no more.
   bool send_frame(HandDriver& driver, const protocol::Message& message, TimePoint now) {
-    const std::uint8_t id = driver.can_id();
     const auto sent = bus_->send(to_frame(message));
     if (sent) {
-      frames_sent_.fetch_add(1);
-      recent_frames_.count(1);
-      line_.used(now);
-      // The interval counts from when the frame left, which is after now.
-      const TimePoint left = clock_.now();
-      driver.hold_sends_until(left + options_.frame_spacing());
-      id_zero_.frame_sent(id, left);
-      // A frame to ID 0 reached every hand: each waits the interval after it.
-      if (id == 0) hold_others(left + options_.frame_spacing());
+      frame_left(driver, now);
       return true;
     }
+    frame_refused(driver, message, sent.error(), now);
+    return false;
+  }
+
+  /// Books a frame the bus took: the counters, the line budget, and the
+  /// interval its hand (every hand, for ID 0) now waits.
+  void frame_left(HandDriver& driver, TimePoint now) {
+    const std::uint8_t id = driver.can_id();
+    frames_sent_.fetch_add(1);
+    recent_frames_.count(1);
+    line_.used(now);
+    // The interval counts from when the frame left, which is after now.
+    const TimePoint left = clock_.now();
+    driver.hold_sends_until(left + options_.frame_spacing());
+    id_zero_.frame_sent(id, left);
+    // A frame to ID 0 reached every hand: each waits the interval after it.
+    if (id == 0) hold_others(left + options_.frame_spacing());
+  }
+
+  /// A frame the bus did not take: its driver offers it again later.
+  void frame_refused(HandDriver& driver, const protocol::Message& message, bus::BusError error,
+                     TimePoint now) {
     driver.unsend();
-    if (sent.error() == bus::BusError::link_down) {
+    if (error == bus::BusError::link_down) {
       on_link_change(link_.on_link_lost(), now);
-      return false;
+      return;
     }
-    if (sent.error() != bus::BusError::would_block) {
+    if (error != bus::BusError::would_block) {
       bus_errors_.fetch_add(1);
       spdlog::warn("{}: could not send {}: {}", name_, protocol::describe(message),
-                   bus::to_string(sent.error()));
+                   bus::to_string(error));
     }
-    return false;
   }
 
   /// Group members whose group released them go first, back to back, past
   /// the line budget (a group is a burst its caller asked for; the budget
-  /// still counts it, so the polls after it wait their share). False if the
-  /// bus refused one: the pass sends nothing more.
+  /// still counts it, so the polls after it wait their share). One
+  /// Bus::send_burst: on SocketCAN one system call, so nothing on this
+  /// machine runs between a group's frames. False if the bus did not take
+  /// them all: the pass sends nothing more.
   bool send_group_frames() {
+    group_drivers_.clear();
+    group_messages_.clear();
+    group_frames_.clear();
+    const TimePoint now = clock_.now();
     for (std::uint8_t id : order_) {
       HandDriver& driver = *drivers_[id];
-      const TimePoint now = clock_.now();
-      const auto message = driver.next_group_frame(now);
-      if (message && !send_frame(driver, *message, now)) return false;
+      if (auto message = driver.next_group_frame(now)) {
+        group_drivers_.push_back(&driver);
+        group_messages_.push_back(*message);
+        group_frames_.push_back(to_frame(*message));
+      }
     }
-    return true;
+    if (group_frames_.empty()) return true;
+    const auto taken = bus_->send_burst(group_frames_);
+    const std::size_t count = taken ? taken.value() : 0;
+    for (std::size_t i = 0; i < count; ++i) frame_left(*group_drivers_[i], now);
+    if (count == group_frames_.size()) return true;
+    // Those after the first refused frame go back; the first says why, once
+    // (a lost link is handled last, with every frame back with its driver).
+    for (std::size_t i = count + 1; i < group_frames_.size(); ++i) group_drivers_[i]->unsend();
+    const bus::BusError why = taken ? bus::BusError::would_block : taken.error();
+    frame_refused(*group_drivers_[count], group_messages_[count], why, now);
+    return false;
   }
 
   // ---- pacing across senders (id_zero_reservation.hpp) ---------------------
@@ -526,6 +556,10 @@ class BusScheduler::Impl {
   // Loop thread only.
   std::array<std::unique_ptr<HandDriver>, 256> drivers_{};
   std::vector<std::uint8_t> order_;
+  // The group sweep's scratch, kept to spare the loop allocations.
+  std::vector<HandDriver*> group_drivers_;
+  std::vector<protocol::Message> group_messages_;
+  std::vector<bus::CanFrame> group_frames_;
   std::size_t rr_ = 0;
   std::vector<bus::CanFrame> frames_;
   LineBudget line_;

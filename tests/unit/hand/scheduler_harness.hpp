@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -48,6 +50,14 @@ class RecordingBus final : public bus::Bus {
     }
     return result;
   }
+  /// Records each burst's size; takes at most what limit_next_burst() allows.
+  Result<std::size_t, bus::BusError> send_burst(std::span<const bus::CanFrame> frames) override {
+    bursts.push_back(frames.size());
+    const std::size_t room = std::min(frames.size(), burst_room_);
+    burst_room_ = SIZE_MAX;
+    if (room == 0 && !frames.empty()) return fail(bus::BusError::would_block);
+    return Bus::send_burst(frames.first(room));
+  }
   Result<void, bus::BusError> receive(std::vector<bus::CanFrame>& out, Duration timeout) override {
     const std::size_t before = out.size();
     auto result = inner_->receive(out, timeout);
@@ -62,6 +72,8 @@ class RecordingBus final : public bus::Bus {
 
   /// The next `count` sends answer would_block (a full controller queue).
   void refuse_next_sends(int count) { refuse_sends_ = count; }
+  /// The next send_burst() takes only the first `room` frames (a full queue).
+  void limit_next_burst(std::size_t room) { burst_room_ = room; }
   /// A frame that appears on the bus as if some device sent it.
   void inject(const protocol::Message& message) {
     bus::CanFrame frame;
@@ -71,12 +83,14 @@ class RecordingBus final : public bus::Bus {
   }
 
   std::vector<Sent> sent;
+  std::vector<std::size_t> bursts;  ///< the size of each send_burst() asked for
   std::size_t received = 0;
 
  private:
   std::unique_ptr<bus::Bus> inner_;
   const Clock& clock_;
   int refuse_sends_ = 0;
+  std::size_t burst_room_ = SIZE_MAX;
   std::vector<bus::CanFrame> injected_;
 };
 

@@ -91,6 +91,38 @@ TEST(BusSchedulerGroup, MembersFramesLeaveAtOneInstantBackToBack) {
   }
 }
 
+TEST(BusSchedulerGroup, MembersFramesGoToTheBusAsOneBurst) {
+  const std::vector<std::uint8_t> ids{1, 2, 3, 4};
+  SchedulerHarness h(sim_hands(ids), configs(ids));
+  h.bring_up(ids);
+  h.run_for(200ms);
+  auto members = submit_group(h, ids, move(30));
+  ASSERT_TRUE(h.run_until([&] { return all_done(members); }, 10s));
+  // One call for the four (on SocketCAN one sendmmsg); nothing else is a burst.
+  EXPECT_EQ(h.recorder().bursts, std::vector<std::size_t>{4});
+}
+
+TEST(BusSchedulerGroup, WhatABurstLeftBehindGoesOutOnceEachAfterIt) {
+  const std::vector<std::uint8_t> ids{1, 2, 3, 4};
+  SchedulerHarness h(sim_hands(ids), configs(ids));
+  h.bring_up(ids);
+  h.run_for(200ms);
+  h.recorder().limit_next_burst(2);  // the controller's queue takes two
+  auto members = submit_group(h, ids, move(30));
+  ASSERT_TRUE(h.run_until([&] { return all_done(members); }, 10s));
+  for (const auto& m : members) {
+    EXPECT_TRUE(m->result->ok()) << "hand " << int(m->id) << ": " << to_string(m->result->error());
+  }
+  EXPECT_EQ(send_positions(h.recorder(), ids, reg::kPosition).size(), ids.size())
+      << "one position write per member, none lost and none twice";
+  for (std::uint8_t id : ids) {
+    const auto frames = h.sent_to(id);
+    for (std::size_t k = 1; k < frames.size(); ++k) {
+      EXPECT_GE(frames[k].at - frames[k - 1].at, 20ms) << "hand " << int(id);
+    }
+  }
+}
+
 TEST(BusSchedulerGroup, GroupWaitsUntilEveryMembersIntervalIsClear) {
   const std::vector<std::uint8_t> ids{1, 2};
   SchedulerHarness h(sim_hands(ids), configs(ids));
