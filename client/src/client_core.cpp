@@ -3,6 +3,8 @@
 
 #include "client_core.hpp"
 
+#include <algorithm>
+
 #include "client_endpoints.hpp"
 #include "conversions.hpp"
 
