@@ -445,7 +445,11 @@ void ClientCore::on_reply(const msg::CommandReply& reply) {
 }
 
 void ClientCore::on_group_reply(const msg::GroupReply& reply) {
-  if (reply.client_id() != client_id_) return;
+  // Group replies travel unfiltered: other clients' count as foreign.
+  if (reply.client_id() != client_id_) {
+    foreign_replies_taken_.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
   const auto promise = group_calls_.take(reply.request_seq());
   if (promise == nullptr) return;
   own_replies_.fetch_add(1, std::memory_order_relaxed);

@@ -75,10 +75,13 @@ void ClientEndpoints::create_group_endpoints(const EndpointCreator& creator) {
       contract::writer_qos(TopicRole::request), &group_request_listener_,
       fdds::StatusMask::publication_matched());
   // The plain topic: group replies are few, and on_group_reply() keeps only
-  // this client's.
+  // this client's. VOLATILE for the reason the reply reader is: the service
+  // holds a group reply until this reader has matched (its group ReplyGate).
+  auto group_reply_qos = contract::reader_qos(TopicRole::reply);
+  group_reply_qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
   group_reply_reader_ = creator.create_reader(
       ClientEndpoint::group_reply_reader, participant_->subscriber(), topics.group_reply,
-      contract::reader_qos(TopicRole::reply), &reader_listener_, data_and_matches());
+      group_reply_qos, &reader_listener_, data_and_matches());
 }
 
 void ClientEndpoints::create_watch_endpoints(const EndpointCreator& creator,

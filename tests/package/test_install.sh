@@ -278,8 +278,10 @@ step "an edited /etc/dh3/dh3.yaml takes effect on restart"
 # Another name, a DDS domain of this run's own (the bridge is shared with
 # other tests' containers), and DDS on every interface of the container.
 domain=$((201 + $$ % 30))
+# And the flight recorder on bus0, into the unit's StateDirectory.
 ctr sed -i -e 's/^name: cell /name: cellb /' -e "s/^domain: 0 /domain: $domain /" \
-  -e 's/^  interfaces: \[\]/  interfaces: ["*"]/' /etc/dh3/dh3.yaml
+  -e 's/^  interfaces: \[\]/  interfaces: ["*"]/' \
+  -e 's|^    spec: sim$|    spec: sim\n    record: {dir: /var/lib/dh3/recordings}|' /etc/dh3/dh3.yaml
 ctr grep -q '^name: cellb ' /etc/dh3/dh3.yaml && ctr grep -q "^domain: $domain " /etc/dh3/dh3.yaml &&
   ctr grep -q '^  interfaces: \["\*"\]' /etc/dh3/dh3.yaml ||
   fail "could not edit /etc/dh3/dh3.yaml: $(ctr sed -n '1,30p' /etc/dh3/dh3.yaml)"
@@ -288,6 +290,12 @@ if wait_for 30 active && wait_for 30 list cellb --domain "$domain" --interface '
   ok "after the restart, dh3ctl lists the hands under the new name cellb, on domain $domain"
 else
   fail "the edited configuration did not take effect:"; sed 's/^/  /' "$work/list"
+fi
+recorded() { ctr sh -c 'test -s /var/lib/dh3/recordings/bus0.000001.log'; }
+if wait_for 10 recorded; then
+  ok "bus0 records under the hardened unit: $(ctr stat -c '%n %s B %a %U' /var/lib/dh3/recordings/bus0.000001.log), $(ctr stat -c '%n %a %U' /var/lib/dh3)"
+else
+  fail "no recording of bus0 in /var/lib/dh3/recordings: $(ctr ls -la /var/lib/dh3 /var/lib/dh3/recordings 2>&1 | tr '\n' ' ')"
 fi
 # The service on the container's NIC, reached from outside it: this
 # machine's dh3ctl on podman's bridge (the host's address on it).

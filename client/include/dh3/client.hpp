@@ -221,9 +221,10 @@ struct CommandTraffic {
   /// Replies carrying this client's id.
   std::uint64_t own_replies = 0;
   /// Replies to other clients that reached this client and were dropped here.
-  /// A dh3 service sends each dh3 client only its own replies, and the
-  /// client reads replies VOLATILE, so none of those the service keeps from
-  /// before it joined: this stays 0 but with services that do not filter.
+  /// A dh3 service sends each dh3 client only its own command replies, and
+  /// the client reads replies VOLATILE, so none of those the service keeps
+  /// from before it joined. Group replies travel unfiltered: those of other
+  /// clients' groups written while this client is connected count here.
   std::uint64_t foreign_replies = 0;
 };
 

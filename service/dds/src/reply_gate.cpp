@@ -5,12 +5,14 @@
 
 namespace dh3::dds {
 
-void ReplyGate::participant_joined(const std::string& client_id) {
+template <typename Reply>
+void ReplyGate<Reply>::participant_joined(const std::string& client_id) {
   std::lock_guard lock(mutex_);
   clients_.try_emplace(client_id);
 }
 
-std::size_t ReplyGate::participant_left(const std::string& client_id) {
+template <typename Reply>
+std::size_t ReplyGate<Reply>::participant_left(const std::string& client_id) {
   std::lock_guard lock(mutex_);
   const auto it = clients_.find(client_id);
   if (it == clients_.end()) return 0;
@@ -19,13 +21,14 @@ std::size_t ReplyGate::participant_left(const std::string& client_id) {
   return dropped;
 }
 
-std::vector<msg::CommandReply> ReplyGate::reader_matched(const std::string& client_id,
+template <typename Reply>
+std::vector<Reply> ReplyGate<Reply>::reader_matched(const std::string& client_id,
                                                          bool matched) {
   std::lock_guard lock(mutex_);
   // A reader may match before its participant's discovery is reported.
   Client& client = clients_[client_id];
   client.readers = std::max(0, client.readers + (matched ? 1 : -1));
-  std::vector<msg::CommandReply> released;
+  std::vector<Reply> released;
   if (client.readers == 0) return released;
   released.reserve(client.held.size());
   for (auto& held : client.held) released.push_back(std::move(held.reply));
@@ -33,7 +36,8 @@ std::vector<msg::CommandReply> ReplyGate::reader_matched(const std::string& clie
   return released;
 }
 
-GateOutcome ReplyGate::admit(msg::CommandReply& reply) {
+template <typename Reply>
+GateOutcome ReplyGate<Reply>::admit(Reply& reply) {
   std::lock_guard lock(mutex_);
   const auto it = clients_.find(reply.client_id());
   if (it == clients_.end() || it->second.readers > 0) return GateOutcome::pass;
@@ -41,17 +45,20 @@ GateOutcome ReplyGate::admit(msg::CommandReply& reply) {
   return GateOutcome::held;
 }
 
-std::vector<msg::CommandReply> ReplyGate::expire() {
+template <typename Reply>
+std::vector<Reply> ReplyGate<Reply>::expire() {
   std::lock_guard lock(mutex_);
   return take_locked(clock_.now() - hold_limit_);
 }
 
-std::vector<msg::CommandReply> ReplyGate::take_all() {
+template <typename Reply>
+std::vector<Reply> ReplyGate<Reply>::take_all() {
   std::lock_guard lock(mutex_);
   return take_locked(TimePoint::max());
 }
 
-std::vector<msg::CommandReply> ReplyGate::take_locked(TimePoint due) {
+template <typename Reply>
+std::vector<Reply> ReplyGate<Reply>::take_locked(TimePoint due) {
   std::vector<Held> taken;
   for (auto& [id, client] : clients_) {
     // Held in arrival order: those held since before `due` are a prefix.
@@ -62,13 +69,14 @@ std::vector<msg::CommandReply> ReplyGate::take_locked(TimePoint due) {
   }
   std::stable_sort(taken.begin(), taken.end(),
                    [](const Held& a, const Held& b) { return a.since < b.since; });
-  std::vector<msg::CommandReply> replies;
+  std::vector<Reply> replies;
   replies.reserve(taken.size());
   for (auto& held : taken) replies.push_back(std::move(held.reply));
   return replies;
 }
 
-std::optional<TimePoint> ReplyGate::next_expiry() const {
+template <typename Reply>
+std::optional<TimePoint> ReplyGate<Reply>::next_expiry() const {
   std::lock_guard lock(mutex_);
   std::optional<TimePoint> next;
   for (const auto& [id, client] : clients_) {
@@ -79,11 +87,15 @@ std::optional<TimePoint> ReplyGate::next_expiry() const {
   return next;
 }
 
-std::size_t ReplyGate::held() const {
+template <typename Reply>
+std::size_t ReplyGate<Reply>::held() const {
   std::lock_guard lock(mutex_);
   std::size_t n = 0;
   for (const auto& [id, client] : clients_) n += client.held.size();
   return n;
 }
+
+template class ReplyGate<msg::CommandReply>;
+template class ReplyGate<msg::GroupReply>;
 
 }  // namespace dh3::dds

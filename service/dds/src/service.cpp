@@ -167,9 +167,12 @@ void Service::Impl::stop() {
   }
   // Replies still waiting for their reader go out now, to the writer's history.
   for (auto& reply : reply_gate_.take_all()) publish_reply(reply);
+  for (auto& reply : group_reply_gate_.take_all()) publish_group_reply(reply);
   // Subscribers get the offline samples and last replies before we leave.
   const auto deadline = SteadyClock::now() + options_.shutdown_ack_timeout;
-  for (fdds::DataWriter* writer : {status_writer_, reply_writer_, event_writer_}) {
+  for (fdds::DataWriter* writer :
+       {status_writer_, reply_writer_, event_writer_, group_reply_writer_}) {
+    if (writer == nullptr) continue;  // group commands off (see create_group_endpoints)
     const auto left = std::chrono::duration_cast<std::chrono::nanoseconds>(
         std::max(deadline - SteadyClock::now(), Duration::zero()));
     const eprosima::fastrtps::Duration_t wait(

@@ -56,7 +56,8 @@ struct Service::Impl::PendingGroup {
 
 void Service::Impl::create_group_endpoints() {
   group_reply_writer_ = participant_->publisher().create_datawriter(
-      participant_->topics().group_reply, contract::writer_qos(TopicRole::reply));
+      participant_->topics().group_reply, contract::writer_qos(TopicRole::reply),
+      &group_reply_writer_listener_, fdds::StatusMask::publication_matched());
   auto qos = contract::reader_qos(TopicRole::request);
   qos.history().kind = fdds::KEEP_ALL_HISTORY_QOS;
   if (group_reply_writer_ != nullptr) {
@@ -193,6 +194,24 @@ void Service::Impl::write_group_reply(msg::GroupReply& reply) {
     spdlog::debug("group reply {}#{}: {} {}", reply.client_id(), reply.request_seq(),
                   result_code_name(reply.code()), reply.message());
   }
+  if (group_reply_writer_ == nullptr) return;
+  const std::uint64_t seq = reply.request_seq();
+  const std::string client_id = reply.client_id();
+  if (group_reply_gate_.admit(reply) == GateOutcome::held) {
+    spdlog::debug("group reply {}#{} held until the client's reader matches", client_id, seq);
+    wake_lease_timer();  // its deadline may now be the timer's next
+    return;
+  }
+  publish_group_reply(reply);
+}
+
+void Service::Impl::on_group_reply_reader(const std::string& client_id, bool matched) {
+  for (auto& reply : group_reply_gate_.reader_matched(client_id, matched)) {
+    publish_group_reply(reply);
+  }
+}
+
+void Service::Impl::publish_group_reply(msg::GroupReply& reply) {
   if (group_reply_writer_ == nullptr) return;
   if (!group_reply_writer_->write(&reply)) {
     spdlog::warn("could not publish the group reply to {}#{}", reply.client_id(),

@@ -69,7 +69,8 @@ class Service::Impl {
       : options_(std::move(options)),
         clock_(clock),
         leases_(clock),
-        reply_gate_(clock, kReplyHoldLimit) {}
+        reply_gate_(clock, kReplyHoldLimit),
+        group_reply_gate_(clock, kReplyHoldLimit) {}
   ~Impl() {
     stop();
     // Schedulers go first: a scheduler that never ran may still report its
@@ -123,21 +124,23 @@ class Service::Impl {
     Impl& impl_;
   };
 
-  /// The reply writer's matches: a client's held replies go out when its
+  /// A reply writer's matches: a client's held replies go out when its
   /// reader matches (ReplyGate). Fast DDS calls it without the writer's locks.
   class ReplyWriterListener final : public fdds::DataWriterListener {
    public:
-    explicit ReplyWriterListener(Impl& impl) : impl_(impl) {}
+    using OnReader = void (Impl::*)(const std::string& client_id, bool matched);
+    ReplyWriterListener(Impl& impl, OnReader on_reader) : impl_(impl), on_reader_(on_reader) {}
     void on_publication_matched(fdds::DataWriter* /*writer*/,
                                 const fdds::PublicationMatchedStatus& status) override {
       eprosima::fastrtps::rtps::GUID_t reader;
       eprosima::fastrtps::rtps::iHandle2GUID(reader, status.last_subscription_handle);
-      impl_.on_reply_reader(contract::client_id_for(reader.guidPrefix),
-                            status.current_count_change > 0);
+      (impl_.*on_reader_)(contract::client_id_for(reader.guidPrefix),
+                          status.current_count_change > 0);
     }
 
    private:
     Impl& impl_;
+    OnReader on_reader_;
   };
 
   class ParticipantListener final : public fdds::DomainParticipantListener {
@@ -148,7 +151,9 @@ class Service::Impl {
         eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
       using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo;
       if (info.status == Status::DISCOVERED_PARTICIPANT) {
-        impl_.reply_gate_.participant_joined(contract::client_id_for(info.info.m_guid.guidPrefix));
+        const std::string client_id = contract::client_id_for(info.info.m_guid.guidPrefix);
+        impl_.reply_gate_.participant_joined(client_id);
+        impl_.group_reply_gate_.participant_joined(client_id);
       } else if (info.status == Status::REMOVED_PARTICIPANT ||
                  info.status == Status::DROPPED_PARTICIPANT) {
         impl_.on_participant_left(contract::client_id_for(info.info.m_guid.guidPrefix),
@@ -234,7 +239,13 @@ class Service::Impl {
                     Duration timeout);
   [[nodiscard]] MemberFacts member_facts(std::uint16_t bus, std::uint8_t can_id,
                                          const std::string& client_id) const;
+  /// Writes the group reply, or leaves it with the group reply gate until
+  /// the client's group reply reader has matched (`reply` is then moved from).
   void write_group_reply(msg::GroupReply& reply);
+  /// Writes the group reply now, past the gate.
+  void publish_group_reply(msg::GroupReply& reply);
+  /// A reader of `client_id`'s participant matched (or left) the group reply writer.
+  void on_group_reply_reader(const std::string& client_id, bool matched);
   /// The group endpoints; a service whose DDS Security permissions predate
   /// them runs without group commands (and says so).
   void create_group_endpoints();
@@ -279,14 +290,16 @@ class Service::Impl {
   const Clock& clock_;
   HandDirectory directory_;
   LeaseTable leases_;
-  ReplyGate reply_gate_;
+  ReplyGate<msg::CommandReply> reply_gate_;
+  ReplyGate<msg::GroupReply> group_reply_gate_;
   std::vector<std::unique_ptr<BusRuntime>> buses_;
   std::uint64_t started_ns_ = wall_clock_ns();
   std::atomic<std::uint64_t> event_seq_{0};
 
   ParticipantListener participant_listener_{*this};
   RequestListener request_listener_{*this};
-  ReplyWriterListener reply_writer_listener_{*this};
+  ReplyWriterListener reply_writer_listener_{*this, &Impl::on_reply_reader};
+  ReplyWriterListener group_reply_writer_listener_{*this, &Impl::on_group_reply_reader};
   GroupRequestListener group_request_listener_{*this};
   /// The participant, its topics, publisher and subscriber (null until init()
   /// has made them); the writers and the reader below are made on them and

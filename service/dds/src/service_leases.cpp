@@ -12,7 +12,8 @@ using eprosima::fastrtps::types::ReturnCode_t;
 // Leases
 
 void Service::Impl::on_participant_left(const std::string& participant_id, bool dropped) {
-  if (const std::size_t dropped_replies = reply_gate_.participant_left(participant_id)) {
+  if (const std::size_t dropped_replies = reply_gate_.participant_left(participant_id) +
+                                          group_reply_gate_.participant_left(participant_id)) {
     spdlog::info("{} held replies to {} dropped: it left before its reply reader matched",
                  dropped_replies, participant_id);
   }
@@ -38,9 +39,8 @@ void Service::Impl::lease_timer_loop() {
     const std::uint64_t seen = lease_timer_generation_;
     const auto woken = [&] { return lease_timer_stop_ || lease_timer_generation_ != seen; };
     auto next = leases_.next_expiry();
-    if (const auto reply_due = reply_gate_.next_expiry();
-        reply_due && (!next || *reply_due < *next)) {
-      next = reply_due;
+    for (const auto reply_due : {reply_gate_.next_expiry(), group_reply_gate_.next_expiry()}) {
+      if (reply_due && (!next || *reply_due < *next)) next = reply_due;
     }
     if (next) {
       // The lease table's and the gate's clock is the steady clock in a running service.
@@ -55,6 +55,12 @@ void Service::Impl::lease_timer_loop() {
                    reply.client_id(), reply.request_seq(),
                    std::chrono::duration_cast<std::chrono::seconds>(kReplyHoldLimit).count());
       publish_reply(reply);
+    }
+    for (auto& reply : group_reply_gate_.expire()) {
+      spdlog::warn("group reply {}#{} written without its client's reader matched, after {} s",
+                   reply.client_id(), reply.request_seq(),
+                   std::chrono::duration_cast<std::chrono::seconds>(kReplyHoldLimit).count());
+      publish_group_reply(reply);
     }
     for (const auto& ended : leases_.expire()) {
       spdlog::info("{}: lease of '{}' expired",

@@ -103,6 +103,19 @@ TEST_F(ClientGroupTest, GroupWithAHandLeasedByAnotherClientSendsNothing) {
   EXPECT_TRUE(own.ok()) << own.message;
 }
 
+TEST_F(ClientGroupTest, ANewClientIsSentNoGroupReplyOfAnotherClient) {
+  // The service keeps its last group replies for other vendors' readers
+  // (TRANSIENT_LOCAL); a dh3 client joining later gets none of them.
+  ASSERT_TRUE(client_.group(GroupCommand::initialize, {box(1)}).ok());
+  ASSERT_TRUE(client_.group(GroupCommand::move, {box(1)}, 20).ok());
+  Client later(client_options());
+  ASSERT_TRUE(later.wait_for_hand(box_spec(2), kClientDeadline));
+  const GroupReply own = later.group(GroupCommand::initialize, {box(2)});
+  ASSERT_TRUE(own.ok()) << own.message;
+  EXPECT_EQ(later.command_traffic().own_replies, 1U);
+  EXPECT_EQ(later.command_traffic().foreign_replies, 0U);
+}
+
 TEST_F(ClientGroupTest, Dh3ctlGroupPrintsALinePerHandAndFailsWhenOneFails) {
   const auto init = dh3ctl({"group", "init", box_spec(1), box_spec(3)});
   ASSERT_EQ(init.exit_code, 0) << init.text();

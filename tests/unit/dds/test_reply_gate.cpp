@@ -1,6 +1,7 @@
 // dds/reply_gate: a reply waits for its client's reply reader to match, at
 // most the hold limit; replies to unknown clients, or to clients whose reader
-// matched, pass at once.
+// matched, pass at once. Every test runs for both gates the service keeps:
+// command replies and group replies.
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -19,99 +20,105 @@ using std::chrono::seconds;
 
 constexpr Duration kHoldLimit = seconds(60);
 
-msg::CommandReply reply_to(const std::string& client_id, std::uint64_t seq) {
-  msg::CommandReply reply;
+template <typename Reply>
+Reply reply_to(const std::string& client_id, std::uint64_t seq) {
+  Reply reply;
   reply.client_id(client_id);
   reply.request_seq(seq);
   return reply;
 }
 
-std::vector<std::uint64_t> seqs(const std::vector<msg::CommandReply>& replies) {
+template <typename Reply>
+std::vector<std::uint64_t> seqs(const std::vector<Reply>& replies) {
   std::vector<std::uint64_t> out;
   for (const auto& reply : replies) out.push_back(reply.request_seq());
   return out;
 }
 
+template <typename Reply>
 class ReplyGateTest : public ::testing::Test {
  protected:
   GateOutcome admit(const std::string& client_id, std::uint64_t seq) {
-    auto reply = reply_to(client_id, seq);
+    auto reply = reply_to<Reply>(client_id, seq);
     return gate_.admit(reply);
   }
 
   FakeClock clock_;
-  ReplyGate gate_{clock_, kHoldLimit};
+  ReplyGate<Reply> gate_{clock_, kHoldLimit};
 };
 
-TEST_F(ReplyGateTest, AReplyToAClientIdOfNoKnownParticipantPasses) {
+using ReplyTypes = ::testing::Types<msg::CommandReply, msg::GroupReply>;
+TYPED_TEST_SUITE(ReplyGateTest, ReplyTypes);
+
+TYPED_TEST(ReplyGateTest, AReplyToAClientIdOfNoKnownParticipantPasses) {
   // Another vendor's client may put any id in its requests.
-  EXPECT_EQ(admit("cyclone-client", 1), GateOutcome::pass);
-  EXPECT_EQ(gate_.held(), 0u);
-  EXPECT_FALSE(gate_.next_expiry());
+  EXPECT_EQ(this->admit("cyclone-client", 1), GateOutcome::pass);
+  EXPECT_EQ(this->gate_.held(), 0u);
+  EXPECT_FALSE(this->gate_.next_expiry());
 }
 
-TEST_F(ReplyGateTest, AReplyWaitsForItsClientsReaderAndGoesOutWhenItMatches) {
-  gate_.participant_joined("aa");
-  EXPECT_EQ(admit("aa", 1), GateOutcome::held);
-  EXPECT_EQ(admit("aa", 2), GateOutcome::held);
-  EXPECT_EQ(gate_.held(), 2u);
+TYPED_TEST(ReplyGateTest, AReplyWaitsForItsClientsReaderAndGoesOutWhenItMatches) {
+  this->gate_.participant_joined("aa");
+  EXPECT_EQ(this->admit("aa", 1), GateOutcome::held);
+  EXPECT_EQ(this->admit("aa", 2), GateOutcome::held);
+  EXPECT_EQ(this->gate_.held(), 2u);
   // Another client's reader does not release them.
-  gate_.participant_joined("bb");
-  EXPECT_TRUE(gate_.reader_matched("bb", true).empty());
-  EXPECT_THAT(seqs(gate_.reader_matched("aa", true)), ::testing::ElementsAre(1u, 2u));
-  EXPECT_EQ(gate_.held(), 0u);
+  this->gate_.participant_joined("bb");
+  EXPECT_TRUE(this->gate_.reader_matched("bb", true).empty());
+  EXPECT_THAT(seqs(this->gate_.reader_matched("aa", true)), ::testing::ElementsAre(1u, 2u));
+  EXPECT_EQ(this->gate_.held(), 0u);
   // From now on its replies pass.
-  EXPECT_EQ(admit("aa", 3), GateOutcome::pass);
+  EXPECT_EQ(this->admit("aa", 3), GateOutcome::pass);
 }
 
-TEST_F(ReplyGateTest, AReaderThatMatchedBeforeItsParticipantWasReportedCounts) {
-  EXPECT_TRUE(gate_.reader_matched("aa", true).empty());
-  gate_.participant_joined("aa");
-  EXPECT_EQ(admit("aa", 1), GateOutcome::pass);
+TYPED_TEST(ReplyGateTest, AReaderThatMatchedBeforeItsParticipantWasReportedCounts) {
+  EXPECT_TRUE(this->gate_.reader_matched("aa", true).empty());
+  this->gate_.participant_joined("aa");
+  EXPECT_EQ(this->admit("aa", 1), GateOutcome::pass);
 }
 
-TEST_F(ReplyGateTest, RepliesAreHeldAgainOnlyWhenTheLastReaderOfAClientIsGone) {
-  gate_.participant_joined("aa");
-  gate_.reader_matched("aa", true);
-  gate_.reader_matched("aa", true);
-  gate_.reader_matched("aa", false);
-  EXPECT_EQ(admit("aa", 1), GateOutcome::pass);
-  gate_.reader_matched("aa", false);
-  EXPECT_EQ(admit("aa", 2), GateOutcome::held);
+TYPED_TEST(ReplyGateTest, RepliesAreHeldAgainOnlyWhenTheLastReaderOfAClientIsGone) {
+  this->gate_.participant_joined("aa");
+  this->gate_.reader_matched("aa", true);
+  this->gate_.reader_matched("aa", true);
+  this->gate_.reader_matched("aa", false);
+  EXPECT_EQ(this->admit("aa", 1), GateOutcome::pass);
+  this->gate_.reader_matched("aa", false);
+  EXPECT_EQ(this->admit("aa", 2), GateOutcome::held);
 }
 
-TEST_F(ReplyGateTest, AHeldReplyGoesOutAfterTheHoldLimitOldestFirst) {
-  gate_.participant_joined("aa");
-  gate_.participant_joined("bb");
-  EXPECT_EQ(admit("bb", 7), GateOutcome::held);
-  clock_.advance(seconds(1));
-  EXPECT_EQ(admit("aa", 1), GateOutcome::held);
-  EXPECT_EQ(gate_.next_expiry(), clock_.now() - seconds(1) + kHoldLimit);
-  clock_.advance(kHoldLimit - seconds(1));
-  EXPECT_THAT(seqs(gate_.expire()), ::testing::ElementsAre(7u));  // aa's is 1 s younger
-  clock_.advance(seconds(1));
-  EXPECT_THAT(seqs(gate_.expire()), ::testing::ElementsAre(1u));
-  EXPECT_FALSE(gate_.next_expiry());
+TYPED_TEST(ReplyGateTest, AHeldReplyGoesOutAfterTheHoldLimitOldestFirst) {
+  this->gate_.participant_joined("aa");
+  this->gate_.participant_joined("bb");
+  EXPECT_EQ(this->admit("bb", 7), GateOutcome::held);
+  this->clock_.advance(seconds(1));
+  EXPECT_EQ(this->admit("aa", 1), GateOutcome::held);
+  EXPECT_EQ(this->gate_.next_expiry(), this->clock_.now() - seconds(1) + kHoldLimit);
+  this->clock_.advance(kHoldLimit - seconds(1));
+  EXPECT_THAT(seqs(this->gate_.expire()), ::testing::ElementsAre(7u));  // aa's is 1 s younger
+  this->clock_.advance(seconds(1));
+  EXPECT_THAT(seqs(this->gate_.expire()), ::testing::ElementsAre(1u));
+  EXPECT_FALSE(this->gate_.next_expiry());
 }
 
-TEST_F(ReplyGateTest, AClientThatLeavesTakesItsHeldRepliesWithIt) {
-  gate_.participant_joined("aa");
-  admit("aa", 1);
-  admit("aa", 2);
-  EXPECT_EQ(gate_.participant_left("aa"), 2u);
-  EXPECT_EQ(gate_.held(), 0u);
+TYPED_TEST(ReplyGateTest, AClientThatLeavesTakesItsHeldRepliesWithIt) {
+  this->gate_.participant_joined("aa");
+  this->admit("aa", 1);
+  this->admit("aa", 2);
+  EXPECT_EQ(this->gate_.participant_left("aa"), 2u);
+  EXPECT_EQ(this->gate_.held(), 0u);
   // Gone, it is unknown: a late reply passes (the writer's history has it).
-  EXPECT_EQ(admit("aa", 3), GateOutcome::pass);
+  EXPECT_EQ(this->admit("aa", 3), GateOutcome::pass);
 }
 
-TEST_F(ReplyGateTest, StoppingTakesEveryHeldReply) {
-  gate_.participant_joined("aa");
-  gate_.participant_joined("bb");
-  admit("aa", 1);
-  clock_.advance(seconds(1));
-  admit("bb", 2);
-  EXPECT_THAT(seqs(gate_.take_all()), ::testing::ElementsAre(1u, 2u));
-  EXPECT_EQ(gate_.held(), 0u);
+TYPED_TEST(ReplyGateTest, StoppingTakesEveryHeldReply) {
+  this->gate_.participant_joined("aa");
+  this->gate_.participant_joined("bb");
+  this->admit("aa", 1);
+  this->clock_.advance(seconds(1));
+  this->admit("bb", 2);
+  EXPECT_THAT(seqs(this->gate_.take_all()), ::testing::ElementsAre(1u, 2u));
+  EXPECT_EQ(this->gate_.held(), 0u);
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdint>
 #include <string>
 #include <thread>
 
@@ -26,12 +27,13 @@ constexpr auto kDeadline = 10s;
 /// A server running on its own thread until destroyed.
 class Running : public test::ServerThread<TransferBoxServer> {
  public:
-  explicit Running(TransferBoxServerOptions options)
-      : ServerThread(open_or_null(std::move(options))) {}
+  explicit Running(TransferBoxServerOptions options, const Clock& clock = SystemClock::instance())
+      : ServerThread(open_or_null(std::move(options), clock)) {}
 
  private:
-  static std::unique_ptr<TransferBoxServer> open_or_null(TransferBoxServerOptions options) {
-    auto opened = TransferBoxServer::open(std::move(options), SystemClock::instance());
+  static std::unique_ptr<TransferBoxServer> open_or_null(TransferBoxServerOptions options,
+                                                         const Clock& clock) {
+    auto opened = TransferBoxServer::open(std::move(options), clock);
     EXPECT_TRUE(opened.ok());
     return opened ? std::move(opened.value()) : nullptr;
   }
@@ -66,6 +68,39 @@ TEST(TransferBoxServer, AClientLeavingMidFrameDoesNotDisturbOthers) {
   RawTcpClient box(running.server().port());
   box.send_hex("FF FE FD FC 01 13 01 00 00 00 00 00 00 FB");
   EXPECT_EQ(box.read_hex(14, kDeadline), "FF FE FD FC 01 13 01 00 00 00 02 01 04 FB");
+}
+
+/// Two requests to hand 1 with a 10-minute minimum interval, read an hour apart
+/// by the fake clock but sent within one round trip of the test; returns the
+/// interval violations the server counted.
+std::uint64_t violations_of_two_reads_an_hour_apart(bool kernel_timestamps) {
+  FakeClock clock;
+  TransferBoxServerOptions options;
+  options.hands = {hand(1)};
+  options.min_interval = 10min;
+  options.kernel_timestamps = kernel_timestamps;
+  Running running(options, clock);
+  EXPECT_TRUE(running.started());
+  if (!running.started()) return 0;
+  RawTcpClient box(running.server().port());
+  const std::string version = "FF FE FD FC 01 13 01 00 00 00 02 01 04 FB";
+  box.send_hex("FF FE FD FC 01 13 01 00 00 00 00 00 00 FB");
+  EXPECT_EQ(box.read_hex(14, kDeadline), version);
+  clock.advance(1h);
+  box.send_hex("FF FE FD FC 01 13 01 00 00 00 00 00 00 FB");
+  EXPECT_EQ(box.read_hex(14, kDeadline), version);
+  running.stop();
+  return running.server().interval_violations();
+}
+
+TEST(TransferBoxServer, TimesTheIntervalCheckByTheKernelsReceiveStamp) {
+  // The loop's wake-up is no part of the service's spacing: what counts is
+  // when the frames reached the socket, a round trip apart here.
+  EXPECT_EQ(violations_of_two_reads_an_hour_apart(true), 1u);
+}
+
+TEST(TransferBoxServer, TimesTheIntervalCheckByTheReadTimeWithoutKernelStamps) {
+  EXPECT_EQ(violations_of_two_reads_an_hour_apart(false), 0u) << "an hour apart by the clock";
 }
 
 TEST(TransferBoxServer, RefusesAnAddressThatIsNotIpv4) {

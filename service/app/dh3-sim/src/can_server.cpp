@@ -9,6 +9,7 @@
 #include <ctime>
 
 #include "dh3/protocol/codec.hpp"
+#include "dh3/sim_server/receive_timestamp.hpp"
 
 namespace dh3::sim {
 
@@ -19,25 +20,6 @@ namespace {
 constexpr int kMaxFramesPerRound = 256;
 
 }  // namespace
-
-std::optional<Duration> receive_timestamp(const msghdr& message) {
-  // CMSG_NXTHDR takes a non-const msghdr; it only reads it.
-  auto& readable = const_cast<msghdr&>(message);
-  for (cmsghdr* c = CMSG_FIRSTHDR(&readable); c != nullptr; c = CMSG_NXTHDR(&readable, c)) {
-    if (c->cmsg_level != SOL_SOCKET) continue;
-    if (c->cmsg_type == SCM_TIMESTAMPNS && c->cmsg_len >= CMSG_LEN(sizeof(timespec))) {
-      timespec stamp{};
-      std::copy_n(CMSG_DATA(c), sizeof stamp, reinterpret_cast<unsigned char*>(&stamp));
-      return std::chrono::seconds(stamp.tv_sec) + std::chrono::nanoseconds(stamp.tv_nsec);
-    }
-    if (c->cmsg_type == SCM_TIMESTAMP && c->cmsg_len >= CMSG_LEN(sizeof(timeval))) {
-      timeval stamp{};
-      std::copy_n(CMSG_DATA(c), sizeof stamp, reinterpret_cast<unsigned char*>(&stamp));
-      return std::chrono::seconds(stamp.tv_sec) + std::chrono::microseconds(stamp.tv_usec);
-    }
-  }
-  return std::nullopt;
-}
 
 CanServer::CanServer(CanServerOptions options, CanSocketOpener opener, const Clock& clock)
     : options_(std::move(options)), opener_(std::move(opener)), host_(options_, clock) {}
@@ -59,12 +41,11 @@ Result<void, std::string> CanServer::open_fd() {
   fd_ = std::move(opened.value());
   set_nonblocking(fd_.get());
   if (options_.kernel_timestamps) {
-    const int on = 1;
-    if (::setsockopt(fd_.get(), SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof on) != 0) {
+    if (const auto refused = enable_receive_timestamps(fd_.get())) {
       spdlog::warn(
           "dh3-sim: {}: no kernel receive timestamps ({}); the interval check uses "
           "the time of reading",
-          options_.interface_name, errno_text(errno));
+          options_.interface_name, errno_text(*refused));
     }
   }
   return {};

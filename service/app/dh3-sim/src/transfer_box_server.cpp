@@ -6,13 +6,16 @@
 #include <poll.h>
 #include <spdlog/spdlog.h>
 #include <sys/socket.h>
+#include <sys/uio.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <ctime>
 #include <optional>
 
 #include "dh3/protocol/codec.hpp"
+#include "dh3/sim_server/receive_timestamp.hpp"
 
 namespace dh3::sim {
 
@@ -66,6 +69,15 @@ Result<void, ServerError> TransferBoxServer::listen() {
   }
   const int reuse = 1;
   ::setsockopt(listen_fd_.get(), SOL_SOCKET, SO_REUSEADDR, &reuse, sizeof reuse);
+  // On the listening socket, so that connections inherit it from the start: a
+  // client's first frames may arrive before accept(), and unstamped they would
+  // be timed by another clock than the frames after them.
+  if (options_.kernel_timestamps) {
+    if (const auto refused = enable_receive_timestamps(listen_fd_.get())) {
+      spdlog::warn("dh3-sim: no kernel receive timestamps ({}); the interval check uses "
+                   "the time of reading", errno_text(*refused));
+    }
+  }
   if (::bind(listen_fd_.get(), reinterpret_cast<const sockaddr*>(&address), sizeof address) != 0) {
     spdlog::error("dh3-sim: cannot listen on {}:{}: {}", host, options_.port, errno_text(errno));
     return fail(ServerError::bind_failed);
@@ -164,7 +176,14 @@ void TransferBoxServer::accept_clients() {
 void TransferBoxServer::read_client(Client& client) {
   std::uint8_t buffer[kReadChunk];
   for (;;) {
-    const ssize_t got = ::recv(client.fd.get(), buffer, sizeof buffer, 0);
+    alignas(cmsghdr) unsigned char control[CMSG_SPACE(sizeof(timespec)) * 2];
+    iovec io{buffer, sizeof buffer};
+    msghdr message{};
+    message.msg_iov = &io;
+    message.msg_iovlen = 1;
+    message.msg_control = control;
+    message.msg_controllen = sizeof control;
+    const ssize_t got = ::recvmsg(client.fd.get(), &message, 0);
     if (got == 0) {
       close_client(client, "closed by the client");
       return;
@@ -181,8 +200,12 @@ void TransferBoxServer::read_client(Client& client) {
       spdlog::debug("dh3-sim: client {}: skipped {} byte(s) that are no frame", client.id,
                     client.decoder.bytes_skipped() - skipped_before);
     }
-    // One read time for every frame of the read: TCP tells no more.
-    const Duration read_at = host_.clock().now().time_since_epoch();
+    // One time for every frame of the read: the kernel stamps the newest
+    // segment, and TCP tells no more. Without a stamp (turned off, or a
+    // kernel that gives none) the time of reading.
+    const std::optional<Duration> stamped =
+        options_.kernel_timestamps ? receive_timestamp(message) : std::nullopt;
+    const Duration read_at = stamped.value_or(host_.clock().now().time_since_epoch());
     for (const protocol::Message& request : decoded_) host_.receive(request, client.id, read_at);
     host_.serve_due(*this);
     if (!client.fd || static_cast<std::size_t>(got) < sizeof buffer) return;

@@ -12,6 +12,9 @@
 // other reply passes at once: a client whose client_id names no participant
 // (another vendor's client may use any id) is answered as before.
 //
+// One gate per reply writer, for its own matches: ReplyGate<msg::CommandReply>
+// and ReplyGate<msg::GroupReply> (any IDL reply with a client_id()).
+//
 // Thread-safe: replies come from bus threads and the request listener;
 // participants and matches from Fast DDS's listener threads; expiry from the
 // service's timer. Knows no Fast DDS entity: the caller writes what it returns.
@@ -33,6 +36,7 @@ enum class GateOutcome : std::uint8_t {
   held,  ///< taken in; released by reader_matched() or expire()
 };
 
+template <typename Reply>
 class ReplyGate {
  public:
   ReplyGate(const Clock& clock, Duration hold_limit) : clock_(clock), hold_limit_(hold_limit) {}
@@ -45,13 +49,13 @@ class ReplyGate {
   /// The reply writer matched (`matched`) or lost a reader of `client_id`'s
   /// participant. On a match, returns the replies held for it, oldest first,
   /// for the caller to write.
-  std::vector<msg::CommandReply> reader_matched(const std::string& client_id, bool matched);
+  std::vector<Reply> reader_matched(const std::string& client_id, bool matched);
   /// Whether `reply` may be written now; if held, it is moved in.
-  GateOutcome admit(msg::CommandReply& reply);
+  GateOutcome admit(Reply& reply);
   /// Held replies older than hold_limit, oldest first, for the caller to write.
-  std::vector<msg::CommandReply> expire();
+  std::vector<Reply> expire();
   /// Every held reply, oldest first (the service is stopping: written as they are).
-  std::vector<msg::CommandReply> take_all();
+  std::vector<Reply> take_all();
   /// When the oldest held reply reaches hold_limit, nullopt if none is held.
   [[nodiscard]] std::optional<TimePoint> next_expiry() const;
   [[nodiscard]] std::size_t held() const;
@@ -59,7 +63,7 @@ class ReplyGate {
  private:
   struct Held {
     TimePoint since;
-    msg::CommandReply reply;
+    Reply reply;
   };
   struct Client {
     int readers = 0;
@@ -67,12 +71,16 @@ class ReplyGate {
   };
 
   /// The held replies before `due`, oldest first, taken out.
-  std::vector<msg::CommandReply> take_locked(TimePoint due);
+  std::vector<Reply> take_locked(TimePoint due);
 
   const Clock& clock_;
   const Duration hold_limit_;
   mutable std::mutex mutex_;
   std::map<std::string, Client> clients_;  ///< known participants, by client_id
 };
+
+// Defined in reply_gate.cpp for these two.
+extern template class ReplyGate<msg::CommandReply>;
+extern template class ReplyGate<msg::GroupReply>;
 
 }  // namespace dh3::dds

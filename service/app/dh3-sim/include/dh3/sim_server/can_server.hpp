@@ -51,17 +51,9 @@ namespace dh3::sim {
 struct CanServerOptions : SimHostOptions {
   /// The interface's name, for log lines ("vcan0").
   std::string interface_name = "can";
-  /// Ask every opened fd for kernel receive timestamps (SO_TIMESTAMPNS). Tests
-  /// that drive the interval check with a FakeClock turn it off.
-  bool kernel_timestamps = true;
   /// How often a lost interface is tried again.
   Duration reopen_interval = std::chrono::milliseconds(500);
 };
-
-/// The kernel's receive time carried in a recvmsg() control buffer
-/// (SCM_TIMESTAMPNS or SCM_TIMESTAMP), as time since the epoch of
-/// CLOCK_REALTIME; nullopt if the message carries none.
-[[nodiscard]] std::optional<Duration> receive_timestamp(const msghdr& message);
 
 class CanServer final : private SimTransport {
  public:

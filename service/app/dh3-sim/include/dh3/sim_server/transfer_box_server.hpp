@@ -10,8 +10,9 @@
 //
 // The hands, the control channel (see kControlHelp; `kick` is this transport's
 // own command) and the interval check are SimHost's. For the interval check a
-// frame's time is when the server read it from its connection: TCP carries no
-// send time, so frames that arrive together count as sent together.
+// frame's time is the kernel's receive timestamp of the read that carried it
+// (the time of reading where there is none): TCP carries no send time, so
+// frames that arrive together count as sent together.
 //
 // Threading: run() serves everything on the calling thread with poll(); only
 // request_stop() may be called from elsewhere (also from a signal handler).

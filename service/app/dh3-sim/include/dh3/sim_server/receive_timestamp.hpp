@@ -1,0 +1,27 @@
+#pragma once
+// The kernel's receive time of what a recvmsg() read, for dh3-sim's interval
+// check: the time of reading includes however long the server's loop was not
+// scheduled, which made frames the service spaced correctly look too close
+// (issue 28). CAN sockets stamp each frame; TCP stamps the newest segment of
+// a read, which for frames one interval apart is the frame itself.
+//
+// Threading: pure functions.
+
+#include <sys/socket.h>
+
+#include <optional>
+
+#include "dh3/base/clock.hpp"
+
+namespace dh3::sim {
+
+/// Asks the kernel to stamp what `fd` receives (SO_TIMESTAMPNS); the OS's
+/// errno if it refuses.
+[[nodiscard]] std::optional<int> enable_receive_timestamps(int fd);
+
+/// The kernel's receive time carried in a recvmsg() control buffer
+/// (SCM_TIMESTAMPNS or SCM_TIMESTAMP), as time since the epoch of
+/// CLOCK_REALTIME; nullopt if the message carries none.
+[[nodiscard]] std::optional<Duration> receive_timestamp(const msghdr& message);
+
+}  // namespace dh3::sim
