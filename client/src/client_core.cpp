@@ -285,9 +285,9 @@ GroupReply ClientCore::group_call(GroupCommand command, const std::vector<HandAd
     std::unique_lock lock(mutex_);
     if (!changed_.wait_until(lock, deadline,
                              [&] { return closed_ || tracker_.group_ready(service); })) {
-      return GroupCalls::refused(Code::no_service, "service '" + service +
-                                                       "' with group commands not found in " +
-                                                       describe_duration(limit));
+      return GroupCalls::refused(
+          Code::no_service,
+          "service '" + service + "' with group commands not found in " + describe_duration(limit));
     }
     if (closed_) return GroupCalls::refused(Code::not_connected, "the client was closed");
     seq = calls_.next_seq();
@@ -306,7 +306,8 @@ GroupReply ClientCore::group_call(GroupCommand command, const std::vector<HandAd
   if (written && future.wait_until(deadline) == std::future_status::ready) return future.get();
   // The reply may have come in between: it wins.
   if (!group_calls_.forget(seq)) return future.get();
-  if (!written) return GroupCalls::refused(Code::not_connected, "could not publish the group request");
+  if (!written)
+    return GroupCalls::refused(Code::not_connected, "could not publish the group request");
   return GroupCalls::refused(Code::no_reply, "no group reply within " + describe_duration(limit));
 }
 
@@ -402,8 +403,7 @@ void ClientCore::on_status(const std::string& prefix, const msg::HandStatus& sam
   run(out);
 }
 
-void ClientCore::take_status_locked(const std::string& incarnation,
-                                    const msg::HandStatus& sample) {
+void ClientCore::take_status_locked(const std::string& incarnation, const msg::HandStatus& sample) {
   HandStatus status = to_public(sample);
   if (!cache_.take(incarnation, status)) return;
   // Posted under mutex_: the subscribers see each hand's statuses in cache order.

@@ -188,7 +188,7 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   std::atomic<bool> can_group_{false};       ///< group request writer and reply reader exist
   std::string denied_message_;  ///< why commands end DENIED; read only once constructed
 
-  mutable std::mutex mutex_;  ///< the state mutex (see the top of this file)
+  mutable std::mutex mutex_;             ///< the state mutex (see the top of this file)
   std::condition_variable changed_;      ///< services, statuses, closing
   std::condition_variable io_wake_;      ///< new request to write, new deadline, closing
   std::condition_variable writes_done_;  ///< a write in flight ended

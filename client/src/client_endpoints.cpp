@@ -62,18 +62,18 @@ void ClientEndpoints::create_command_endpoints(const EndpointCreator& creator,
   // until the client's reply reader has matched its writer (ReplyGate).
   auto reply_qos = contract::reader_qos(TopicRole::reply);
   reply_qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
-  reply_reader_ = creator.create_reader(ClientEndpoint::reply_reader, participant_->subscriber(),
-                                       own_replies, reply_qos, &reader_listener_,
-                                       data_and_matches());
+  reply_reader_ =
+      creator.create_reader(ClientEndpoint::reply_reader, participant_->subscriber(), own_replies,
+                            reply_qos, &reader_listener_, data_and_matches());
 }
 
 void ClientEndpoints::create_group_endpoints(const EndpointCreator& creator) {
   using contract::TopicRole;
   const contract::Topics& topics = participant_->topics();
-  group_request_writer_ = creator.create_writer(
-      ClientEndpoint::group_request_writer, participant_->publisher(), topics.group_request,
-      contract::writer_qos(TopicRole::request), &group_request_listener_,
-      fdds::StatusMask::publication_matched());
+  group_request_writer_ =
+      creator.create_writer(ClientEndpoint::group_request_writer, participant_->publisher(),
+                            topics.group_request, contract::writer_qos(TopicRole::request),
+                            &group_request_listener_, fdds::StatusMask::publication_matched());
   // The plain topic: group replies are few, and on_group_reply() keeps only
   // this client's. VOLATILE for the reason the reply reader is: the service
   // holds a group reply until this reader has matched (its group ReplyGate).
@@ -103,16 +103,14 @@ void ClientEndpoints::create_watch_endpoints(const EndpointCreator& creator,
   status_reader_ =
       creator.create_reader(ClientEndpoint::status_reader, subscriber, view(topics.status, true),
                             contract::reader_qos(TopicRole::hand_status), &reader_listener_, data);
-  event_reader_ = creator.create_reader(ClientEndpoint::event_reader, subscriber,
-                                       view(topics.event, true),
-                                       contract::reader_qos(TopicRole::hand_event),
-                                       &reader_listener_, data_and_matches());
+  event_reader_ = creator.create_reader(
+      ClientEndpoint::event_reader, subscriber, view(topics.event, true),
+      contract::reader_qos(TopicRole::hand_event), &reader_listener_, data_and_matches());
   // Only if statuses and events are readable (set_up_dds() fails otherwise).
   if (status_reader_ == nullptr || event_reader_ == nullptr) return;
-  info_reader_ = creator.create_reader(ClientEndpoint::info_reader, subscriber,
-                                      view(topics.info, false),
-                                      contract::reader_qos(TopicRole::service_info),
-                                      &reader_listener_, data);
+  info_reader_ =
+      creator.create_reader(ClientEndpoint::info_reader, subscriber, view(topics.info, false),
+                            contract::reader_qos(TopicRole::service_info), &reader_listener_, data);
 }
 
 Result<void, std::string> ClientEndpoints::create_participant(const ClientOptions& options) {

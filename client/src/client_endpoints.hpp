@@ -7,9 +7,9 @@
 
 #include <fastdds/rtps/common/InstanceHandle.h>
 
+#include <cstdint>
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
-#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -73,8 +73,7 @@ class ClientEndpoints {
                                 const fdds::PublicationMatchedStatus& status) override {
       const OnDdsListener on_listener;
       core_.on_matched(ServiceTracker::Endpoint::request_reader,
-                       prefix_of(status.last_subscription_handle),
-                       status.current_count_change > 0);
+                       prefix_of(status.last_subscription_handle), status.current_count_change > 0);
     }
 
    private:
@@ -88,8 +87,7 @@ class ClientEndpoints {
                                 const fdds::PublicationMatchedStatus& status) override {
       const OnDdsListener on_listener;
       core_.on_matched(ServiceTracker::Endpoint::group_request_reader,
-                       prefix_of(status.last_subscription_handle),
-                       status.current_count_change > 0);
+                       prefix_of(status.last_subscription_handle), status.current_count_change > 0);
     }
 
    private:
@@ -117,8 +115,9 @@ class ClientEndpoints {
           core_.on_event(from, e);
         });
       } else if (topic == topics::GROUP_REPLY) {
-        take<msg::GroupReply>(
-            reader, [this](const msg::GroupReply& r, const std::string&) { core_.on_group_reply(r); });
+        take<msg::GroupReply>(reader, [this](const msg::GroupReply& r, const std::string&) {
+          core_.on_group_reply(r);
+        });
       } else if (topic == topics::SERVICE_INFO) {
         take<msg::ServiceInfo>(reader, [this](const msg::ServiceInfo& i, const std::string& from) {
           core_.on_info(from, i);

@@ -39,7 +39,8 @@ GroupReply GroupCalls::refused(Code code, std::string message) {
 Result<msg::GroupRequest, GroupReply> GroupCalls::make_request(
     GroupCommand command, const std::vector<HandAddress>& hands, std::int32_t value,
     Timeout timeout) {
-  if (hands.empty()) return fail(refused(Code::invalid_argument, "a group names at least one hand"));
+  if (hands.empty())
+    return fail(refused(Code::invalid_argument, "a group names at least one hand"));
   msg::GroupRequest request;
   request.service(hands.front().service);
   request.command(to_msg(command));
@@ -48,8 +49,8 @@ Result<msg::GroupRequest, GroupReply> GroupCalls::make_request(
   for (const HandAddress& hand : hands) {
     if (hand.service != hands.front().service) {
       return fail(refused(Code::invalid_argument,
-                          "a group's hands are of one service: " + hand.to_string() + " is not of '" +
-                              hands.front().service + "'"));
+                          "a group's hands are of one service: " + hand.to_string() +
+                              " is not of '" + hands.front().service + "'"));
     }
     // The check a single command of this hand passes first.
     msg::CommandRequest single;

@@ -174,8 +174,7 @@ std::optional<ServiceInfo> ServiceTracker::service(std::string_view name) const 
   return info_of(it->first, it->second);
 }
 
-std::optional<ServiceInfo> ServiceTracker::find_ready(std::string_view name,
-                                                      bool need_info) const {
+std::optional<ServiceInfo> ServiceTracker::find_ready(std::string_view name, bool need_info) const {
   for (const auto& [service, state] : services_) {
     if ((name.empty() || service == name) && (state.info || !need_info) && ready(service)) {
       return info_of(service, state);

@@ -41,8 +41,7 @@ class Subscriptions {
   /// Adds a status subscription (`state->on_status` set); `known`, the
   /// statuses cached now, are posted to it first, so it sees every hand's
   /// statuses in order when the caller holds the lock its posts come under.
-  void add_status(const std::shared_ptr<SubscriptionState>& state,
-                  std::vector<HandStatus> known);
+  void add_status(const std::shared_ptr<SubscriptionState>& state, std::vector<HandStatus> known);
   /// Ends a subscription and waits for its callback in progress, unless
   /// called from a callback.
   void remove(const std::shared_ptr<SubscriptionState>& state);

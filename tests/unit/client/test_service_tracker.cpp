@@ -62,7 +62,7 @@ TEST(ServiceTracker, TheCurrentIncarnationLeavingLosesTheServiceAndAnotherTakesO
   ServiceTracker tracker;
   Outcome ignored;
   tracker.take_info("A", info_of("svc", 100), ignored);
-  tracker.note_participant("B", "svc", ignored);  // a second one, not current
+  tracker.note_participant("B", "svc", ignored);        // a second one, not current
   tracker.take_info("C", info_of("svc", 50), ignored);  // older: the current one stays
   EXPECT_EQ(tracker.incarnation("svc"), "A");
   match_commands(tracker, "A");

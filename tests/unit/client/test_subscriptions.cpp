@@ -139,7 +139,9 @@ TEST(Subscriptions, ACallbackMayUnsubscribeItselfAndAThrowingOneStopsNoOther) {
   auto thrower = std::make_shared<SubscriptionState>();
   thrower->on_event = [](const HandEvent&) { throw std::runtime_error("user code"); };
   auto after = std::make_shared<SubscriptionState>();
-  after->on_event = [&heard](const HandEvent& event) { heard.add(tagged("after ", event.message)); };
+  after->on_event = [&heard](const HandEvent& event) {
+    heard.add(tagged("after ", event.message));
+  };
   std::weak_ptr<SubscriptionState> weak_self = self;
   self->on_event = [&subs, &heard, weak_self](const HandEvent& event) {
     heard.add(tagged("self ", event.message));
