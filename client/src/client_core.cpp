@@ -1,21 +1,36 @@
-// ClientCore's life cycle: set up, connected, closed. Its other jobs have a
-// file each: client_endpoints (DDS wiring), pending_calls, service_tracker,
-// status_cache, subscriptions, dispatcher.
+// ClientCore: the life cycle, and what each call, sample and match means for
+// the collaborators client_core.hpp names.
 
 #include "client_core.hpp"
 
+#include <algorithm>
+
 #include "client_endpoints.hpp"
+#include "conversions.hpp"
 
 namespace dh3::detail {
+
+namespace {
+
+/// The participant name dh3-service gives itself ("dh3-service <name>"): lets
+/// the client know a service's participant, and so a restart, before any of
+/// its samples arrive. Services of other vendors are still found by their
+/// samples; only the early warning is lost.
+constexpr std::string_view kServiceParticipantPrefix = "dh3-service ";
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+// Life cycle
 
 ClientCore::ClientCore(ClientOptions options) : ClientCore(std::move(options), EndpointCreator{}) {}
 
 ClientCore::ClientCore(ClientOptions options, const EndpointCreator& endpoints)
     : options_(std::move(options)) {
-  dds_ = std::make_unique<Dds>(*this);
-  if (auto set_up = set_up_dds(endpoints); !set_up) {
-    error_ = std::move(set_up).error();
-    dds_.reset();
+  endpoints_ = std::make_unique<ClientEndpoints>(*this);
+  if (auto set_up_done = set_up(endpoints); !set_up_done) {
+    error_ = std::move(set_up_done).error();
+    endpoints_.reset();
     closed_ = true;
     return;
   }
@@ -26,25 +41,52 @@ ClientCore::~ClientCore() {
   close();
 }
 
+Result<void, std::string> ClientCore::set_up(const EndpointCreator& creator) {
+  std::optional<contract::Follow> follow;
+  if (!options_.follow.empty()) {
+    auto parsed = contract::parse_follow(options_.follow);
+    if (!parsed) return fail(std::move(parsed).error());
+    follow = std::move(parsed).value();
+    follow_service_ = follow->service;
+    follow_bus_ = follow->bus;
+  }
+  if (auto created = endpoints_->create_participant(options_); !created) {
+    return fail(std::move(created).error());
+  }
+  client_id_ = endpoints_->client_id();
+  if (auto made = endpoints_->create_endpoints(creator, client_id_, follow); !made) {
+    return fail(std::move(made).error());
+  }
+  can_command_ = endpoints_->can_command();
+  can_group_ = endpoints_->can_group();
+  has_info_reader_ = endpoints_->has_info_reader();
+  {
+    std::lock_guard lock(mutex_);
+    tracker_.set_commands(can_command_);
+  }
+  if (!can_command_) denied_message_ = ClientEndpoints::denied_message(options_);
+  return {};
+}
+
 bool ClientCore::connected() const {
   std::lock_guard lock(mutex_);
   return !closed_;
+}
+
+std::string ClientCore::closed_message() const {
+  return error_.empty() ? "the client was closed" : error_;
 }
 
 void ClientCore::close() {
   Actions out;
   {
     std::lock_guard lock(mutex_);
-    if (closed_ && !io_thread_.joinable() && dds_ == nullptr) return;
+    if (closed_ && !io_thread_.joinable() && endpoints_ == nullptr) return;
     closed_ = true;
-    for (auto& [seq, pending] : pending_) {
-      out.completions.emplace_back(std::move(pending.done),
-                                   make_reply(Code::not_connected, "the client was closed"));
-    }
-    pending_.clear();
-    to_write_.clear();
-    close_group_calls_locked();
+    out.completions = calls_.end_all(make_reply(Code::not_connected, "the client was closed"));
   }
+  // No group call is filed once closed_ is set (group_call() files under mutex_).
+  group_calls_.close();
   io_wake_.notify_all();
   changed_.notify_all();
   // The io thread is the only writer: once it is gone no write can race the
@@ -53,11 +95,542 @@ void ClientCore::close() {
   {
     // Callers writing their own requests finish before the writer goes.
     std::unique_lock lock(mutex_);
-    writes_done_.wait(lock, [this] { return writes_in_flight_ == 0; });
+    writes_done_.wait(lock, [this] { return calls_.writes_in_flight() == 0; });
   }
   run(out);
-  dds_.reset();  // waits for listener callbacks in progress
-  dispatcher_.stop();
+  endpoints_.reset();  // waits for listener callbacks in progress
+  subscriptions_.stop();
+}
+
+bool ClientCore::followed(std::string_view service, std::string_view bus) const {
+  if (follow_service_.empty()) return true;
+  return service == follow_service_ && (bus.empty() || follow_bus_.empty() || bus == follow_bus_);
+}
+
+// ---------------------------------------------------------------------------
+// Calls
+
+Result<void, Reply> ClientCore::check(const HandAddress& hand, msg::CommandType command,
+                                      std::int32_t value) {
+  msg::CommandRequest request;
+  request.hand(to_msg(hand));
+  request.command(command);
+  request.value(value);
+  return check_request(request);
+}
+
+void ClientCore::call(const HandAddress& hand, msg::CommandType command, std::int32_t value,
+                      std::uint16_t register_code, Timeout timeout, Done done) {
+  msg::CommandRequest request;
+  request.hand(to_msg(hand));
+  request.command(command);
+  request.value(value);
+  request.register_code(register_code);
+  if (auto checked = check_request(request); !checked) {
+    done(std::move(checked).error());
+    return;
+  }
+  std::uint64_t seq = 0;
+  bool write_now = false;
+  bool kick = false;
+  msg::CommandRequest to_send;
+  {
+    std::unique_lock lock(mutex_);
+    if (closed_) {
+      lock.unlock();
+      done(make_reply(Code::not_connected, closed_message()));
+      return;
+    }
+    if (!can_command_) {
+      lock.unlock();
+      done(make_reply(Code::denied, denied_message_));
+      return;
+    }
+    seq = calls_.next_seq();
+    request.client_id(client_id_);
+    request.request_seq(seq);
+    PendingCalls::Call call;
+    call.hand = hand;
+    call.request = std::move(request);
+    call.timeout = effective(timeout);
+    call.deadline = Clock::now() + call.timeout;
+    call.done = std::move(done);
+    if (tracker_.ready(hand.service)) {
+      call.sent_to = tracker_.incarnation(hand.service);
+      // Written here, without waking the io thread, unless that could let it
+      // overtake a request written or queued before it.
+      if (calls_.queue_empty() && calls_.writes_in_flight() == 0 && !t_on_dds_listener) {
+        write_now = true;
+        calls_.begin_write();
+        to_send = call.request;
+      } else {
+        calls_.queue(seq);
+        kick = true;
+      }
+    }
+    // The io thread must see this deadline if it comes before its next wake.
+    if (calls_.add(seq, std::move(call))) kick = true;
+    if (kick) io_kick_ = true;
+  }
+  if (kick) io_wake_.notify_all();
+  if (write_now) write_request(seq, to_send);
+}
+
+std::future<Reply> ClientCore::call(const HandAddress& hand, msg::CommandType command,
+                                    std::int32_t value, std::uint16_t register_code,
+                                    Timeout timeout) {
+  auto promise = std::make_shared<std::promise<Reply>>();
+  auto future = promise->get_future();
+  call(hand, command, value, register_code, timeout,
+       [promise](Reply reply) { promise->set_value(std::move(reply)); });
+  return future;
+}
+
+void ClientCore::write_request(std::uint64_t seq, const msg::CommandRequest& request) {
+  const bool written = endpoints_->write(request);
+  Done failed;
+  {
+    std::lock_guard lock(mutex_);
+    calls_.end_write();
+    if (written) {
+      requests_written_.fetch_add(1, std::memory_order_relaxed);
+    } else if (auto call = calls_.take(seq)) {
+      failed = std::move(call->done);
+    }
+  }
+  writes_done_.notify_all();
+  if (failed) failed(make_reply(Code::not_connected, "could not publish the request"));
+}
+
+void ClientCore::write_requests(std::unique_lock<std::mutex>& lock) {
+  while (!closed_) {
+    auto next = calls_.next_to_write();
+    if (!next) return;
+    calls_.begin_write();
+    lock.unlock();
+    write_request(next->first, next->second);
+    lock.lock();
+  }
+}
+
+void ClientCore::io_loop() {
+  std::unique_lock lock(mutex_);
+  while (!closed_) {
+    // Requests first: a deadline check must not end a call whose request was
+    // about to go out.
+    write_requests(lock);
+    if (closed_) break;
+
+    auto expiry = calls_.expire(Clock::now());
+    if (!expiry.expired.empty()) {
+      std::vector<PendingCalls::Completion> ended;
+      for (auto& call : expiry.expired) {
+        Reply reply =
+            PendingCalls::expired_reply(call, tracker_.alive(call.hand.service), options_.domain);
+        ended.emplace_back(std::move(call.done), std::move(reply));
+      }
+      lock.unlock();
+      tell_acknowledgment(ended);
+      for (auto& [done, reply] : ended) done(std::move(reply));
+      lock.lock();
+      continue;  // state may have changed while unlocked
+    }
+    io_kick_ = false;
+    calls_.set_next_wake(expiry.next);
+    const auto wake = [this] { return closed_ || io_kick_ || !calls_.queue_empty(); };
+    if (expiry.next == Clock::time_point::max()) {
+      io_wake_.wait(lock, wake);
+    } else {
+      io_wake_.wait_until(lock, expiry.next, wake);
+    }
+  }
+}
+
+void ClientCore::tell_acknowledgment(std::vector<PendingCalls::Completion>& expired) const {
+  const auto no_reply = [](const auto& call) { return call.second.code == Code::no_reply; };
+  if (std::none_of(expired.begin(), expired.end(), no_reply)) return;
+  // Per writer, not per sample (Fast DDS 2.9 has no per-sample ack status):
+  // "acknowledged" is certain, "not acknowledged" may stem from another
+  // request or another service's reader, so it only says "may not".
+  const bool acknowledged = endpoints_->requests_acknowledged();
+  for (auto& call : expired) {
+    if (!no_reply(call)) continue;
+    call.second.message += acknowledged
+                               ? "; the service acknowledged the request, so it may have run"
+                               : "; the service has not acknowledged the request, so it may "
+                                 "not have received it";
+  }
+}
+
+void ClientCore::run(Actions& actions) {
+  for (auto& [done, reply] : actions.completions) done(std::move(reply));
+  actions.completions.clear();
+  if (actions.wake_io) io_wake_.notify_all();
+}
+
+GroupReply ClientCore::group_call(GroupCommand command, const std::vector<HandAddress>& hands,
+                                  std::int32_t value, Timeout timeout) {
+  const auto limit = effective(timeout);
+  auto request = GroupCalls::make_request(command, hands, value, timeout);
+  if (!request) return std::move(request).error();
+  if (!connected()) return GroupCalls::refused(Code::not_connected, "the client is not connected");
+  if (!can_command_ || !can_group_) {
+    return GroupCalls::refused(Code::denied, "not permitted to publish group requests");
+  }
+  const auto deadline = Clock::now() + limit;
+  const std::string service = request->service();
+  std::future<GroupReply> future;
+  std::uint64_t seq = 0;
+  {
+    std::unique_lock lock(mutex_);
+    if (!changed_.wait_until(lock, deadline,
+                             [&] { return closed_ || tracker_.group_ready(service); })) {
+      return GroupCalls::refused(
+          Code::no_service,
+          "service '" + service + "' with group commands not found in " + describe_duration(limit));
+    }
+    if (closed_) return GroupCalls::refused(Code::not_connected, "the client was closed");
+    seq = calls_.next_seq();
+    future = group_calls_.add(seq);
+    calls_.begin_write();
+  }
+  request->client_id(client_id_);
+  request->request_seq(seq);
+  const bool written = endpoints_->write(*request);
+  {
+    std::lock_guard lock(mutex_);
+    calls_.end_write();
+    if (written) requests_written_.fetch_add(1, std::memory_order_relaxed);
+  }
+  writes_done_.notify_all();
+  if (written && future.wait_until(deadline) == std::future_status::ready) return future.get();
+  // The reply may have come in between: it wins.
+  if (!group_calls_.forget(seq)) return future.get();
+  if (!written)
+    return GroupCalls::refused(Code::not_connected, "could not publish the group request");
+  return GroupCalls::refused(Code::no_reply, "no group reply within " + describe_duration(limit));
+}
+
+// ---------------------------------------------------------------------------
+// From the DDS listeners
+
+void ClientCore::apply_locked(const ServiceTracker::Outcome& outcome, Actions& out) {
+  if (outcome.lost_service) {
+    for (auto& ended : calls_.end_sent_to(outcome.lost, outcome.why)) {
+      out.completions.push_back(std::move(ended));
+    }
+    for (const HandStatus& status : cache_.mark_lost(outcome.service)) {
+      subscriptions_.post_status(status);
+      subscriptions_.post_event(StatusCache::offline_event(status, outcome.why));
+    }
+  }
+  if (outcome.may_dispatch) dispatch_locked(outcome.service, out);
+  changed_.notify_all();
+}
+
+void ClientCore::dispatch_locked(const std::string& service, Actions& out) {
+  if (!tracker_.ready(service)) return;
+  if (calls_.assign(service, tracker_.incarnation(service))) out.wake_io = true;
+  changed_.notify_all();
+}
+
+void ClientCore::on_participant_found(const std::string& prefix, const std::string& name) {
+  if (!std::string_view(name).starts_with(kServiceParticipantPrefix)) return;
+  const std::string service = name.substr(kServiceParticipantPrefix.size());
+  // A follower knows only the service it follows.
+  if (!followed(service)) return;
+  Actions out;
+  {
+    std::lock_guard lock(mutex_);
+    if (closed_) return;
+    ServiceTracker::Outcome outcome;
+    tracker_.note_participant(prefix, service, outcome);
+    apply_locked(outcome, out);
+  }
+  run(out);
+}
+
+void ClientCore::on_participant_left(const std::string& prefix) {
+  Actions out;
+  {
+    std::lock_guard lock(mutex_);
+    if (closed_) return;
+    apply_locked(tracker_.participant_left(prefix), out);
+  }
+  run(out);
+}
+
+void ClientCore::on_matched(ServiceTracker::Endpoint endpoint, const std::string& prefix,
+                            bool matched) {
+  Actions out;
+  {
+    std::lock_guard lock(mutex_);
+    if (closed_) return;
+    if (const auto service = tracker_.matched(endpoint, prefix, matched)) {
+      dispatch_locked(*service, out);
+    }
+    changed_.notify_all();  // a group call may wait for it (group_ready)
+  }
+  run(out);
+}
+
+void ClientCore::on_info(const std::string& prefix, const msg::ServiceInfo& info) {
+  infos_taken_.fetch_add(1, std::memory_order_relaxed);
+  if (!followed(info.service())) return;
+  Actions out;
+  {
+    std::lock_guard lock(mutex_);
+    if (closed_) return;
+    ServiceTracker::Outcome outcome;
+    tracker_.take_info(prefix, to_public(info), outcome);
+    apply_locked(outcome, out);
+  }
+  run(out);
+}
+
+void ClientCore::on_status(const std::string& prefix, const msg::HandStatus& sample) {
+  statuses_taken_.fetch_add(1, std::memory_order_relaxed);
+  if (!followed(sample.service(), sample.bus())) return;
+  Actions out;
+  {
+    std::lock_guard lock(mutex_);
+    if (closed_) return;
+    ServiceTracker::Outcome outcome;
+    const bool known = tracker_.note_participant(prefix, sample.service(), outcome);
+    apply_locked(outcome, out);
+    if (known) take_status_locked(prefix, sample);
+  }
+  run(out);
+}
+
+void ClientCore::take_status_locked(const std::string& incarnation, const msg::HandStatus& sample) {
+  HandStatus status = to_public(sample);
+  if (!cache_.take(incarnation, status)) return;
+  // Posted under mutex_: the subscribers see each hand's statuses in cache order.
+  subscriptions_.post_status(status);
+  changed_.notify_all();
+}
+
+void ClientCore::on_event(const std::string& prefix, const msg::HandEvent& sample) {
+  events_taken_.fetch_add(1, std::memory_order_relaxed);
+  if (!followed(sample.hand().service(), sample.hand().bus())) return;
+  std::lock_guard lock(mutex_);
+  if (closed_ || tracker_.participant_gone(prefix)) return;
+  subscriptions_.post_event(to_public(sample));
+}
+
+void ClientCore::on_reply(const msg::CommandReply& reply) {
+  // The reply reader's filter keeps our client_id; checked again in case
+  // Fast DDS refused the filtered topic and we read the plain one.
+  if (reply.client_id() != client_id_) {
+    foreign_replies_taken_.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  own_replies_.fetch_add(1, std::memory_order_relaxed);
+  Done done;
+  {
+    std::lock_guard lock(mutex_);
+    const PendingCalls::Call* call = calls_.find(reply.request_seq());
+    if (call == nullptr || call->request.command() != reply.command()) return;
+    // The hand's status as the command left it, cached (and posted) before the
+    // call ends; the same sample on the status topic is then not news.
+    if (reply.status().update_seq() != 0 && !closed_ && !call->sent_to.empty() &&
+        !reply.status().service().empty() &&
+        followed(reply.status().service(), reply.status().bus())) {
+      take_status_locked(call->sent_to, reply.status());
+    }
+    done = std::move(calls_.take(reply.request_seq())->done);
+  }
+  done(to_reply(reply));
+}
+
+void ClientCore::on_group_reply(const msg::GroupReply& reply) {
+  // Group replies travel unfiltered: other clients' count as foreign.
+  if (reply.client_id() != client_id_) {
+    foreign_replies_taken_.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  const auto promise = group_calls_.take(reply.request_seq());
+  if (promise == nullptr) return;
+  own_replies_.fetch_add(1, std::memory_order_relaxed);
+  promise->set_value(GroupCalls::reply_of(reply));
+}
+
+// ---------------------------------------------------------------------------
+// What the client knows, and the waits on it
+
+std::vector<ServiceInfo> ClientCore::services() const {
+  std::lock_guard lock(mutex_);
+  return tracker_.services();
+}
+
+std::optional<ServiceInfo> ClientCore::service(std::string_view name) const {
+  std::lock_guard lock(mutex_);
+  return tracker_.service(name);
+}
+
+std::vector<HandStatus> ClientCore::hands() const {
+  std::lock_guard lock(mutex_);
+  return cache_.all();
+}
+
+std::optional<HandStatus> ClientCore::status(const HandAddress& address) const {
+  std::lock_guard lock(mutex_);
+  return cache_.find(address);
+}
+
+std::vector<KnownHand> ClientCore::known_hands() const {
+  std::lock_guard lock(mutex_);
+  return cache_.known_hands(tracker_.infos());
+}
+
+CommandTraffic ClientCore::command_traffic() const {
+  CommandTraffic traffic;
+  traffic.requests_written = requests_written_.load(std::memory_order_relaxed);
+  traffic.own_replies = own_replies_.load(std::memory_order_relaxed);
+  traffic.foreign_replies = foreign_replies_taken_.load(std::memory_order_relaxed);
+  if (endpoints_ != nullptr) traffic.foreign_replies += endpoints_->replies_filtered();
+  return traffic;
+}
+
+WatchTraffic ClientCore::watch_traffic() const {
+  WatchTraffic traffic;
+  traffic.statuses = statuses_taken_.load(std::memory_order_relaxed);
+  traffic.events = events_taken_.load(std::memory_order_relaxed);
+  traffic.infos = infos_taken_.load(std::memory_order_relaxed);
+  if (endpoints_ != nullptr) traffic.dropped_on_arrival = endpoints_->follow_filtered();
+  return traffic;
+}
+
+Found<ServiceInfo> ClientCore::wait_for_service(std::string_view name, Timeout timeout) {
+  std::unique_lock lock(mutex_);
+  std::optional<ServiceInfo> found;
+  // Without the info reader no ServiceInfo ever comes: the name is all we know.
+  changed_.wait_for(lock, effective(timeout), [&] {
+    if (closed_) return true;
+    found = tracker_.find_ready(name, has_info_reader_);
+    return found.has_value();
+  });
+  if (found) return *found;
+  if (closed_) return {Code::not_connected, closed_message()};
+  const std::string which =
+      name.empty() ? "no dh3 service" : "no service '" + std::string(name) + "'";
+  return {Code::no_service, which + " found on DDS domain " + std::to_string(options_.domain) +
+                                " within " + describe_duration(effective(timeout))};
+}
+
+bool ClientCore::wait_for_statuses(Timeout timeout) {
+  std::unique_lock lock(mutex_);
+  return changed_.wait_for(lock, effective(timeout), [&] {
+    if (closed_) return false;
+    for (const auto& [name, info] : tracker_.ready_services()) {
+      if (!info) {
+        if (has_info_reader_) return false;
+        // No info to list its hands: at least one of them must have reported.
+        if (!cache_.has_service(name)) return false;
+        continue;
+      }
+      for (const auto& bus : info->buses) {
+        if (!followed(name, bus.name)) continue;  // a follower of one bus has no other's
+        for (const auto& hand : bus.hands) {
+          if (!cache_.has(HandAddress{name, bus.name, hand.can_id})) return false;
+        }
+      }
+    }
+    return true;
+  });
+}
+
+Found<HandAddress> ClientCore::wait_for_hand(const HandSpec& spec, Timeout timeout) {
+  std::unique_lock lock(mutex_);
+  std::optional<Found<HandAddress>> answer;
+  const auto check = [&] {
+    if (closed_) return true;
+    auto resolved = resolve_hand(spec, cache_.known_hands(tracker_.infos()));
+    if (!resolved) {
+      // More hands can only make an ambiguous name more ambiguous.
+      if (resolved.code() == Code::invalid_argument) {
+        answer = std::move(resolved);
+        return true;
+      }
+      return false;
+    }
+    if (!cache_.has(*resolved)) return false;
+    answer = std::move(resolved);
+    return true;
+  };
+  changed_.wait_for(lock, effective(timeout), check);
+  if (answer) return std::move(*answer);
+  if (closed_) return {Code::not_connected, closed_message()};
+  const std::string within = " within " + describe_duration(effective(timeout));
+  if (spec.service) {
+    if (!tracker_.alive(*spec.service)) {
+      return {Code::no_service, "no service '" + *spec.service + "' found on DDS domain " +
+                                    std::to_string(options_.domain) + within};
+    }
+  } else if (!tracker_.any_alive()) {
+    return {Code::no_service,
+            "no dh3 service found on DDS domain " + std::to_string(options_.domain) + within};
+  }
+  auto resolved = resolve_hand(spec, cache_.known_hands(tracker_.infos()));
+  if (!resolved) return resolved;
+  return {Code::unknown_hand, "service '" + resolved->service + "' has no hand " + resolved->bus +
+                                  "/" + std::to_string(resolved->can_id) + " (no status for it" +
+                                  within + ")"};
+}
+
+std::optional<HandStatus> ClientCore::wait_status(
+    const HandAddress& address, const std::function<bool(const HandStatus&)>& pred,
+    Timeout timeout) {
+  std::unique_lock lock(mutex_);
+  std::optional<HandStatus> found;
+  changed_.wait_for(lock, effective(timeout), [&] {
+    if (closed_) return true;
+    auto status = cache_.find(address);
+    if (!status || !pred(*status)) return false;
+    found = std::move(status);
+    return true;
+  });
+  return found;
+}
+
+// ---------------------------------------------------------------------------
+// Subscriptions
+
+std::shared_ptr<SubscriptionState> ClientCore::subscribe_events(EventCallback callback,
+                                                                std::optional<HandAddress> only) {
+  auto state = std::make_shared<SubscriptionState>();
+  state->on_event = std::move(callback);
+  state->only = std::move(only);
+  state->core = weak_from_this();
+  std::lock_guard lock(mutex_);
+  if (closed_) {
+    state->active = false;
+  } else {
+    subscriptions_.add_events(state);
+  }
+  return state;
+}
+
+std::shared_ptr<SubscriptionState> ClientCore::subscribe_status(StatusCallback callback,
+                                                                std::optional<HandAddress> only) {
+  auto state = std::make_shared<SubscriptionState>();
+  state->on_status = std::move(callback);
+  state->only = std::move(only);
+  state->core = weak_from_this();
+  // Under mutex_, which every later status is posted under: the subscriber
+  // sees the statuses known now, then each later one, in order.
+  std::lock_guard lock(mutex_);
+  if (closed_) {
+    state->active = false;
+  } else {
+    subscriptions_.add_status(state, cache_.matching(state->only));
+  }
+  return state;
+}
+
+void ClientCore::unsubscribe(const std::shared_ptr<SubscriptionState>& state) {
+  subscriptions_.remove(state);
 }
 
 }  // namespace dh3::detail

@@ -34,24 +34,24 @@ fdds::StatusMask data_and_matches() {
 
 }  // namespace
 
-void ClientCore::Dds::create_command_endpoints(const EndpointCreator& creator,
+void ClientEndpoints::create_command_endpoints(const EndpointCreator& creator,
                                                const std::string& client_id) {
   using contract::TopicRole;
-  const contract::Topics& topics = participant->topics();
+  const contract::Topics& topics = participant_->topics();
   // The command endpoints first, each right after the other: the service
   // answers on the reply topic as soon as a request arrives, so our reply
   // reader's announcement should trail the request writer's as little as
   // possible (a reply written before the service knows our reader is lost).
-  request_writer =
-      creator.create_writer(ClientEndpoint::request_writer, participant->publisher(),
+  request_writer_ =
+      creator.create_writer(ClientEndpoint::request_writer, participant_->publisher(),
                             topics.request, contract::writer_qos(TopicRole::request),
-                            &request_listener, fdds::StatusMask::publication_matched());
+                            &request_listener_, fdds::StatusMask::publication_matched());
   // Only our replies: the service's writer sends each client its own (see
   // dh3_reply_filter.hpp), instead of every client taking every reply.
   // Should Fast DDS refuse the filtered topic, the plain one still works:
   // on_reply() keeps only our client_id.
   fdds::TopicDescription* own_replies =
-      contract::create_own_replies_topic(participant->participant(), topics.reply, client_id);
+      contract::create_own_replies_topic(participant_->participant(), topics.reply, client_id);
   if (own_replies == nullptr) own_replies = topics.reply;
   // VOLATILE, though the service's reply writer is TRANSIENT_LOCAL (for other
   // vendors' clients, which the contract tells to read it so): a new client
@@ -62,33 +62,33 @@ void ClientCore::Dds::create_command_endpoints(const EndpointCreator& creator,
   // until the client's reply reader has matched its writer (ReplyGate).
   auto reply_qos = contract::reader_qos(TopicRole::reply);
   reply_qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
-  reply_reader = creator.create_reader(ClientEndpoint::reply_reader, participant->subscriber(),
-                                       own_replies, reply_qos, &reader_listener,
-                                       data_and_matches());
+  reply_reader_ =
+      creator.create_reader(ClientEndpoint::reply_reader, participant_->subscriber(), own_replies,
+                            reply_qos, &reader_listener_, data_and_matches());
 }
 
-void ClientCore::Dds::create_group_endpoints(const EndpointCreator& creator) {
+void ClientEndpoints::create_group_endpoints(const EndpointCreator& creator) {
   using contract::TopicRole;
-  const contract::Topics& topics = participant->topics();
-  group_request_writer = creator.create_writer(
-      ClientEndpoint::group_request_writer, participant->publisher(), topics.group_request,
-      contract::writer_qos(TopicRole::request), &group_request_listener,
-      fdds::StatusMask::publication_matched());
+  const contract::Topics& topics = participant_->topics();
+  group_request_writer_ =
+      creator.create_writer(ClientEndpoint::group_request_writer, participant_->publisher(),
+                            topics.group_request, contract::writer_qos(TopicRole::request),
+                            &group_request_listener_, fdds::StatusMask::publication_matched());
   // The plain topic: group replies are few, and on_group_reply() keeps only
   // this client's. VOLATILE for the reason the reply reader is: the service
   // holds a group reply until this reader has matched (its group ReplyGate).
   auto group_reply_qos = contract::reader_qos(TopicRole::reply);
   group_reply_qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
-  group_reply_reader = creator.create_reader(
-      ClientEndpoint::group_reply_reader, participant->subscriber(), topics.group_reply,
-      group_reply_qos, &reader_listener, data_and_matches());
+  group_reply_reader_ = creator.create_reader(
+      ClientEndpoint::group_reply_reader, participant_->subscriber(), topics.group_reply,
+      group_reply_qos, &reader_listener_, data_and_matches());
 }
 
-void ClientCore::Dds::create_watch_endpoints(const EndpointCreator& creator,
+void ClientEndpoints::create_watch_endpoints(const EndpointCreator& creator,
                                              const std::optional<contract::Follow>& follow) {
   using contract::TopicRole;
-  const contract::Topics& topics = participant->topics();
-  auto& subscriber = participant->subscriber();
+  const contract::Topics& topics = participant_->topics();
+  auto& subscriber = participant_->subscriber();
   const auto data = fdds::StatusMask::data_available();
   // A follower reads each topic through the follow filter, which the
   // services' writers evaluate for it (dh3_follow_filter.hpp). Should Fast
@@ -97,66 +97,56 @@ void ClientCore::Dds::create_watch_endpoints(const EndpointCreator& creator,
   const auto view = [&](fdds::Topic* topic, bool by_bus) -> fdds::TopicDescription* {
     if (!follow) return topic;
     fdds::TopicDescription* filtered =
-        contract::create_follow_topic(participant->participant(), topic, *follow, by_bus);
+        contract::create_follow_topic(participant_->participant(), topic, *follow, by_bus);
     return filtered != nullptr ? filtered : topic;
   };
-  status_reader =
+  status_reader_ =
       creator.create_reader(ClientEndpoint::status_reader, subscriber, view(topics.status, true),
-                            contract::reader_qos(TopicRole::hand_status), &reader_listener, data);
-  event_reader = creator.create_reader(ClientEndpoint::event_reader, subscriber,
-                                       view(topics.event, true),
-                                       contract::reader_qos(TopicRole::hand_event),
-                                       &reader_listener, data_and_matches());
+                            contract::reader_qos(TopicRole::hand_status), &reader_listener_, data);
+  event_reader_ = creator.create_reader(
+      ClientEndpoint::event_reader, subscriber, view(topics.event, true),
+      contract::reader_qos(TopicRole::hand_event), &reader_listener_, data_and_matches());
   // Only if statuses and events are readable (set_up_dds() fails otherwise).
-  if (status_reader == nullptr || event_reader == nullptr) return;
-  info_reader = creator.create_reader(ClientEndpoint::info_reader, subscriber,
-                                      view(topics.info, false),
-                                      contract::reader_qos(TopicRole::service_info),
-                                      &reader_listener, data);
+  if (status_reader_ == nullptr || event_reader_ == nullptr) return;
+  info_reader_ =
+      creator.create_reader(ClientEndpoint::info_reader, subscriber, view(topics.info, false),
+                            contract::reader_qos(TopicRole::service_info), &reader_listener_, data);
 }
 
-Result<void, std::string> ClientCore::set_up_dds(const EndpointCreator& creator) {
+Result<void, std::string> ClientEndpoints::create_participant(const ClientOptions& options) {
   // The library writes no log, so the report is not shown; what an XML profile
   // overrides is said where ClientOptions is documented.
   contract::SetupReport report;
-  std::optional<contract::Follow> follow;
-  if (!options_.follow.empty()) {
-    auto parsed = contract::parse_follow(options_.follow);
-    if (!parsed) return fail(std::move(parsed).error());
-    follow = std::move(parsed).value();
-    follow_service_ = follow->service;
-    follow_bus_ = follow->bus;
-  }
-  auto created = contract::Participant::create(participant_options(options_), report,
-                                               &dds_->participant_listener);
+  auto created =
+      contract::Participant::create(participant_options(options), report, &participant_listener_);
   if (!created) return fail(std::move(created).error());
-  dds_->participant = std::move(created).value();
-  // With access control, a writer or reader the permissions do not grant
-  // fails to be created: for the command endpoints that makes a read-only
-  // client, not a failure.
-  const bool access_control = creator.access_control(*dds_->participant);
-  client_id_ = dds_->participant->client_id();
-  dds_->create_command_endpoints(creator, client_id_);
-  dds_->create_group_endpoints(creator);
-  // Every identity must read statuses and events; a refused command endpoint
-  // above is a read-only client (below).
-  dds_->create_watch_endpoints(creator, follow);
-  if (dds_->status_reader == nullptr || dds_->event_reader == nullptr) {
-    return fail(access_control ? "DDS Security: this identity may not read hand statuses and events"
-                               : "cannot create the dh3 readers");
-  }
-  const bool complete = dds_->request_writer != nullptr && dds_->reply_reader != nullptr &&
-                        dds_->info_reader != nullptr;
-  if (!complete && !access_control) {
-    return fail("cannot create the dh3 readers and writers");
-  }
-  can_command_ = dds_->request_writer != nullptr && dds_->reply_reader != nullptr;
-  has_info_reader_ = dds_->info_reader != nullptr;
-  if (!can_command_) denied_message_ = denied_message(options_);
+  participant_ = std::move(created).value();
   return {};
 }
 
-std::string ClientCore::denied_message(const ClientOptions& options) {
+Result<void, std::string> ClientEndpoints::create_endpoints(
+    const EndpointCreator& creator, const std::string& client_id,
+    const std::optional<contract::Follow>& follow) {
+  // With access control, a writer or reader the permissions do not grant
+  // fails to be created: for the command endpoints that makes a read-only
+  // client, not a failure.
+  const bool access_control = creator.access_control(*participant_);
+  create_command_endpoints(creator, client_id);
+  create_group_endpoints(creator);
+  // Every identity must read statuses and events; a refused command endpoint
+  // above is a read-only client.
+  create_watch_endpoints(creator, follow);
+  if (status_reader_ == nullptr || event_reader_ == nullptr) {
+    return fail(access_control ? "DDS Security: this identity may not read hand statuses and events"
+                               : "cannot create the dh3 readers");
+  }
+  if (!(can_command() && has_info_reader()) && !access_control) {
+    return fail("cannot create the dh3 readers and writers");
+  }
+  return {};
+}
+
+std::string ClientEndpoints::denied_message(const ClientOptions& options) {
   std::string message = "not permitted to publish command requests";
   if (!options.security_dir.empty()) {
     message += " (DDS Security identity '" + options.security_identity + "')";
@@ -164,6 +154,31 @@ std::string ClientCore::denied_message(const ClientOptions& options) {
     message += " (DDS Security permissions of this participant)";
   }
   return message;
+}
+
+bool ClientEndpoints::write(const msg::CommandRequest& request) {
+  // DataWriter::write takes a non-const sample.
+  msg::CommandRequest sample = request;
+  return request_writer_->write(&sample);
+}
+
+bool ClientEndpoints::write(msg::GroupRequest& request) {
+  return group_request_writer_->write(&request);
+}
+
+bool ClientEndpoints::requests_acknowledged() const {
+  return request_writer_->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(0, 0)) ==
+         eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
+}
+
+std::uint64_t ClientEndpoints::replies_filtered() const {
+  if (participant_ == nullptr) return 0;
+  return participant_->reply_filter_counts().rejected.load(std::memory_order_relaxed);
+}
+
+std::uint64_t ClientEndpoints::follow_filtered() const {
+  if (participant_ == nullptr) return 0;
+  return participant_->follow_filter_counts().rejected.load(std::memory_order_relaxed);
 }
 
 }  // namespace dh3::detail

@@ -1,19 +1,15 @@
 #pragma once
-// DDS wiring of the client: its participant, readers and writers, and the
-// listeners that hand every sample and match to ClientCore (which records
-// them; the listeners never write to DDS).
+// The client's DDS wiring: its participant, readers and writers, and the
+// listeners that hand every sample and match to ClientCore.
+//
+// Thread-safe once set up: writes and counters from any thread (Fast DDS's are);
+// its listeners run on Fast DDS threads, call only ClientCore and never write.
 
 #include <fastdds/rtps/common/InstanceHandle.h>
 
+#include <cstdint>
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
-#include <fastdds/dds/publisher/DataWriter.hpp>
-#include <fastdds/dds/publisher/DataWriterListener.hpp>
-#include <fastdds/dds/publisher/Publisher.hpp>
-#include <fastdds/dds/subscriber/DataReader.hpp>
-#include <fastdds/dds/subscriber/DataReaderListener.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
-#include <fastdds/dds/subscriber/Subscriber.hpp>
-#include <fastdds/dds/topic/Topic.hpp>
 #include <memory>
 #include <optional>
 #include <string>
@@ -21,54 +17,26 @@
 
 #include "client_core.hpp"
 #include "dh3_participant_setup.hpp"
+#include "endpoint_creator.hpp"
 
 namespace dh3::detail {
 
-namespace fdds = eprosima::fastdds::dds;
 namespace frtps = eprosima::fastrtps::rtps;
 
-/// The client's readers and writers, as EndpointCreator is asked for them.
-enum class ClientEndpoint {
-  request_writer,
-  reply_reader,
-  status_reader,
-  event_reader,
-  info_reader,
-  group_request_writer,
-  group_reply_reader
-};
+/// True on a thread that runs a Fast DDS listener of this library: such a
+/// thread does not write requests (ClientCore::call() leaves them to its io thread).
+inline thread_local bool t_on_dds_listener = false;
 
-/// Creates the client's readers and writers. DDS Security's access control
-/// refuses an endpoint by failing its creation (nullptr): a refused command
-/// endpoint makes a read-only client, not a failure. Tests derive from it to
-/// be refused without credentials (tests/unit/client/refusing_endpoints.hpp).
-class EndpointCreator {
+/// Marks the current thread as a DDS listener's while it lives.
+class OnDdsListener {
  public:
-  EndpointCreator() = default;
-  virtual ~EndpointCreator() = default;
-  EndpointCreator(const EndpointCreator&) = delete;
-  EndpointCreator& operator=(const EndpointCreator&) = delete;
+  OnDdsListener() : was_(t_on_dds_listener) { t_on_dds_listener = true; }
+  ~OnDdsListener() { t_on_dds_listener = was_; }
+  OnDdsListener(const OnDdsListener&) = delete;
+  OnDdsListener& operator=(const OnDdsListener&) = delete;
 
-  /// Whether a refused endpoint may be access control's doing.
-  [[nodiscard]] virtual bool access_control(const contract::Participant& participant) const {
-    return participant.access_control();
-  }
-  [[nodiscard]] virtual fdds::DataWriter* create_writer(ClientEndpoint /*which*/,
-                                                        fdds::Publisher& publisher,
-                                                        fdds::Topic* topic,
-                                                        const fdds::DataWriterQos& qos,
-                                                        fdds::DataWriterListener* listener,
-                                                        const fdds::StatusMask& mask) const {
-    return publisher.create_datawriter(topic, qos, listener, mask);
-  }
-  [[nodiscard]] virtual fdds::DataReader* create_reader(ClientEndpoint /*which*/,
-                                                        fdds::Subscriber& subscriber,
-                                                        fdds::TopicDescription* topic,
-                                                        const fdds::DataReaderQos& qos,
-                                                        fdds::DataReaderListener* listener,
-                                                        const fdds::StatusMask& mask) const {
-    return subscriber.create_datareader(topic, qos, listener, mask);
-  }
+ private:
+  bool was_;
 };
 
 /// A participant's GUID prefix in hex, as client_id_for() spells it.
@@ -76,7 +44,8 @@ inline std::string prefix_of(const fdds::InstanceHandle_t& handle) {
   return contract::client_id_for(frtps::iHandle2GUID(handle).guidPrefix);
 }
 
-struct ClientCore::Dds {
+class ClientEndpoints {
+  // The listeners: each hands what Fast DDS reports to ClientCore.
   class ParticipantListener final : public fdds::DomainParticipantListener {
    public:
     explicit ParticipantListener(ClientCore& core) : core_(core) {}
@@ -103,8 +72,8 @@ struct ClientCore::Dds {
     void on_publication_matched(fdds::DataWriter* /*writer*/,
                                 const fdds::PublicationMatchedStatus& status) override {
       const OnDdsListener on_listener;
-      core_.on_request_reader_matched(prefix_of(status.last_subscription_handle),
-                                      status.current_count_change > 0);
+      core_.on_matched(ServiceTracker::Endpoint::request_reader,
+                       prefix_of(status.last_subscription_handle), status.current_count_change > 0);
     }
 
    private:
@@ -117,8 +86,8 @@ struct ClientCore::Dds {
     void on_publication_matched(fdds::DataWriter* /*writer*/,
                                 const fdds::PublicationMatchedStatus& status) override {
       const OnDdsListener on_listener;
-      core_.on_group_request_reader_matched(prefix_of(status.last_subscription_handle),
-                                            status.current_count_change > 0);
+      core_.on_matched(ServiceTracker::Endpoint::group_request_reader,
+                       prefix_of(status.last_subscription_handle), status.current_count_change > 0);
     }
 
    private:
@@ -146,8 +115,9 @@ struct ClientCore::Dds {
           core_.on_event(from, e);
         });
       } else if (topic == topics::GROUP_REPLY) {
-        take<msg::GroupReply>(
-            reader, [this](const msg::GroupReply& r, const std::string&) { core_.on_group_reply(r); });
+        take<msg::GroupReply>(reader, [this](const msg::GroupReply& r, const std::string&) {
+          core_.on_group_reply(r);
+        });
       } else if (topic == topics::SERVICE_INFO) {
         take<msg::ServiceInfo>(reader, [this](const msg::ServiceInfo& i, const std::string& from) {
           core_.on_info(from, i);
@@ -159,12 +129,14 @@ struct ClientCore::Dds {
       const OnDdsListener on_listener;
       const std::string topic = plain_topic_name(*reader);
       const bool matched = status.current_count_change > 0;
+      const std::string prefix = prefix_of(status.last_publication_handle);
+      using Endpoint = ServiceTracker::Endpoint;
       if (topic == own_replies_topic_ || topic == topics::COMMAND_REPLY) {
-        core_.on_reply_writer_matched(prefix_of(status.last_publication_handle), matched);
+        core_.on_matched(Endpoint::reply_writer, prefix, matched);
       } else if (topic == topics::GROUP_REPLY) {
-        core_.on_group_reply_writer_matched(prefix_of(status.last_publication_handle), matched);
+        core_.on_matched(Endpoint::group_reply_writer, prefix, matched);
       } else if (topic == topics::HAND_EVENT) {
-        core_.on_event_writer_matched(prefix_of(status.last_publication_handle), matched);
+        core_.on_matched(Endpoint::event_writer, prefix, matched);
       }
     }
 
@@ -190,39 +162,63 @@ struct ClientCore::Dds {
     const std::string own_replies_topic_ = contract::own_replies_topic_name();
   };
 
-  explicit Dds(ClientCore& core)
-      : participant_listener(core),
-        request_listener(core),
-        group_request_listener(core),
-        reader_listener(core) {}
+ public:
+  explicit ClientEndpoints(ClientCore& core)
+      : participant_listener_(core),
+        request_listener_(core),
+        group_request_listener_(core),
+        reader_listener_(core) {}
+  ClientEndpoints(const ClientEndpoints&) = delete;
+  ClientEndpoints& operator=(const ClientEndpoints&) = delete;
 
-  Dds(const Dds&) = delete;
-  Dds& operator=(const Dds&) = delete;
+  /// Joins the domain; the participant's listener reports to ClientCore from then on.
+  Result<void, std::string> create_participant(const ClientOptions& options);
+  /// The participant's client_id (create_participant() succeeded).
+  [[nodiscard]] std::string client_id() const { return participant_->client_id(); }
+  /// Creates the readers and writers with `creator`; a command endpoint that
+  /// access control refused makes a read-only client, not a failure.
+  Result<void, std::string> create_endpoints(const EndpointCreator& creator,
+                                             const std::string& client_id,
+                                             const std::optional<contract::Follow>& follow);
+  /// Request writer and reply reader exist (not refused).
+  [[nodiscard]] bool can_command() const {
+    return request_writer_ != nullptr && reply_reader_ != nullptr;
+  }
+  [[nodiscard]] bool can_group() const {
+    return group_request_writer_ != nullptr && group_reply_reader_ != nullptr;
+  }
+  [[nodiscard]] bool has_info_reader() const { return info_reader_ != nullptr; }
+  /// Why commands end DENIED on a read-only client.
+  [[nodiscard]] static std::string denied_message(const ClientOptions& options);
 
-  /// The request writer and the reply reader (on the reply topic filtered to
-  /// `client_id`'s replies); nullptr where refused.
+  bool write(const msg::CommandRequest& request);
+  bool write(msg::GroupRequest& request);
+  /// The services' request readers acknowledged every request written.
+  [[nodiscard]] bool requests_acknowledged() const;
+  /// Replies to other clients and statuses of what we do not follow that the
+  /// content filters dropped before they reached a reader.
+  [[nodiscard]] std::uint64_t replies_filtered() const;
+  [[nodiscard]] std::uint64_t follow_filtered() const;
+
+ private:
   void create_command_endpoints(const EndpointCreator& creator, const std::string& client_id);
-  /// The group request writer and group reply reader; nullptr where refused
-  /// (group calls then end DENIED).
   void create_group_endpoints(const EndpointCreator& creator);
-  /// The status, event and service info readers, on the topics filtered to
-  /// `follow` if given; nullptr where refused.
   void create_watch_endpoints(const EndpointCreator& creator,
                               const std::optional<contract::Follow>& follow);
 
-  ParticipantListener participant_listener;
-  RequestWriterListener request_listener;
-  GroupRequestWriterListener group_request_listener;
-  ReaderListener reader_listener;
+  ParticipantListener participant_listener_;
+  RequestWriterListener request_listener_;
+  GroupRequestWriterListener group_request_listener_;
+  ReaderListener reader_listener_;
   /// After the listeners: deleted (with every reader and writer) before them.
-  std::unique_ptr<contract::Participant> participant;
-  fdds::DataWriter* request_writer = nullptr;
-  fdds::DataReader* reply_reader = nullptr;
-  fdds::DataReader* status_reader = nullptr;
-  fdds::DataReader* event_reader = nullptr;
-  fdds::DataReader* info_reader = nullptr;
-  fdds::DataWriter* group_request_writer = nullptr;
-  fdds::DataReader* group_reply_reader = nullptr;
+  std::unique_ptr<contract::Participant> participant_;
+  fdds::DataWriter* request_writer_ = nullptr;
+  fdds::DataReader* reply_reader_ = nullptr;
+  fdds::DataReader* status_reader_ = nullptr;
+  fdds::DataReader* event_reader_ = nullptr;
+  fdds::DataReader* info_reader_ = nullptr;
+  fdds::DataWriter* group_request_writer_ = nullptr;
+  fdds::DataReader* group_reply_reader_ = nullptr;
 };
 
 }  // namespace dh3::detail

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "dh3/base/result.hpp"
 #include "dh3/types.hpp"
@@ -36,6 +37,14 @@ using contract::command_name;
 /// message names the value, the allowed range and what it is: the refusal is
 /// the reply the caller gets.
 [[nodiscard]] Result<void, Reply> check_request(const msg::CommandRequest& request);
+
+/// A reply the client makes itself (a local refusal, a deadline, a loss).
+inline Reply make_reply(Code code, std::string message) {
+  Reply reply;
+  reply.code = code;
+  reply.message = std::move(message);
+  return reply;
+}
 
 /// "4.5 s", "200 ms": durations in messages.
 [[nodiscard]] std::string describe_duration(std::chrono::milliseconds duration);

@@ -1,8 +1,7 @@
 // Subscriptions: user callbacks for events and statuses, run on the
 // dispatcher thread in the order the samples arrived.
 
-#include "client_core.hpp"
-#include "conversions.hpp"
+#include "subscriptions.hpp"
 
 namespace dh3::detail {
 
@@ -20,20 +19,14 @@ void run_guarded(F&& f) {
 
 }  // namespace
 
-void ClientCore::on_event(const std::string& prefix, const msg::HandEvent& sample) {
-  events_taken_.fetch_add(1, std::memory_order_relaxed);
-  if (!followed(sample.hand().service(), sample.hand().bus())) return;
-  std::lock_guard lock(mutex_);
-  if (closed_ || prefix_is_dead_locked(prefix)) return;
-  post_event_locked(to_public(sample));
-}
-
-void ClientCore::post_status_locked(const HandStatus& status) {
+void Subscriptions::post_status(const HandStatus& status) {
   std::vector<std::shared_ptr<SubscriptionState>> targets;
+  std::lock_guard lock(mutex_);
   for (const auto& sub : status_subs_) {
     if (!sub->only || *sub->only == status.address) targets.push_back(sub);
   }
   if (targets.empty()) return;
+  // Posted under the lock: two posts keep their order on the dispatcher.
   dispatcher_.post([targets = std::move(targets), status] {
     for (const auto& sub : targets) {
       std::lock_guard run(sub->run_mutex);
@@ -42,8 +35,9 @@ void ClientCore::post_status_locked(const HandStatus& status) {
   });
 }
 
-void ClientCore::post_event_locked(const HandEvent& event) {
+void Subscriptions::post_event(const HandEvent& event) {
   std::vector<std::shared_ptr<SubscriptionState>> targets;
+  std::lock_guard lock(mutex_);
   for (const auto& sub : event_subs_) {
     if (!sub->only || *sub->only == event.hand) targets.push_back(sub);
   }
@@ -56,38 +50,14 @@ void ClientCore::post_event_locked(const HandEvent& event) {
   });
 }
 
-std::shared_ptr<SubscriptionState> ClientCore::subscribe_events(EventCallback callback,
-                                                                std::optional<HandAddress> only) {
-  auto state = std::make_shared<SubscriptionState>();
-  state->on_event = std::move(callback);
-  state->only = std::move(only);
-  state->core = weak_from_this();
+void Subscriptions::add_events(const std::shared_ptr<SubscriptionState>& state) {
   std::lock_guard lock(mutex_);
-  if (closed_) {
-    state->active = false;
-  } else {
-    event_subs_.push_back(state);
-  }
-  return state;
+  event_subs_.push_back(state);
 }
 
-std::shared_ptr<SubscriptionState> ClientCore::subscribe_status(StatusCallback callback,
-                                                                std::optional<HandAddress> only) {
-  auto state = std::make_shared<SubscriptionState>();
-  state->on_status = std::move(callback);
-  state->only = std::move(only);
-  state->core = weak_from_this();
+void Subscriptions::add_status(const std::shared_ptr<SubscriptionState>& state,
+                               std::vector<HandStatus> known) {
   std::lock_guard lock(mutex_);
-  if (closed_) {
-    state->active = false;
-    return state;
-  }
-  // The statuses known now go first, posted under the same lock as later
-  // samples, so the subscriber sees every hand's statuses in order.
-  std::vector<HandStatus> known;
-  for (const auto& [address, status] : statuses_) {
-    if (!state->only || *state->only == address) known.push_back(status);
-  }
   if (!known.empty()) {
     dispatcher_.post([state, known = std::move(known)] {
       std::lock_guard run(state->run_mutex);
@@ -98,10 +68,9 @@ std::shared_ptr<SubscriptionState> ClientCore::subscribe_status(StatusCallback c
     });
   }
   status_subs_.push_back(state);
-  return state;
 }
 
-void ClientCore::unsubscribe(const std::shared_ptr<SubscriptionState>& state) {
+void Subscriptions::remove(const std::shared_ptr<SubscriptionState>& state) {
   state->active = false;
   {
     std::lock_guard lock(mutex_);

@@ -1,0 +1,91 @@
+#pragma once
+// The calls between call() and their end: by request_seq, each with its
+// deadline and the incarnation its request was written to; the queue of
+// requests for the io thread; the io thread's next wake.
+//
+// Not thread-safe: ClientCore keeps it under its state mutex (a service's loss
+// ends its calls with its statuses). Knows no DDS, nor the clock: told the time.
+
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "dh3/address.hpp"
+#include "dh3/types.hpp"
+#include "dh3_idl/dh3.h"
+
+namespace dh3::detail {
+
+class PendingCalls {
+ public:
+  using Clock = std::chrono::steady_clock;
+  using Done = std::function<void(Reply)>;
+  /// A call's end, to run once no lock is held.
+  using Completion = std::pair<Done, Reply>;
+
+  struct Call {
+    HandAddress hand;
+    msg::CommandRequest request;
+    Clock::time_point deadline;
+    std::chrono::milliseconds timeout{};
+    Done done;
+    std::string sent_to;  ///< the incarnation it was written to; empty: not yet written
+  };
+  /// The calls whose deadline passed, and the next deadline (max if none).
+  struct Expiry {
+    std::vector<Call> expired;
+    Clock::time_point next = Clock::time_point::max();
+  };
+
+  /// The next request_seq (single and group calls share them).
+  std::uint64_t next_seq() { return ++last_seq_; }
+  /// Files a call under its request_seq. True if its deadline comes before the
+  /// io thread's next wake (the io thread must be woken to see it).
+  bool add(std::uint64_t seq, Call call);
+  [[nodiscard]] Call* find(std::uint64_t seq);
+  std::optional<Call> take(std::uint64_t seq);
+
+  /// The calls for `service` not yet written go to `incarnation`, queued for
+  /// the io thread. True if any was.
+  bool assign(const std::string& service, const std::string& incarnation);
+  /// Queues a call already assigned for the io thread.
+  void queue(std::uint64_t seq) { to_write_.push_back(seq); }
+  [[nodiscard]] bool queue_empty() const { return to_write_.empty(); }
+  /// The next queued request of a call still pending; calls ended meanwhile
+  /// are skipped (never sent, so a command the caller was told failed does not
+  /// run after all).
+  std::optional<std::pair<std::uint64_t, msg::CommandRequest>> next_to_write();
+
+  /// Ends the calls written to `incarnation` SERVICE_LOST, saying `why`.
+  std::vector<Completion> end_sent_to(const std::string& incarnation, const std::string& why);
+  /// Ends every call with `reply` and empties the queue.
+  std::vector<Completion> end_all(const Reply& reply);
+  /// Takes the calls whose deadline is at or before `now`; the next deadline
+  /// becomes the io thread's next wake.
+  Expiry expire(Clock::time_point now);
+  /// The io thread sleeps until `wake_at` unless woken.
+  void set_next_wake(Clock::time_point wake_at) { next_wake_ = wake_at; }
+
+  /// Requests being written now, by callers or the io thread (close() waits for them).
+  void begin_write() { ++writes_in_flight_; }
+  void end_write() { --writes_in_flight_; }
+  [[nodiscard]] int writes_in_flight() const { return writes_in_flight_; }
+
+  /// Why a call ended at its deadline. `service_alive`: its service was found.
+  [[nodiscard]] static Reply expired_reply(const Call& call, bool service_alive, int domain);
+
+ private:
+  std::uint64_t last_seq_ = 0;
+  std::map<std::uint64_t, Call> calls_;
+  std::deque<std::uint64_t> to_write_;  ///< request_seqs for the io thread
+  Clock::time_point next_wake_ = Clock::time_point::max();
+  int writes_in_flight_ = 0;
+};
+
+}  // namespace dh3::detail

@@ -1,0 +1,113 @@
+#pragma once
+// Which participant serves each service now (its incarnation), when it is
+// ready to take requests, and when a restart or a departure loses it.
+//
+// Not thread-safe: ClientCore keeps it under its state mutex, with the calls and
+// statuses a loss changes. Knows no DDS: participants are GUID prefixes in hex.
+//
+// When two participants claim one name, the one whose ServiceInfo says it
+// started later is current: discovery order says nothing (the new instance of
+// a killed service may be discovered before the client hears the last of the
+// old one). The service is ready once that participant has matched our request
+// writer, reply reader and event reader (only the event reader for a read-only
+// client).
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <set>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "dh3/types.hpp"
+
+namespace dh3::detail {
+
+class ServiceTracker {
+ public:
+  /// The endpoints of a service's participant that match ours.
+  enum class Endpoint : std::uint8_t {
+    request_reader,
+    reply_writer,
+    event_writer,
+    group_request_reader,
+    group_reply_writer
+  };
+  /// What a change means for the calls and hands of `service`, in this order:
+  /// the incarnation `lost` (if not empty) is gone for `why`, then the calls
+  /// waiting for the service may go out if it is ready.
+  struct Outcome {
+    std::string service;
+    std::string lost;
+    std::string why;
+    bool lost_service = false;  ///< its hands go offline (also when `lost` is empty)
+    bool may_dispatch = false;
+  };
+
+  /// A read-only client (no request writer or reply reader) is ready once the
+  /// service's events reach it.
+  void set_commands(bool can_command) { can_command_ = can_command; }
+
+  /// Records that `prefix` serves `service`; makes it current if the service
+  /// has no live incarnation. False if that participant is known to be gone.
+  bool note_participant(const std::string& prefix, const std::string& service, Outcome& out);
+  /// The participant left the domain; its service is lost if it was current,
+  /// and another live participant of that name takes over.
+  Outcome participant_left(const std::string& prefix);
+  /// A ServiceInfo from `prefix`. False if ignored (the participant is gone,
+  /// or an older instance still around while the newer is current).
+  bool take_info(const std::string& prefix, ServiceInfo info, Outcome& out);
+  /// One of our endpoints matched (or unmatched) one of `prefix`'s; returns the
+  /// participant's service if it is alive (its waiting calls may go out).
+  std::optional<std::string> matched(Endpoint endpoint, const std::string& prefix, bool matched);
+
+  [[nodiscard]] bool ready(const std::string& service) const;
+  /// Ready, and its group request reader and group reply writer matched ours.
+  [[nodiscard]] bool group_ready(const std::string& service) const;
+  /// The current incarnation of `service`; empty if none.
+  [[nodiscard]] std::string incarnation(const std::string& service) const;
+  [[nodiscard]] bool alive(const std::string& service) const;
+  [[nodiscard]] bool any_alive() const;
+  [[nodiscard]] bool participant_gone(const std::string& prefix) const;
+
+  /// Every service known, with `ready` filled in.
+  [[nodiscard]] std::vector<ServiceInfo> services() const;
+  [[nodiscard]] std::optional<ServiceInfo> service(std::string_view name) const;
+  /// The first ready service named `name` (any if empty) whose ServiceInfo
+  /// arrived, or without one if `need_info` is false.
+  [[nodiscard]] std::optional<ServiceInfo> find_ready(std::string_view name, bool need_info) const;
+  /// The ServiceInfo (nullopt if none arrived yet) of every ready service, by name.
+  [[nodiscard]] std::map<std::string, std::optional<ServiceInfo>> ready_services() const;
+  /// The ServiceInfos that arrived.
+  [[nodiscard]] std::vector<ServiceInfo> infos() const;
+
+ private:
+  struct Participant {
+    std::string service;
+    bool alive = true;
+    bool has_info = false;         ///< its ServiceInfo arrived
+    std::uint64_t started_ns = 0;  ///< from its ServiceInfo
+  };
+  struct ServiceState {
+    std::string incarnation;  ///< current participant's prefix; empty until known
+    bool alive = false;
+    std::optional<ServiceInfo> info;
+  };
+
+  void make_current(const std::string& service, const std::string& prefix, Outcome& out);
+  void lose(const std::string& service, const std::string& why, Outcome& out);
+  [[nodiscard]] ServiceInfo info_of(const std::string& name, const ServiceState& state) const;
+  std::multiset<std::string>& set_of(Endpoint endpoint);
+
+  bool can_command_ = true;
+  std::map<std::string, Participant> participants_;  ///< service participants, by prefix
+  std::map<std::string, ServiceState, std::less<>> services_;
+  std::multiset<std::string> request_readers_;  ///< prefixes of matched request readers
+  std::multiset<std::string> reply_writers_;    ///< prefixes of matched reply writers
+  std::multiset<std::string> event_writers_;    ///< prefixes of matched event writers
+  std::multiset<std::string> group_request_readers_;
+  std::multiset<std::string> group_reply_writers_;
+};
+
+}  // namespace dh3::detail

@@ -1,0 +1,64 @@
+// GroupCalls without DDS: what a group request may name, and how a reply, a
+// caller giving up and close() settle a call once.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "group_calls.hpp"
+
+namespace dh3::detail {
+namespace {
+
+using ::testing::HasSubstr;
+
+TEST(GroupCalls, ARequestNamesHandsOfOneServiceEachWithinTheContractsLimits) {
+  const std::vector<HandAddress> hands{{"svc", "can0", 1}, {"svc", "can1", 2}};
+  auto request = GroupCalls::make_request(GroupCommand::move, hands, 50, Timeout(2000));
+  ASSERT_TRUE(request);
+  EXPECT_EQ(request->service(), "svc");
+  EXPECT_EQ(request->command(), msg::MOVE);
+  EXPECT_EQ(request->timeout_ms(), 2000U);
+  EXPECT_EQ(request->hands().size(), 2U);
+
+  EXPECT_EQ(GroupCalls::make_request(GroupCommand::move, {}, 50, Timeout(0)).error().code,
+            Code::invalid_argument);
+  const auto mixed = GroupCalls::make_request(
+      GroupCommand::move, {{"svc", "can0", 1}, {"other", "can0", 1}}, 50, Timeout(0));
+  ASSERT_FALSE(mixed);
+  EXPECT_THAT(mixed.error().message, HasSubstr("one service"));
+  const auto too_far = GroupCalls::make_request(GroupCommand::move, hands, 150, Timeout(0));
+  ASSERT_FALSE(too_far);
+  EXPECT_EQ(too_far.error().code, Code::invalid_argument);
+  EXPECT_THAT(too_far.error().message, HasSubstr("svc/can0/1"));
+}
+
+TEST(GroupCalls, AReplyIsTakenOnceAndACallerWhoGaveUpLosesNothingThatCame) {
+  GroupCalls calls;
+  auto future = calls.add(7);
+  EXPECT_EQ(calls.take(8), nullptr);
+  auto promise = calls.take(7);
+  ASSERT_NE(promise, nullptr);
+  EXPECT_EQ(calls.take(7), nullptr);
+  msg::GroupReply reply;
+  reply.code(msg::OK);
+  reply.message("done");
+  promise->set_value(GroupCalls::reply_of(reply));
+  // The reply came before the caller gave up: forget() says so, the future has it.
+  EXPECT_FALSE(calls.forget(7));
+  EXPECT_EQ(future.get().message, "done");
+  auto given_up = calls.add(9);
+  EXPECT_TRUE(calls.forget(9));
+}
+
+TEST(GroupCalls, CloseEndsEveryWaitingCallNotConnected) {
+  GroupCalls calls;
+  auto first = calls.add(1);
+  auto second = calls.add(2);
+  calls.close();
+  EXPECT_EQ(first.get().code, Code::not_connected);
+  EXPECT_EQ(second.get().code, Code::not_connected);
+  EXPECT_EQ(calls.take(1), nullptr);
+}
+
+}  // namespace
+}  // namespace dh3::detail
