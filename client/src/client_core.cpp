@@ -291,7 +291,9 @@ GroupReply ClientCore::group_call(GroupCommand command, const std::vector<HandAd
     }
     if (closed_) return GroupCalls::refused(Code::not_connected, "the client was closed");
     seq = calls_.next_seq();
-    future = group_calls_.add(seq);
+    future = group_calls_.add(seq, tracker_.incarnation(service),
+                              "GROUP " + std::string(to_string(command)) + " of " +
+                                  std::to_string(hands.size()) + " hand(s)");
     calls_.begin_write();
   }
   request->client_id(client_id_);
@@ -319,6 +321,7 @@ void ClientCore::apply_locked(const ServiceTracker::Outcome& outcome, Actions& o
     for (auto& ended : calls_.end_sent_to(outcome.lost, outcome.why)) {
       out.completions.push_back(std::move(ended));
     }
+    group_calls_.lose(outcome.lost, outcome.why);
     for (const HandStatus& status : cache_.mark_lost(outcome.service)) {
       subscriptions_.post_status(status);
       subscriptions_.post_event(StatusCache::offline_event(status, outcome.why));

@@ -346,6 +346,34 @@ TEST_F(ServiceLifecycleTest, KilledServiceEndsPendingCallsAndTheSameHandWorksAft
   EXPECT_TRUE(one.wait_until([](const HandStatus& s) { return s.online && s.initialized; }));
 }
 
+
+TEST_F(ServiceLifecycleTest, KilledServiceEndsAPendingGroupCallServiceLost) {
+  auto service = std::make_unique<RunningService>(sim_config(/*init_time_ms=*/600000));
+  ASSERT_TRUE(service->started());
+  for (std::uint16_t id : {1, 2}) ASSERT_TRUE(client_.wait_for_hand(hand_spec(id), kClientDeadline));
+  const std::uint64_t before = client_.command_traffic().requests_written;
+  auto pending = client_.group_async(GroupCommand::initialize, {hand_address(1), hand_address(2)},
+                                     0, std::chrono::seconds(50));
+  // Once the request is out, it is the killed instance's: nothing else can answer it.
+  const auto deadline = std::chrono::steady_clock::now() + kClientDeadline;
+  while (client_.command_traffic().requests_written == before &&
+         std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_GT(client_.command_traffic().requests_written, before) << "the group request never left";
+  service->process().process().send_signal(SIGKILL);
+  ASSERT_TRUE(service->process().process().wait_exit(kClientDeadline));
+  service.reset();
+
+  RunningService restarted(sim_config());
+  ASSERT_TRUE(restarted.started());
+  ASSERT_EQ(pending.wait_for(std::chrono::seconds(60)), std::future_status::ready);
+  const GroupReply lost = pending.get();
+  EXPECT_EQ(lost.code, Code::service_lost) << lost.message;
+  EXPECT_THAT(lost.message, HasSubstr("GROUP INITIALIZE of 2 hand(s)"));
+  const GroupReply again = client_.group(GroupCommand::initialize, {hand_address(1), hand_address(2)});
+  EXPECT_TRUE(again.ok()) << again.message;
+}
 TEST_F(ServiceLifecycleTest, StoppedServiceTakesItsHandsOfflineAndComesBack) {
   auto service = std::make_unique<RunningService>(sim_config(/*init_time_ms=*/600000));
   ASSERT_TRUE(service->started());
