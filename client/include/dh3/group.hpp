@@ -45,7 +45,8 @@ struct GroupMemberReply {
 
 struct GroupReply {
   /// OK if every hand's is; else the first failed hand's (or the client's own:
-  /// NO_SERVICE, NO_REPLY, NOT_CONNECTED, INVALID_ARGUMENT before sending).
+  /// NO_SERVICE, NO_REPLY, SERVICE_LOST, NOT_CONNECTED, INVALID_ARGUMENT before
+  /// sending).
   Code code = Code::ok;
   /// Every failed hand and why, for every code but OK.
   std::string message;
