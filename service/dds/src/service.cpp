@@ -14,6 +14,7 @@ using eprosima::fastrtps::types::ReturnCode_t;
 Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups) {
   contract::ParticipantOptions participant = options_.participant;
   participant.name = "dh3-service " + options_.name;
+  participant.cell = options_.name;
   contract::SetupReport report;
   auto made = contract::Participant::create(participant, report, &participant_listener_);
   // Before the outcome: an ignored option may explain a failure.
@@ -21,6 +22,10 @@ Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups) {
   for (const auto& note : report.notes) spdlog::info("{}", note);
   if (!made) return fail(std::move(made).error());
   participant_ = std::move(made).value();
+  if (const auto& cell = participant_->published_cell()) {
+    spdlog::info("publishing in the default partition and in '{}', for followers of the cell",
+                 *cell);
+  }
   if (!options_.participant.security_dir.empty()) {
     spdlog::info("DDS Security on: identity '{}' in '{}'", options_.participant.security_identity,
                  options_.participant.security_dir);
