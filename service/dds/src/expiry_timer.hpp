@@ -2,9 +2,8 @@
 // The service's timer thread: it sleeps until the earliest deadline that
 // `next_due` names (leases, held replies), or until woken, then runs `sweep`.
 //
-// Threading: start() and stop() from the owner's thread; wake() from any
-// thread. `next_due` runs on the timer thread under the timer's own mutex,
-// `sweep` on it without that mutex (it writes samples). Knows no DDS.
+// Threading: start()/stop() from the owner, wake() from any thread; `next_due`
+// runs on the timer thread under its mutex, `sweep` without it. Knows no DDS.
 
 #include <condition_variable>
 #include <cstdint>

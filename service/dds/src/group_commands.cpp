@@ -75,10 +75,9 @@ void GroupCommands::handle(msg::GroupRequest& request, bool stopping) {
     return;
   }
   const std::string client_id = request.client_id();
-  auto valid =
-      validate_group(request, parts_.directory, [&](std::uint16_t bus, std::uint8_t can_id) {
-        return member_facts(bus, can_id, client_id);
-      });
+  auto valid = validate_group(
+      request, parts_.directory,
+      [&](std::uint16_t bus, std::uint8_t can_id) { return member_facts(bus, can_id, client_id); });
   if (!valid) {
     refuse(reply, valid.error());
     return;

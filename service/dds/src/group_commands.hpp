@@ -3,10 +3,8 @@
 // (group_validation.hpp), their motion frames released together by the hand
 // layer (hand/group_release.hpp), one reply once every hand's command ended.
 //
-// Threading: handle() on the group request listener's thread, one request at
-// a time (the Service's dispatch lock); members complete on their bus loops,
-// each group's results under that group's own mutex, the reply written after
-// it is released.
+// Threading: handle() on the group listener's thread, one at a time (the
+// Service's dispatch lock); members end on bus loops; writes under no lock of its own.
 
 #include <string>
 #include <vector>

@@ -3,9 +3,8 @@
 
 #include "reply_channel.hpp"
 
-#include <spdlog/spdlog.h>
-
 #include <fastrtps/rtps/common/Guid.h>
+#include <spdlog/spdlog.h>
 
 #include "dh3/dds/conversions.hpp"
 #include "dh3_participant.hpp"
@@ -100,7 +99,8 @@ std::size_t ReplyChannel::participant_left(const std::string& client_id) {
 
 std::optional<TimePoint> ReplyChannel::next_expiry() const {
   auto next = gate_.next_expiry();
-  if (const auto group_due = group_gate_.next_expiry(); group_due && (!next || *group_due < *next)) {
+  if (const auto group_due = group_gate_.next_expiry();
+      group_due && (!next || *group_due < *next)) {
     next = group_due;
   }
   return next;

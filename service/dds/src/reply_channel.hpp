@@ -3,10 +3,8 @@
 // each behind its ReplyGate (reply_gate.hpp), and the writers' match listeners
 // that let a client's held replies go when its reply reader matches.
 //
-// Threading: any thread. Replies come from bus loops and request listeners,
-// matches and participants from Fast DDS listener threads, expiry from the
-// ExpiryTimer. Its only locks are the gates' own, never held while a writer
-// writes: a Fast DDS listener callback (a match) may write the replies it frees.
+// Thread-safe: replies from bus loops and request listeners, matches from Fast
+// DDS listener threads, expiry from the timer; writes under no lock of its own.
 
 #include <cstddef>
 #include <fastdds/dds/publisher/DataWriter.hpp>
@@ -66,7 +64,8 @@ class ReplyChannel {
   static constexpr Duration kHoldLimit = std::chrono::milliseconds(limits::REQUEST_TIMEOUT_MAX_MS);
 
  private:
-  /// A reply writer's matches. Fast DDS calls it without the writer's locks.
+  /// A reply writer's matches: writes the replies a match frees. Fast DDS
+  /// calls it without the writer's locks, and it takes only the gate's.
   class WriterListener final : public eprosima::fastdds::dds::DataWriterListener {
    public:
     WriterListener(ReplyChannel& channel, bool group) : channel_(channel), group_(group) {}

@@ -14,8 +14,7 @@
 
 namespace dh3::dds {
 
-msg::CommandReply make_reply(const ReplyHeader& header, msg::ResultCode code,
-                             std::string message) {
+msg::CommandReply make_reply(const ReplyHeader& header, msg::ResultCode code, std::string message) {
   msg::CommandReply reply;
   reply.client_id(header.client_id);
   reply.request_seq(header.request_seq);
@@ -116,10 +115,9 @@ void RequestHandler::start_scan(const ValidRequest& valid, ReplyHeader header) {
     std::lock_guard lock(scans_mutex_);
     scans_.push_back(scan);
   }
-  parts_.schedulers[valid.bus]->request_scan(
-      [this, scan](const std::vector<std::uint8_t>& found) {
-        finish_scan(scan, msg::OK, found, {});
-      });
+  parts_.schedulers[valid.bus]->request_scan([this, scan](const std::vector<std::uint8_t>& found) {
+    finish_scan(scan, msg::OK, found, {});
+  });
 }
 
 void RequestHandler::cancel_scans() {

@@ -2,10 +2,8 @@
 // Command requests: each one validated (request_validation.hpp), run (a hand
 // command, a scan or a lease change) and answered with exactly one reply.
 //
-// Threading: handle() on the request listener's thread, one request at a
-// time (the Service's dispatch lock); completions on the bus loops. Its own
-// scans mutex guards only the list of pending scans; replies are written
-// without it.
+// Threading: handle() on the request listener's thread, one at a time (the
+// Service's dispatch lock); completions on the bus loops; writes under no lock of its own.
 
 #include <atomic>
 #include <cstdint>

@@ -2,11 +2,8 @@
 // What the service publishes of its hands: one status sample per hand (its
 // HandSlot), the hands' events and the service info.
 //
-// Threading: a bus's observer calls (on_state, on_event, ...) come from that
-// bus's loop; the same bus's samples also from requests and lease changes.
-// Each bus's status mutex orders its hands' samples (and guards its slots and
-// event sample); under it the status writer's own write mutex, then the info
-// mutex. Writers are set before start and never change while it runs.
+// Threading: a bus's reports come from its loop, its hands' samples also from
+// requests and lease changes; each bus's mutex orders them (see the members).
 
 #include <array>
 #include <atomic>
@@ -90,6 +87,7 @@ class StatusPublisher {
     std::atomic<bool> link_up{false};
     /// Orders the status samples of this bus's hands: the bus thread and lease
     /// changes both publish, and the last sample written must be the newest.
+    /// Held while writing; under it status_write_mutex_, then info_mutex_.
     std::mutex mutex;
     std::array<std::unique_ptr<HandSlot>, 256> hands{};  ///< under mutex
     msg::HandEvent event_sample;                         ///< reused; under mutex

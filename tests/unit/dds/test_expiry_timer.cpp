@@ -91,8 +91,7 @@ TEST(ExpiryTimerTest, NoSweepAfterStop) {
 
 TEST(ExpiryTimerTest, StopWithoutStartReturns) {
   int sweeps = 0;
-  ExpiryTimer timer([]() -> std::optional<TimePoint> { return std::nullopt; },
-                    [&] { ++sweeps; });
+  ExpiryTimer timer([]() -> std::optional<TimePoint> { return std::nullopt; }, [&] { ++sweeps; });
   timer.wake();
   timer.stop();
   EXPECT_EQ(sweeps, 0);

@@ -32,8 +32,7 @@ TEST(GroupCommandsTest, EveryMemberOkIsOkWithoutMessage) {
 }
 
 TEST(GroupCommandsTest, FirstFailureGivesTheCodeAndEveryFailureIsNamed) {
-  auto reply =
-      reply_of({{msg::OK, ""}, {msg::TIMEOUT, "no answer"}, {msg::FAILED, "motor fault"}});
+  auto reply = reply_of({{msg::OK, ""}, {msg::TIMEOUT, "no answer"}, {msg::FAILED, "motor fault"}});
   summarize_group(reply);
   EXPECT_EQ(reply.code(), msg::TIMEOUT);
   EXPECT_EQ(reply.message(), "bus0/2: TIMEOUT: no answer; bus0/3: FAILED: motor fault");
