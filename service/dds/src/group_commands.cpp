@@ -11,7 +11,6 @@
 
 #include "dh3/dds/conversions.hpp"
 #include "dh3/hand/group_release.hpp"
-#include "reply_channel.hpp"
 
 namespace dh3::dds {
 

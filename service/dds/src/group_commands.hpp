@@ -16,11 +16,10 @@
 #include "dh3/dds/request_validation.hpp"
 #include "dh3/dds/service.hpp"
 #include "dh3_idl/dh3.h"
+#include "reply_sink.hpp"
 #include "request_handler.hpp"
 
 namespace dh3::dds {
-
-class ReplyChannel;
 
 /// The reply's overall code and message from its members' results: OK, or the
 /// first failed hand's code and every failed hand's reason. Hands CANCELLED
@@ -37,7 +36,7 @@ class GroupCommands {
     const HandDirectory& directory;
     const LeaseTable& leases;
     const Schedulers& schedulers;
-    ReplyChannel& replies;
+    ReplySink& replies;
   };
   explicit GroupCommands(Parts parts) : parts_(parts) {}
   GroupCommands(const GroupCommands&) = delete;

@@ -17,10 +17,11 @@
 #include "dh3/dds/reply_gate.hpp"
 #include "dh3/dds/request_trace_seam.hpp"
 #include "dh3_idl/dh3.h"
+#include "reply_sink.hpp"
 
 namespace dh3::dds {
 
-class ReplyChannel {
+class ReplyChannel final : public ReplySink {
  public:
   /// `on_held`: a reply was held; its deadline may be the timer's next.
   ReplyChannel(const Clock& clock, const RequestTracer& tracer, std::function<void()> on_held);
@@ -45,8 +46,8 @@ class ReplyChannel {
 
   /// Writes the reply, or leaves it with the gate until the client's reply
   /// reader has matched (`reply` is then moved from).
-  void write(msg::CommandReply& reply);
-  void write(msg::GroupReply& reply);
+  void write(msg::CommandReply& reply) override;
+  void write(msg::GroupReply& reply) override;
 
   void participant_joined(const std::string& client_id);
   /// Drops the replies held for a participant that left; returns how many.

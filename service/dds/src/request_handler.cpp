@@ -9,7 +9,6 @@
 
 #include "dh3/dds/conversions.hpp"
 #include "expiry_timer.hpp"
-#include "reply_channel.hpp"
 #include "status_publisher.hpp"
 
 namespace dh3::dds {

@@ -18,11 +18,11 @@
 #include "dh3/dds/service.hpp"
 #include "dh3/hand/bus_scheduler.hpp"
 #include "dh3_idl/dh3.h"
+#include "reply_sink.hpp"
 
 namespace dh3::dds {
 
 class ExpiryTimer;
-class ReplyChannel;
 class StatusPublisher;
 
 /// What a reply echoes from its request.
@@ -48,7 +48,7 @@ class RequestHandler {
     LeaseTable& leases;
     const Schedulers& schedulers;
     StatusPublisher& statuses;
-    ReplyChannel& replies;
+    ReplySink& replies;
     ExpiryTimer& timer;
   };
   explicit RequestHandler(Parts parts) : parts_(parts) {}
