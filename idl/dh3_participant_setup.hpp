@@ -191,23 +191,35 @@ class Participant {
   [[nodiscard]] const Topics& topics() const { return topics_; }
   [[nodiscard]] eprosima::fastdds::dds::Publisher& publisher() { return *publisher_; }
   [[nodiscard]] eprosima::fastdds::dds::Subscriber& subscriber() { return *subscriber_; }
-  /// Where a follower of `service` makes its status, event and info readers:
-  /// a subscriber in the cell's partition (dh3_cell_partition.hpp), made on
-  /// first use; subscriber() where the cell has none (a pattern-like name,
-  /// access control) or Fast DDS refuses it.
+  /// Where a follower of `service` makes its readers: a subscriber in the
+  /// cell's partition (dh3_cell_partition.hpp), made on first use;
+  /// subscriber() where the cell has none (a pattern-like name, access
+  /// control) or Fast DDS refuses it.
   [[nodiscard]] eprosima::fastdds::dds::Subscriber& cell_subscriber(const std::string& service) {
     namespace fdds = eprosima::fastdds::dds;
     const auto partition = cell_partition(service);
     if (!partition || access_control_) return *subscriber_;
-    if (cell_subscriber_ == nullptr || cell_subscribed_ != *partition) {
+    if (cell_subscriber_ == nullptr) {
       fdds::SubscriberQos qos = fdds::SUBSCRIBER_QOS_DEFAULT;
       qos.partition().push_back(partition->c_str());
       cell_subscriber_ = participant_->create_subscriber(qos);
-      cell_subscribed_ = *partition;
     }
     return cell_subscriber_ != nullptr ? *cell_subscriber_ : *subscriber_;
   }
-  /// The partitions the publisher writes in, besides the default one.
+  /// Likewise where a follower of `service` makes its request writers.
+  [[nodiscard]] eprosima::fastdds::dds::Publisher& cell_publisher(const std::string& service) {
+    namespace fdds = eprosima::fastdds::dds;
+    const auto partition = cell_partition(service);
+    if (!partition || access_control_) return *publisher_;
+    if (cell_publisher_ == nullptr) {
+      fdds::PublisherQos qos = fdds::PUBLISHER_QOS_DEFAULT;
+      qos.partition().push_back(partition->c_str());
+      cell_publisher_ = participant_->create_publisher(qos);
+    }
+    return cell_publisher_ != nullptr ? *cell_publisher_ : *publisher_;
+  }
+  /// A service's cell partition, which its publisher and subscriber use
+  /// besides the default one; nullopt if none.
   [[nodiscard]] const std::optional<std::string>& published_cell() const { return published_cell_; }
   /// What this participant's reply filters decided: on a service, its reply
   /// writer's (writer-side filtering); on a client, its reply reader's.
@@ -254,15 +266,18 @@ class Participant {
       if (topic == nullptr) return fail("cannot create the topic " + name);
     }
     fdds::PublisherQos publisher_qos = fdds::PUBLISHER_QOS_DEFAULT;
+    fdds::SubscriberQos subscriber_qos = fdds::SUBSCRIBER_QOS_DEFAULT;
     if (const auto partition = cell_partition(cell); partition && !access_control_) {
-      // The default partition first: every plain reader matches it.
-      publisher_qos.partition().push_back("");
-      publisher_qos.partition().push_back(partition->c_str());
+      // The default partition first: every plain endpoint matches it.
+      for (const char* name : {"", partition->c_str()}) {
+        publisher_qos.partition().push_back(name);
+        subscriber_qos.partition().push_back(name);
+      }
       published_cell_ = partition;
     }
     publisher_ = participant_->create_publisher(publisher_qos);
     if (publisher_ == nullptr) return fail("cannot create the DDS publisher");
-    subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+    subscriber_ = participant_->create_subscriber(subscriber_qos);
     if (subscriber_ == nullptr) return fail("cannot create the DDS subscriber");
     return {};
   }
@@ -275,7 +290,7 @@ class Participant {
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
   eprosima::fastdds::dds::Subscriber* cell_subscriber_ = nullptr;
-  std::string cell_subscribed_;
+  eprosima::fastdds::dds::Publisher* cell_publisher_ = nullptr;
   std::optional<std::string> published_cell_;
   bool security_from_profile_ = false;
   bool access_control_ = false;

@@ -34,16 +34,27 @@ fdds::StatusMask data_and_matches() {
 
 }  // namespace
 
+fdds::Publisher& ClientEndpoints::publisher_for(const std::optional<contract::Follow>& follow) {
+  return follow ? participant_->cell_publisher(follow->service) : participant_->publisher();
+}
+
+fdds::Subscriber& ClientEndpoints::subscriber_for(const std::optional<contract::Follow>& follow) {
+  return follow ? participant_->cell_subscriber(follow->service) : participant_->subscriber();
+}
+
 void ClientEndpoints::create_command_endpoints(const EndpointCreator& creator,
-                                               const std::string& client_id) {
+                                               const std::string& client_id,
+                                               const std::optional<contract::Follow>& follow) {
   using contract::TopicRole;
   const contract::Topics& topics = participant_->topics();
   // The command endpoints first, each right after the other: the service
   // answers on the reply topic as soon as a request arrives, so our reply
   // reader's announcement should trail the request writer's as little as
   // possible (a reply written before the service knows our reader is lost).
+  // A follower commands its cell only: its endpoints are in the cell's
+  // partition, so the other cells' reply writers do not even match it.
   request_writer_ =
-      creator.create_writer(ClientEndpoint::request_writer, participant_->publisher(),
+      creator.create_writer(ClientEndpoint::request_writer, publisher_for(follow),
                             topics.request, contract::writer_qos(TopicRole::request),
                             &request_listener_, fdds::StatusMask::publication_matched());
   // Only our replies: the service's writer sends each client its own (see
@@ -63,15 +74,16 @@ void ClientEndpoints::create_command_endpoints(const EndpointCreator& creator,
   auto reply_qos = contract::reader_qos(TopicRole::reply);
   reply_qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
   reply_reader_ =
-      creator.create_reader(ClientEndpoint::reply_reader, participant_->subscriber(), own_replies,
+      creator.create_reader(ClientEndpoint::reply_reader, subscriber_for(follow), own_replies,
                             reply_qos, &reader_listener_, data_and_matches());
 }
 
-void ClientEndpoints::create_group_endpoints(const EndpointCreator& creator) {
+void ClientEndpoints::create_group_endpoints(const EndpointCreator& creator,
+                                             const std::optional<contract::Follow>& follow) {
   using contract::TopicRole;
   const contract::Topics& topics = participant_->topics();
   group_request_writer_ =
-      creator.create_writer(ClientEndpoint::group_request_writer, participant_->publisher(),
+      creator.create_writer(ClientEndpoint::group_request_writer, publisher_for(follow),
                             topics.group_request, contract::writer_qos(TopicRole::request),
                             &group_request_listener_, fdds::StatusMask::publication_matched());
   // The plain topic: group replies are few, and on_group_reply() keeps only
@@ -80,7 +92,7 @@ void ClientEndpoints::create_group_endpoints(const EndpointCreator& creator) {
   auto group_reply_qos = contract::reader_qos(TopicRole::reply);
   group_reply_qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
   group_reply_reader_ = creator.create_reader(
-      ClientEndpoint::group_reply_reader, participant_->subscriber(), topics.group_reply,
+      ClientEndpoint::group_reply_reader, subscriber_for(follow), topics.group_reply,
       group_reply_qos, &reader_listener_, data_and_matches());
 }
 
@@ -94,8 +106,7 @@ void ClientEndpoints::create_watch_endpoints(const EndpointCreator& creator,
   // (dh3_follow_filter.hpp; it also picks one bus). Should Fast DDS refuse a
   // filtered topic, the plain one still works: ClientCore keeps only what it
   // follows.
-  auto& subscriber =
-      follow ? participant_->cell_subscriber(follow->service) : participant_->subscriber();
+  auto& subscriber = subscriber_for(follow);
   const auto data = fdds::StatusMask::data_available();
   const auto view = [&](fdds::Topic* topic, bool by_bus) -> fdds::TopicDescription* {
     if (!follow) return topic;
@@ -134,8 +145,8 @@ Result<void, std::string> ClientEndpoints::create_endpoints(
   // fails to be created: for the command endpoints that makes a read-only
   // client, not a failure.
   const bool access_control = creator.access_control(*participant_);
-  create_command_endpoints(creator, client_id);
-  create_group_endpoints(creator);
+  create_command_endpoints(creator, client_id, follow);
+  create_group_endpoints(creator, follow);
   // Every identity must read statuses and events; a refused command endpoint
   // above is a read-only client.
   create_watch_endpoints(creator, follow);

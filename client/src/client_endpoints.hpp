@@ -201,8 +201,13 @@ class ClientEndpoints {
   [[nodiscard]] std::uint64_t follow_filtered() const;
 
  private:
-  void create_command_endpoints(const EndpointCreator& creator, const std::string& client_id);
-  void create_group_endpoints(const EndpointCreator& creator);
+  void create_command_endpoints(const EndpointCreator& creator, const std::string& client_id,
+                                const std::optional<contract::Follow>& follow);
+  void create_group_endpoints(const EndpointCreator& creator,
+                              const std::optional<contract::Follow>& follow);
+  /// Where a follower's endpoints go: its cell's partition (dh3_cell_partition.hpp).
+  eprosima::fastdds::dds::Publisher& publisher_for(const std::optional<contract::Follow>& follow);
+  eprosima::fastdds::dds::Subscriber& subscriber_for(const std::optional<contract::Follow>& follow);
   void create_watch_endpoints(const EndpointCreator& creator,
                               const std::optional<contract::Follow>& follow);
 
