@@ -34,7 +34,7 @@ HandDriver::HandDriver(HandConfig config, DriverContext& context, std::atomic<in
       outbox_(context.observer, context.roster, context.latency, context.options.poll_interval_idle,
               anonymous),
       link_(Offline{now}),
-      next_send_at_(now) {
+      slot_(context.options.frame_spacing(), context.options.max_retries, now) {
   state_.can_id = config.can_id;
   state_.name = std::move(config.name);
   state_.updated_at = now;
@@ -150,8 +150,7 @@ void HandDriver::on_answer(TimePoint now) {
 }
 
 void HandDriver::lose_link(TimePoint now, LinkLoss loss, const std::string& why) {
-  in_flight_.reset();
-  resend_.reset();
+  slot_.clear();
   finger_motion_.reset();
   rotation_motion_.reset();
   end_of_motion_.read_due = false;
@@ -188,7 +187,7 @@ void HandDriver::on_link_down(TimePoint now) {
 void HandDriver::on_link_up(TimePoint now) {
   consecutive_timeouts_ = 0;
   // Probe at once, but not sooner than the pacing allows after the last frame
-  // sent before the link went down (next_send_at_ is kept).
+  // sent before the link went down (slot_.paced_until() is kept).
   if (auto* offline = std::get_if<Offline>(&link_)) offline->next_probe_at = now;
   flush(now);
 }
@@ -202,7 +201,7 @@ void HandDriver::shut_down(TimePoint now) {
 // Time
 
 void HandDriver::on_time(TimePoint now) {
-  if (in_flight_ && now >= in_flight_->deadline) on_timeout(now);
+  if (const auto expired = slot_.expire(now)) on_timeout(*expired, now);
   on_init_deadlines(now);
   if (motion_waiter_ && now >= motion_waiter_->deadline) {
     set_error(CommandError::timeout, fmt::format("{} did not end (caught or arrived) in time",
@@ -238,16 +237,12 @@ void HandDriver::on_init_deadlines(TimePoint now) {
   }
 }
 
-void HandDriver::on_timeout(TimePoint now) {
-  const InFlight lost = *in_flight_;
-  in_flight_.reset();
+void HandDriver::on_timeout(const FrameSlot::Expired& expired, TimePoint now) {
+  const InFlight& lost = expired.lost;
   counters_.count_timeout();
   ++consecutive_timeouts_;
 
-  if (lost.retryable && lost.attempts <= options_.max_retries) {
-    InFlight again = lost;
-    ++again.attempts;
-    resend_ = again;
+  if (expired.resent) {
     counters_.count_retry();
   } else if (lost.purpose == Purpose::job && active_) {
     set_error(CommandError::timeout, fmt::format("no answer to {} after {} tries",
@@ -276,23 +271,23 @@ std::optional<TimePoint> HandDriver::next_wakeup() const {
     // Its group wakes the loop when the release instant is fixed (or the
     // group is abandoned); the loop's longest idle wait covers its deadline.
     if (const auto release = active_->job.command.group->release_at())
-      consider(std::max(*release, next_send_at_));
-  } else if (in_flight_) {
-    consider(in_flight_->deadline);
+      consider(std::max(*release, slot_.paced_until()));
+  } else if (const InFlight* flying = slot_.in_flight()) {
+    consider(flying->deadline);
   } else {
-    if (has_command_frame()) consider(next_send_at_);
+    if (has_command_frame()) consider(slot_.paced_until());
     if (anonymous_) {
       // never polled or probed
     } else if (const auto* offline = std::get_if<Offline>(&link_)) {
-      consider(std::max(next_send_at_, offline->next_probe_at));
+      consider(std::max(slot_.paced_until(), offline->next_probe_at));
     } else if (const Online* on = online(); end_of_motion_.read_due || end_of_rotation_.read_due ||
                                             (init && init->check_now) || !on->refresh.empty()) {
-      consider(next_send_at_);
+      consider(slot_.paced_until());
     } else {
       if (auto due = next_poll_due(poll_plan(), on->poll.last_read)) {
-        consider(std::max(next_send_at_, *due));
+        consider(std::max(slot_.paced_until(), *due));
       }
-      if (init) consider(std::max(next_send_at_, init->next_check_at));
+      if (init) consider(std::max(slot_.paced_until(), init->next_check_at));
     }
   }
   if (init) consider(init->deadline);

@@ -39,6 +39,7 @@
 #include "dh3/hand/hand_roster.hpp"
 #include "dh3/hand/hand_types.hpp"
 #include "dh3/protocol/codec.hpp"
+#include "frame_slot.hpp"
 #include "hand_counters.hpp"
 #include "hand_outbox.hpp"
 
@@ -80,12 +81,12 @@ class HandDriver {
   [[nodiscard]] std::optional<protocol::Message> next_group_frame(TimePoint now);
   /// The frame returned by next_frame() could not be sent (would_block): it
   /// is offered again on the next call.
-  void unsend();
+  void unsend() { slot_.unsend(); }
   /// Sends nothing before `until` (the scheduler's pacing across senders: a
   /// discovery probe it sent itself, a frame to ID 0 that this hand received).
-  void hold_sends_until(TimePoint until);
+  void hold_sends_until(TimePoint until) { slot_.hold_sends_until(until); }
   /// The earliest time this hand's pacing lets it send again.
-  [[nodiscard]] TimePoint paced_until() const { return next_send_at_; }
+  [[nodiscard]] TimePoint paced_until() const { return slot_.paced_until(); }
   /// It has a command frame (or a re-send) ready to go once its pacing allows.
   [[nodiscard]] bool has_command_frame() const;
 
@@ -129,8 +130,6 @@ class HandDriver {
   [[nodiscard]] bool pass_group_gate(TimePoint now);
   /// Ready and held for the group: nothing else goes to the hand meanwhile.
   [[nodiscard]] bool holding_for_group() const;
-  protocol::Message send(protocol::Message message, Purpose purpose, TimePoint now, bool retryable,
-                         Duration reply_timeout);
   protocol::Message send_job(protocol::Message message, TimePoint now);
   void finger_motion_sent(std::int32_t target, bool gripping);
   void rotation_motion_sent(std::int32_t target);
@@ -153,7 +152,8 @@ class HandDriver {
 
   // Lifecycle and time (hand_driver.cpp).
   void on_answer(TimePoint now);
-  void on_timeout(TimePoint now);
+  /// A frame went unanswered: re-sent (FrameSlot decides), or what it was for fails.
+  void on_timeout(const FrameSlot::Expired& expired, TimePoint now);
   void on_init_deadlines(TimePoint now);
   /// The one reset path: going offline, link loss and shutdown.
   void lose_link(TimePoint now, LinkLoss loss, const std::string& why);
@@ -205,10 +205,8 @@ class HandDriver {
   std::optional<InitWaiter> init_waiter_;
   std::optional<MotionWaiter> motion_waiter_;
 
-  // Frames.
-  std::optional<InFlight> in_flight_;
-  std::optional<InFlight> resend_;  ///< timed out (or not sent), to be sent again
-  TimePoint next_send_at_{};
+  // Frames: the one in flight, its re-send, the pacing.
+  FrameSlot slot_;
   /// Inside next_group_frame(): a released group frame may pass its gate.
   bool releasing_group_ = false;
 

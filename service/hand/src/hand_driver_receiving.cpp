@@ -21,15 +21,11 @@ CommandResult ok(std::int32_t value, GraspOutcome grasp = GraspOutcome::none) {
 }  // namespace
 
 bool HandDriver::on_frame(const Message& message, TimePoint now) {
-  if (in_flight_ && in_flight_->message.reg == message.reg) {
-    // Matched on (hand, function, sub-function); the read/write byte is not
-    // compared (docs/protocol-notes.md reading 1).
-    const InFlight sent = *in_flight_;
-    in_flight_.reset();
-    counters_.observe_round_trip(now - sent.sent);
-    context_.latency.frame_to_reply.observe(now - sent.sent);
+  if (const auto sent = slot_.take_answered(message)) {
+    counters_.observe_round_trip(now - sent->sent);
+    context_.latency.frame_to_reply.observe(now - sent->sent);
     on_answer(now);
-    on_reply(sent, message, now);
+    on_reply(*sent, message, now);
     flush(now);
     return true;
   }

@@ -20,16 +20,8 @@ using protocol::Register;
 }  // namespace
 
 std::optional<Message> HandDriver::next_frame(TimePoint now) {
-  if (in_flight_ || now < next_send_at_) return std::nullopt;
-  if (resend_) {
-    InFlight again = *resend_;
-    resend_.reset();
-    again.sent = now;
-    again.deadline = now + again.reply_timeout;
-    in_flight_ = again;
-    next_send_at_ = now + options_.frame_spacing();
-    return again.message;
-  }
+  if (!slot_.clear_to_send(now)) return std::nullopt;
+  if (auto again = slot_.send_again(now)) return again;
   if (auto frame = job_frame(now)) {
     flush(now);
     return frame;
@@ -44,7 +36,7 @@ std::optional<Message> HandDriver::next_frame(TimePoint now) {
 }
 
 std::optional<Message> HandDriver::next_group_frame(TimePoint now) {
-  if (!holding_for_group() || in_flight_ || resend_ || now < next_send_at_) return std::nullopt;
+  if (!holding_for_group() || slot_.has_resend() || !slot_.clear_to_send(now)) return std::nullopt;
   releasing_group_ = true;
   auto frame = job_frame(now);
   releasing_group_ = false;
@@ -52,26 +44,8 @@ std::optional<Message> HandDriver::next_group_frame(TimePoint now) {
   return frame;
 }
 
-void HandDriver::unsend() {
-  if (!in_flight_) return;
-  resend_ = *in_flight_;
-  next_send_at_ = in_flight_->sent;
-  in_flight_.reset();
-}
-
-void HandDriver::hold_sends_until(TimePoint until) {
-  next_send_at_ = std::max(next_send_at_, until);
-}
-
 bool HandDriver::has_command_frame() const {
-  return !in_flight_ && (resend_ || active_ || !queue_.empty());
-}
-
-Message HandDriver::send(Message message, Purpose purpose, TimePoint now, bool retryable,
-                         Duration reply_timeout) {
-  in_flight_ = InFlight{message, purpose, now, now + reply_timeout, reply_timeout, 1, retryable};
-  next_send_at_ = now + options_.frame_spacing();
-  return message;
+  return !slot_.in_flight() && (slot_.has_resend() || active_ || !queue_.empty());
 }
 
 // ---------------------------------------------------------------------------
@@ -154,7 +128,7 @@ Message HandDriver::send_job(Message message, TimePoint now) {
   if (!std::exchange(active_->frame_sent, true)) {
     context_.latency.command_to_frame.observe(now - active_->job.submitted);
   }
-  return send(message, Purpose::job, now, retryable, reply_timeout_for(active_->job));
+  return slot_.send(message, Purpose::job, now, retryable, reply_timeout_for(active_->job));
 }
 
 std::optional<Message> HandDriver::job_frame(TimePoint now) {
@@ -247,33 +221,34 @@ std::optional<Message> HandDriver::background_frame(TimePoint now) {
   auto& offline = std::get<Offline>(link_);
   if (now < offline.next_probe_at) return std::nullopt;
   offline.next_probe_at = now + options_.offline_probe_interval;
-  return send(protocol::make_read(state_.can_id, reg::kFirmwareVersion), Purpose::probe, now, false,
-              options_.reply_timeout);
+  return slot_.send(protocol::make_read(state_.can_id, reg::kFirmwareVersion), Purpose::probe, now,
+                    false, options_.reply_timeout);
 }
 
 std::optional<Message> HandDriver::online_frame(Online& on, TimePoint now) {
   const std::uint8_t id = state_.can_id;
   if (end_of_motion_.read_due) {
     end_of_motion_.read_due = false;
-    return send(protocol::make_read(id, reg::kPosition), Purpose::confirm_position, now, true,
-                options_.reply_timeout);
+    return slot_.send(protocol::make_read(id, reg::kPosition), Purpose::confirm_position, now, true,
+                      options_.reply_timeout);
   }
   if (end_of_rotation_.read_due) {
     end_of_rotation_.read_due = false;
-    return send(protocol::make_read(id, reg::kRotation), Purpose::confirm_rotation, now, true,
-                options_.reply_timeout);
+    return slot_.send(protocol::make_read(id, reg::kRotation), Purpose::confirm_rotation, now, true,
+                      options_.reply_timeout);
   }
   Initializing* init = std::get_if<Initializing>(&on.init);
   if (init && (init->check_now || now >= init->next_check_at)) {
     init->check_now = false;
     init->next_check_at = now + options_.poll_interval_moving;
-    return send(protocol::make_read(id, reg::kInitialize), Purpose::init_check, now, false,
-                options_.reply_timeout);
+    return slot_.send(protocol::make_read(id, reg::kInitialize), Purpose::init_check, now, false,
+                      options_.reply_timeout);
   }
   if (!on.refresh.empty()) {
     const Register r = on.refresh.front();
     on.refresh.pop_front();
-    return send(protocol::make_read(id, r), Purpose::refresh, now, true, options_.reply_timeout);
+    return slot_.send(protocol::make_read(id, r), Purpose::refresh, now, true,
+                      options_.reply_timeout);
   }
   PollSchedule& poll = on.poll;
   const std::optional<std::size_t> next =
@@ -281,8 +256,8 @@ std::optional<Message> HandDriver::online_frame(Online& on, TimePoint now) {
   if (!next) return std::nullopt;
   poll.last_read[*next] = now;
   poll.previous = next;
-  return send(protocol::make_read(id, kPolledRegisters[*next]), Purpose::poll, now, false,
-              options_.reply_timeout);
+  return slot_.send(protocol::make_read(id, kPolledRegisters[*next]), Purpose::poll, now, false,
+                    options_.reply_timeout);
 }
 
 // ---------------------------------------------------------------------------
