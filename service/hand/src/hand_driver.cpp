@@ -22,18 +22,23 @@ constexpr Register kRefresh[] = {reg::kInitialize,    reg::kClosingForce, reg::k
                                  reg::kPosition,      reg::kGripStatus,   reg::kRotation,
                                  reg::kRotationStatus};
 
+std::string hand_label(const std::string& bus, std::uint8_t can_id, const std::string& name) {
+  return name.empty() ? fmt::format("{}/{}", bus, can_id)
+                      : fmt::format("{}/{} ({})", bus, can_id, name);
+}
+
 }  // namespace
 
 HandDriver::HandDriver(HandConfig config, DriverContext& context, std::atomic<int>& queued,
                        HandCounters& counters, TimePoint now, bool anonymous)
     : context_(context),
       options_(context.options),
-      queued_(queued),
       counters_(counters),
       anonymous_(anonymous),
       outbox_(context.observer, context.roster, context.latency, context.options.poll_interval_idle,
               anonymous),
       link_(Offline{now}),
+      ledger_(queued, counters, outbox_, hand_label(context.bus_name, config.can_id, config.name)),
       slot_(context.options.frame_spacing(), context.options.max_retries, now) {
   state_.can_id = config.can_id;
   state_.name = std::move(config.name);
@@ -41,49 +46,15 @@ HandDriver::HandDriver(HandConfig config, DriverContext& context, std::atomic<in
 }
 
 std::string HandDriver::label() const {
-  return state_.name.empty()
-             ? fmt::format("{}/{}", context_.bus_name, state_.can_id)
-             : fmt::format("{}/{} ({})", context_.bus_name, state_.can_id, state_.name);
+  return hand_label(context_.bus_name, state_.can_id, state_.name);
 }
 
 // ---------------------------------------------------------------------------
 // Commands in
 
 void HandDriver::enqueue(Job job, TimePoint now) {
-  const Command& command = job.command;
-  if (command.kind == CommandKind::stop) {
-    // Stop goes first and ends every motion not yet under way.
-    cancel_motion(true, true);
-    queue_.push_front(std::move(job));
-  } else {
-    // A newer motion supersedes the queued ones of the same axis (the hand
-    // itself would do the same: "position command can be interrupted").
-    cancel_motion(moves_fingers(command), moves_rotation(command));
-    queue_.push_back(std::move(job));
-  }
+  ledger_.add(std::move(job));
   flush(now);
-}
-
-void HandDriver::cancel_motion(bool fingers, bool rotation) {
-  if (!fingers && !rotation) return;
-  for (auto it = queue_.begin(); it != queue_.end();) {
-    const bool superseded =
-        (fingers && moves_fingers(it->command)) || (rotation && moves_rotation(it->command));
-    if (superseded) {
-      complete(*it, fail(CommandError::cancelled));
-      queued_.fetch_sub(1);
-      it = queue_.erase(it);
-    } else {
-      ++it;
-    }
-  }
-  if (active_ && !active_->motion_sent &&
-      ((fingers && moves_fingers(active_->job.command)) ||
-       (rotation && moves_rotation(active_->job.command)))) {
-    // Its frame in flight, if any, still gets its reply; the job is over.
-    finish_active(fail(CommandError::cancelled));
-  }
-  if (fingers) finish_motion_waiter(fail(CommandError::cancelled));
 }
 
 Duration HandDriver::reply_timeout_for(const Job& job) const {
@@ -174,9 +145,9 @@ void HandDriver::lose_link(TimePoint now, LinkLoss loss, const std::string& why)
   if (was_online && !anonymous_) {
     emit(EventKind::offline, now, loss == LinkLoss::unanswered ? consecutive_timeouts_ : 0, why);
   }
-  fail_everything(loss == LinkLoss::unanswered ? CommandError::timeout
-                  : loss == LinkLoss::bus_down ? CommandError::bus_down
-                                               : CommandError::cancelled);
+  ledger_.fail_everything(loss == LinkLoss::unanswered ? CommandError::timeout
+                          : loss == LinkLoss::bus_down ? CommandError::bus_down
+                                                       : CommandError::cancelled);
 }
 
 void HandDriver::on_link_down(TimePoint now) {
@@ -203,21 +174,13 @@ void HandDriver::shut_down(TimePoint now) {
 void HandDriver::on_time(TimePoint now) {
   if (const auto expired = slot_.expire(now)) on_timeout(*expired, now);
   on_init_deadlines(now);
-  if (motion_waiter_ && now >= motion_waiter_->deadline) {
+  if (const MotionWaiter* waiter = ledger_.motion_waiter(); waiter && now >= waiter->deadline) {
     set_error(CommandError::timeout, fmt::format("{} did not end (caught or arrived) in time",
-                                                 to_string(motion_waiter_->job.command.kind)));
-    finish_motion_waiter(fail(CommandError::timeout));
+                                                 to_string(waiter->job.command.kind)));
+    ledger_.finish_motion_waiter(fail(CommandError::timeout));
   }
   // Commands with their own timeout that are still waiting for their turn.
-  for (auto it = queue_.begin(); it != queue_.end();) {
-    if (it->command.timeout && now >= it->submitted + *it->command.timeout) {
-      complete(*it, fail(CommandError::timeout));
-      queued_.fetch_sub(1);
-      it = queue_.erase(it);
-    } else {
-      ++it;
-    }
-  }
+  ledger_.expire_queued(now);
   flush(now);
 }
 
@@ -229,11 +192,11 @@ void HandDriver::on_init_deadlines(TimePoint now) {
         std::chrono::duration_cast<std::chrono::milliseconds>(options_.init_timeout).count());
     emit(EventKind::init_failed, now, 0, why);
     set_error(CommandError::failed, why);
-    finish_init_waiter(fail(CommandError::failed));
+    ledger_.finish_init_waiter(fail(CommandError::failed));
   }
-  if (init_waiter_ && now >= init_waiter_->deadline) {
+  if (const InitWaiter* waiter = ledger_.init_waiter(); waiter && now >= waiter->deadline) {
     set_error(CommandError::timeout, "initialization did not finish within the command's timeout");
-    finish_init_waiter(fail(CommandError::timeout));
+    ledger_.finish_init_waiter(fail(CommandError::timeout));
   }
 }
 
@@ -244,10 +207,10 @@ void HandDriver::on_timeout(const FrameSlot::Expired& expired, TimePoint now) {
 
   if (expired.resent) {
     counters_.count_retry();
-  } else if (lost.purpose == Purpose::job && active_) {
+  } else if (lost.purpose == Purpose::job && active()) {
     set_error(CommandError::timeout, fmt::format("no answer to {} after {} tries",
                                                  protocol::describe(lost.message), lost.attempts));
-    finish_active(fail(CommandError::timeout));
+    ledger_.finish_active(fail(CommandError::timeout));
   } else if (lost.purpose == Purpose::confirm_position) {
     end_of_motion_.recheck_arrival = false;  // the status is read again anyway
     on_position_confirmed();                 // with the position as last read
@@ -270,7 +233,7 @@ std::optional<TimePoint> HandDriver::next_wakeup() const {
   if (holding_for_group()) {
     // Its group wakes the loop when the release instant is fixed (or the
     // group is abandoned); the loop's longest idle wait covers its deadline.
-    if (const auto release = active_->job.command.group->release_at())
+    if (const auto release = active()->job.command.group->release_at())
       consider(std::max(*release, slot_.paced_until()));
   } else if (const InFlight* flying = slot_.in_flight()) {
     consider(flying->deadline);
@@ -291,55 +254,12 @@ std::optional<TimePoint> HandDriver::next_wakeup() const {
     }
   }
   if (init) consider(init->deadline);
-  if (init_waiter_) consider(init_waiter_->deadline);
-  if (motion_waiter_) consider(motion_waiter_->deadline);
-  for (const Job& job : queue_) {
-    if (job.command.timeout) consider(job.submitted + *job.command.timeout);
-  }
+  if (const auto deadline = ledger_.next_deadline()) consider(*deadline);
   return earliest;
 }
 
 // ---------------------------------------------------------------------------
-// Finishing and reporting
-
-void HandDriver::finish_active(const CommandResult& result) {
-  if (!active_) return;
-  complete(active_->job, result);
-  active_.reset();
-}
-
-void HandDriver::finish_init_waiter(const CommandResult& result) {
-  if (!init_waiter_) return;
-  complete(init_waiter_->job, result);
-  init_waiter_.reset();
-}
-
-void HandDriver::finish_motion_waiter(const CommandResult& result) {
-  if (!motion_waiter_) return;
-  complete(motion_waiter_->job, result);
-  motion_waiter_.reset();
-}
-
-void HandDriver::fail_everything(CommandError error) {
-  if (active_) finish_active(fail(error));
-  while (!queue_.empty()) {
-    complete(queue_.front(), fail(error));
-    queued_.fetch_sub(1);
-    queue_.pop_front();
-  }
-  finish_init_waiter(fail(error));
-  finish_motion_waiter(fail(error));
-}
-
-void HandDriver::complete(Job& job, const CommandResult& result) {
-  counters_.count_command(job.command, result);
-  if (!result && job.command.group) {
-    // Too late once released (ignored then); before, no member may move.
-    job.command.group->abandon(fmt::format("{}: {} ended {}", label(), to_string(job.command.kind),
-                                           to_string(result.error())));
-  }
-  outbox_.add_completion(std::move(job.done), result, job.submitted);
-}
+// Reporting
 
 void HandDriver::set_error(CommandError error, std::string message) {
   state_.last_error = error;

@@ -33,6 +33,7 @@
 #include <variant>
 #include <vector>
 
+#include "command_ledger.hpp"
 #include "dh3/bus/bus.hpp"
 #include "dh3/hand/bus_scheduler.hpp"
 #include "dh3/hand/hand_driver_states.hpp"
@@ -158,6 +159,8 @@ class HandDriver {
   /// The one reset path: going offline, link loss and shutdown.
   void lose_link(TimePoint now, LinkLoss loss, const std::string& why);
   void set_init(InitState init);
+  [[nodiscard]] ActiveJob* active() { return ledger_.active(); }
+  [[nodiscard]] const ActiveJob* active() const { return ledger_.active(); }
   [[nodiscard]] Online* online() { return std::get_if<Online>(&link_); }
   [[nodiscard]] const Online* online() const { return std::get_if<Online>(&link_); }
   [[nodiscard]] Initializing* initializing();
@@ -166,17 +169,10 @@ class HandDriver {
   /// What to poll how often, from what the hand is doing now.
   [[nodiscard]] PollPlan poll_plan() const;
 
-  // Finishing and reporting (hand_driver.cpp).
-  void cancel_motion(bool fingers, bool rotation);
-  void finish_active(const CommandResult& result);
-  void finish_init_waiter(const CommandResult& result);
-  void finish_motion_waiter(const CommandResult& result);
-  void fail_everything(CommandError error);
+  // Reporting (hand_driver.cpp).
   void emit_rotation_event(EventKind kind, std::int32_t status, TimePoint now);
   void emit(EventKind kind, TimePoint now, std::int32_t value = 0, std::string message = {},
             std::optional<std::int32_t> position = {}, std::optional<std::int32_t> target = {});
-  /// Counts the job's result and queues its completion for flush().
-  void complete(Job& job, const CommandResult& result);
   void set_error(CommandError error, std::string message);
   /// Publishes the state if it changed, then the events, then the completions,
   /// so that whoever hears of an event or a result finds the state behind it.
@@ -186,7 +182,6 @@ class HandDriver {
 
   DriverContext& context_;
   const SchedulerOptions& options_;
-  std::atomic<int>& queued_;
   HandCounters& counters_;
   bool anonymous_;
   /// The hand's state, owned here on the loop thread; what other threads see is
@@ -199,11 +194,8 @@ class HandDriver {
   Link link_;
   int consecutive_timeouts_ = 0;
 
-  // Commands.
-  std::deque<Job> queue_;
-  std::optional<ActiveJob> active_;
-  std::optional<InitWaiter> init_waiter_;
-  std::optional<MotionWaiter> motion_waiter_;
+  // Commands: queued, being sent, waiting for the hand; their completions.
+  CommandLedger ledger_;
 
   // Frames: the one in flight, its re-send, the pacing.
   FrameSlot slot_;

@@ -45,60 +45,56 @@ std::optional<Message> HandDriver::next_group_frame(TimePoint now) {
 }
 
 bool HandDriver::has_command_frame() const {
-  return !slot_.in_flight() && (slot_.has_resend() || active_ || !queue_.empty());
+  return !slot_.in_flight() && (slot_.has_resend() || ledger_.has_commands());
 }
 
 // ---------------------------------------------------------------------------
 // Commands
 
 void HandDriver::start_next_job(TimePoint now) {
-  while (!active_ && !queue_.empty()) {
-    Job job = std::move(queue_.front());
-    queue_.pop_front();
-    queued_.fetch_sub(1);
-    if (job.command.timeout && now >= job.submitted + *job.command.timeout) {
-      complete(job, fail(CommandError::timeout));
-      continue;
-    }
-    const CommandKind kind = job.command.kind;
-    ActiveJob next{std::move(job), first_step(kind)};
+  while (!active()) {
+    std::optional<Job> job = ledger_.take_next(now);
+    if (!job) return;
+    const CommandKind kind = job->command.kind;
+    ActiveJob next{std::move(*job), first_step(kind)};
     if (needs_initialization(next.job.command)) {
       if (!init_known()) {
         next.check_initialized_first = true;
       } else if (!state_.initialized) {
         if (kind == CommandKind::stop) {
           // Nothing moves before initialization: there is nothing to stop.
-          complete(next.job, CommandSuccess{state_.position, GraspOutcome::none});
+          ledger_.complete(next.job, CommandSuccess{state_.position, GraspOutcome::none});
         } else {
           set_error(CommandError::not_initialized,
                     fmt::format("{} before initialization", to_string(kind)));
-          complete(next.job, fail(CommandError::not_initialized));
+          ledger_.complete(next.job, fail(CommandError::not_initialized));
         }
         continue;
       }
     }
-    active_ = std::move(next);
+    ledger_.start(std::move(next));
   }
 }
 
 bool HandDriver::at_group_gate() const {
-  if (!active_ || !active_->job.command.group || active_->group_released ||
-      active_->check_initialized_first) {
+  if (!active() || !active()->job.command.group || active()->group_released ||
+      active()->check_initialized_first) {
     return false;
   }
   // The frame that starts the motion (or sets the force): what the group
   // wants to leave together. The steps before it go as they come.
-  if (const auto* grasp = std::get_if<GraspStep>(&active_->step)) return *grasp == GraspStep::close;
-  if (const auto* init = std::get_if<InitializeStep>(&active_->step))
+  if (const auto* grasp = std::get_if<GraspStep>(&active()->step))
+    return *grasp == GraspStep::close;
+  if (const auto* init = std::get_if<InitializeStep>(&active()->step))
     return *init == InitializeStep::start;
   return true;
 }
 
 bool HandDriver::pass_group_gate(TimePoint now) {
-  GroupRelease& group = *active_->job.command.group;
-  if (!active_->group_ready) {
+  GroupRelease& group = *active()->job.command.group;
+  if (!active()->group_ready) {
     // next_frame() got here: nothing in flight and the interval clear.
-    active_->group_ready = true;
+    active()->group_ready = true;
     group.ready(now, context_.wake);
   }
   switch (group.verdict(now)) {
@@ -107,46 +103,46 @@ bool HandDriver::pass_group_gate(TimePoint now) {
     case GroupRelease::Verdict::go:
       // Only in the scheduler's group sweep, so a bus's members go back to back.
       if (!releasing_group_) return false;
-      active_->group_released = true;
+      active()->group_released = true;
       return true;
     case GroupRelease::Verdict::abandoned:
       set_error(CommandError::cancelled, "group command abandoned: " + group.abandoned_because());
-      finish_active(fail(CommandError::cancelled));
+      ledger_.finish_active(fail(CommandError::cancelled));
       return false;
   }
   return false;
 }
 
 bool HandDriver::holding_for_group() const {
-  return active_ && active_->group_ready && !active_->group_released;
+  return active() && active()->group_ready && !active()->group_released;
 }
 
 Message HandDriver::send_job(Message message, TimePoint now) {
   const bool retryable =
       // CAN ID and baud rate reply only once stored: a re-send would store twice.
       !(message.access == protocol::Access::write && is_admin_register(message.reg));
-  if (!std::exchange(active_->frame_sent, true)) {
-    context_.latency.command_to_frame.observe(now - active_->job.submitted);
+  if (!std::exchange(active()->frame_sent, true)) {
+    context_.latency.command_to_frame.observe(now - active()->job.submitted);
   }
-  return slot_.send(message, Purpose::job, now, retryable, reply_timeout_for(active_->job));
+  return slot_.send(message, Purpose::job, now, retryable, reply_timeout_for(active()->job));
 }
 
 std::optional<Message> HandDriver::job_frame(TimePoint now) {
   start_next_job(now);
-  if (!active_) return std::nullopt;
+  if (!active()) return std::nullopt;
   const std::uint8_t id = state_.can_id;
-  const Command& command = active_->job.command;
-  if (active_->check_initialized_first)
+  const Command& command = active()->job.command;
+  if (active()->check_initialized_first)
     return send_job(protocol::make_read(id, reg::kInitialize), now);
   if (at_group_gate() && !pass_group_gate(now)) return std::nullopt;
 
   switch (command.kind) {
     case CommandKind::initialize:
-      return initialize_frame(now, std::get<InitializeStep>(active_->step));
+      return initialize_frame(now, std::get<InitializeStep>(active()->step));
     case CommandKind::grasp:
-      return grasp_frame(now, std::get<GraspStep>(active_->step));
+      return grasp_frame(now, std::get<GraspStep>(active()->step));
     case CommandKind::stop:
-      return stop_frame(now, std::get<StopStep>(active_->step));
+      return stop_frame(now, std::get<StopStep>(active()->step));
     case CommandKind::move_to:
       finger_motion_sent(command.value, command.value == 0);
       return send_job(protocol::make_write(id, reg::kPosition, command.value), now);
@@ -186,7 +182,7 @@ std::optional<Message> HandDriver::grasp_frame(TimePoint now, GraspStep step) {
   const std::uint8_t id = state_.can_id;
   switch (step) {
     case GraspStep::set_force:
-      return send_job(protocol::make_write(id, reg::kClosingForce, active_->job.command.value),
+      return send_job(protocol::make_write(id, reg::kClosingForce, active()->job.command.value),
                       now);
     case GraspStep::close:
       finger_motion_sent(0, true);
@@ -202,13 +198,13 @@ std::optional<Message> HandDriver::stop_frame(TimePoint now, StopStep step) {
     case StopStep::read_position:
       return send_job(protocol::make_read(id, reg::kPosition), now);
     case StopStep::hold_position:
-      finger_motion_sent(active_->held, false);
-      return send_job(protocol::make_write(id, reg::kPosition, active_->held), now);
+      finger_motion_sent(active()->held, false);
+      return send_job(protocol::make_write(id, reg::kPosition, active()->held), now);
     case StopStep::read_rotation:
       return send_job(protocol::make_read(id, reg::kRotation), now);
     case StopStep::hold_rotation:
-      rotation_motion_sent(active_->held);
-      return send_job(protocol::make_write(id, reg::kRotation, active_->held), now);
+      rotation_motion_sent(active()->held);
+      return send_job(protocol::make_write(id, reg::kRotation, active()->held), now);
   }
   return std::nullopt;
 }
@@ -264,9 +260,9 @@ std::optional<Message> HandDriver::online_frame(Online& on, TimePoint now) {
 // Motions started by sending
 
 void HandDriver::finger_motion_sent(std::int32_t target, bool gripping) {
-  if (active_) active_->motion_sent = true;
+  if (active()) active()->motion_sent = true;
   // A grasp or release waiting for the previous motion to end is superseded.
-  finish_motion_waiter(fail(CommandError::cancelled));
+  ledger_.finish_motion_waiter(fail(CommandError::cancelled));
   ++finger_epoch_;
   finger_motion_ = FingerMotion{target, gripping, state_.position < 0 || target < state_.position};
   hold_untouched_ = false;
@@ -275,7 +271,7 @@ void HandDriver::finger_motion_sent(std::int32_t target, bool gripping) {
 }
 
 void HandDriver::rotation_motion_sent(std::int32_t target) {
-  if (active_) active_->motion_sent = true;
+  if (active()) active()->motion_sent = true;
   rotation_motion_ = RotationMotion{target};
   state_.rotation_target = target;
   state_.rotation_state = RotationState::moving;
