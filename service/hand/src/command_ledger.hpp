@@ -1,15 +1,14 @@
 #pragma once
-// Loop thread only: its driver asks and tells it; the completions it queues
-// are delivered by the driver's outbox at the end of the pass. It reads no
-// clock: it is told the time. The one number others see, the hand's `queued`
-// count, submit() raises on the caller's thread and this lowers.
+// Loop thread only: its driver asks and tells it, and tells it the time. The
+// one thing shared: the hand's atomic `queued` count, raised by submit() on any thread.
 //
 // The commands of one hand that have not ended: those waiting for their turn
 // (the queue), the one being sent (the active job, ActiveJob), and those whose
 // frames are done and that wait for the hand to get somewhere (InitWaiter,
 // MotionWaiter). Every command leaves it with one result, counted and queued
 // in the outbox; a group member that fails abandons its group first, so that
-// no member moves alone.
+// no member moves alone. The completions wait in the driver's outbox until
+// the pass ends. It lowers `queued` as commands leave the queue.
 
 #include <atomic>
 #include <cstdint>

@@ -1,8 +1,8 @@
 #pragma once
 // One DH-3 hand as the bus loop drives it: its link (offline -> online, and back
-// after consecutive timeouts, link loss or shutdown), its initialization, its
-// command queue, the one frame it has in flight, its status poller and the
-// detection of the events a user cares about. The states are the types of
+// after consecutive timeouts, link loss or shutdown), its initialization, the
+// steps of its commands, its status poller and the detection of the events a
+// user cares about. The states are the types of
 // hand_driver_states.hpp; what a status value means is status_reading.hpp.
 // Loop thread only; the scheduler decides when the hand may send and hands it
 // the replies addressed to it.
@@ -17,11 +17,13 @@
 //   if it is not known yet, so a command right after start-up is not refused
 //   for lack of knowledge.
 //
-// The code is split by job: hand_driver.cpp (commands in, lifecycle, time,
-// reporting), hand_driver_sending.cpp (which frame goes next, the steps of each
-// command), hand_driver_receiving.cpp (replies and what they change). What a
-// pass reports (state, events, completions) waits in a HandOutbox until the
-// pass ends (hand_outbox.hpp).
+// It coordinates three collaborators, each owning its state: a FrameSlot (the
+// one frame in flight, its re-send, the pacing; frame_slot.hpp), a
+// CommandLedger (the commands queued, being sent or waiting for the hand, and
+// their completions; command_ledger.hpp) and a HandOutbox (what a pass
+// reports, held until the pass ends; hand_outbox.hpp). Its own code:
+// hand_driver.cpp (commands in, frames out, lifecycle, time, reporting) and
+// hand_driver_receiving.cpp (replies and what they change).
 
 #include <atomic>
 #include <cstdint>
@@ -116,7 +118,7 @@ class HandDriver {
   void on_discovered(const protocol::Message& reply, TimePoint now);
 
  private:
-  // Sending (hand_driver_sending.cpp).
+  // Frames out (hand_driver.cpp).
   [[nodiscard]] std::optional<protocol::Message> job_frame(TimePoint now);
   [[nodiscard]] std::optional<protocol::Message> initialize_frame(TimePoint now,
                                                                   InitializeStep step);
