@@ -15,6 +15,9 @@ struct ParticipantOptions {
   std::string name = "dh3";
   /// DDS domain id, 0-232.
   int domain = 0;
+  /// A service's name: its writers publish in its cell's partition too
+  /// (dh3_cell_partition.hpp). Empty for clients.
+  std::string cell;
   /// IPv4 addresses of the interfaces to use; empty = loopback only; {"*"} = all.
   std::vector<std::string> interfaces;
   /// UDP only: the default (dh3_participant.hpp says why). Kept so that

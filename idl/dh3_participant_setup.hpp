@@ -15,11 +15,13 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "dh3/base/result.hpp"
+#include "dh3_cell_partition.hpp"
 #include "dh3_discovery.hpp"
 #include "dh3_follow_filter.hpp"
 #include "dh3_participant.hpp"
@@ -163,7 +165,9 @@ class Participant {
       }
       return fail(std::move(error));
     }
-    if (auto contained = made->create_contained(); !contained) return fail(contained.error());
+    if (auto contained = made->create_contained(options.cell); !contained) {
+      return fail(contained.error());
+    }
     return made;
   }
   ~Participant() {
@@ -187,6 +191,24 @@ class Participant {
   [[nodiscard]] const Topics& topics() const { return topics_; }
   [[nodiscard]] eprosima::fastdds::dds::Publisher& publisher() { return *publisher_; }
   [[nodiscard]] eprosima::fastdds::dds::Subscriber& subscriber() { return *subscriber_; }
+  /// Where a follower of `service` makes its status, event and info readers:
+  /// a subscriber in the cell's partition (dh3_cell_partition.hpp), made on
+  /// first use; subscriber() where the cell has none (a pattern-like name,
+  /// access control) or Fast DDS refuses it.
+  [[nodiscard]] eprosima::fastdds::dds::Subscriber& cell_subscriber(const std::string& service) {
+    namespace fdds = eprosima::fastdds::dds;
+    const auto partition = cell_partition(service);
+    if (!partition || access_control_) return *subscriber_;
+    if (cell_subscriber_ == nullptr || cell_subscribed_ != *partition) {
+      fdds::SubscriberQos qos = fdds::SUBSCRIBER_QOS_DEFAULT;
+      qos.partition().push_back(partition->c_str());
+      cell_subscriber_ = participant_->create_subscriber(qos);
+      cell_subscribed_ = *partition;
+    }
+    return cell_subscriber_ != nullptr ? *cell_subscriber_ : *subscriber_;
+  }
+  /// The partitions the publisher writes in, besides the default one.
+  [[nodiscard]] const std::optional<std::string>& published_cell() const { return published_cell_; }
   /// What this participant's reply filters decided: on a service, its reply
   /// writer's (writer-side filtering); on a client, its reply reader's.
   [[nodiscard]] const ReplyFilterCounts& reply_filter_counts() const {
@@ -206,7 +228,7 @@ class Participant {
   Participant() = default;
 
   /// The reply filter class, the topics, the publisher and the subscriber.
-  Result<void, std::string> create_contained() {
+  Result<void, std::string> create_contained(const std::string& cell) {
     namespace fdds = eprosima::fastdds::dds;
     // Before any reader is discovered: a service's reply writer looks the
     // class up when a client's filtered reply reader matches it.
@@ -231,7 +253,14 @@ class Participant {
     for (const auto& [topic, name] : topics) {
       if (topic == nullptr) return fail("cannot create the topic " + name);
     }
-    publisher_ = participant_->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+    fdds::PublisherQos publisher_qos = fdds::PUBLISHER_QOS_DEFAULT;
+    if (const auto partition = cell_partition(cell); partition && !access_control_) {
+      // The default partition first: every plain reader matches it.
+      publisher_qos.partition().push_back("");
+      publisher_qos.partition().push_back(partition->c_str());
+      published_cell_ = partition;
+    }
+    publisher_ = participant_->create_publisher(publisher_qos);
     if (publisher_ == nullptr) return fail("cannot create the DDS publisher");
     subscriber_ = participant_->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
     if (subscriber_ == nullptr) return fail("cannot create the DDS subscriber");
@@ -245,6 +274,9 @@ class Participant {
   Topics topics_;
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
+  eprosima::fastdds::dds::Subscriber* cell_subscriber_ = nullptr;
+  std::string cell_subscribed_;
+  std::optional<std::string> published_cell_;
   bool security_from_profile_ = false;
   bool access_control_ = false;
 };

@@ -88,12 +88,15 @@ void ClientEndpoints::create_watch_endpoints(const EndpointCreator& creator,
                                              const std::optional<contract::Follow>& follow) {
   using contract::TopicRole;
   const contract::Topics& topics = participant_->topics();
-  auto& subscriber = participant_->subscriber();
+  // A follower reads in its cell's partition, so the other cells' writers do
+  // not even match it (dh3_cell_partition.hpp), and each topic through the
+  // follow filter, which the services' writers evaluate for it
+  // (dh3_follow_filter.hpp; it also picks one bus). Should Fast DDS refuse a
+  // filtered topic, the plain one still works: ClientCore keeps only what it
+  // follows.
+  auto& subscriber =
+      follow ? participant_->cell_subscriber(follow->service) : participant_->subscriber();
   const auto data = fdds::StatusMask::data_available();
-  // A follower reads each topic through the follow filter, which the
-  // services' writers evaluate for it (dh3_follow_filter.hpp). Should Fast
-  // DDS refuse a filtered topic, the plain one still works: ClientCore keeps
-  // only what it follows.
   const auto view = [&](fdds::Topic* topic, bool by_bus) -> fdds::TopicDescription* {
     if (!follow) return topic;
     fdds::TopicDescription* filtered =

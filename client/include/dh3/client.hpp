@@ -103,12 +103,15 @@ struct ClientOptions {
   /// The timeout of calls and waits that are given none (Timeout{0}).
   std::chrono::milliseconds default_timeout{10'000};
   /// Follow one cell: "SERVICE" or "SERVICE/BUS". The client then knows only
-  /// that service (only that bus's hands): the services filter their
-  /// statuses, events and service info for it on their side (a writer-side
-  /// content filter), so what it receives and spends does not grow with the
-  /// other cells of the domain, and it commands only that service's hands
-  /// (others end NO_SERVICE). Empty: every service of the domain. A
-  /// malformed one leaves the client unconnected, error() saying why.
+  /// that service (only that bus's hands): it reads statuses, events and
+  /// service info in the cell's DDS partition, which only that service
+  /// publishes in, and the service filters them for it (a writer-side
+  /// content filter, which also picks the bus), so what it receives and
+  /// spends does not grow with the other cells of the domain, and it
+  /// commands only that service's hands (others end NO_SERVICE). Empty:
+  /// every service of the domain. A malformed one leaves the client
+  /// unconnected, error() saying why. Needs services of dh3 0.1 from
+  /// 2026-11-27 on (older ones publish in the default partition only).
   std::string follow;
 };
 

@@ -106,6 +106,10 @@ bool is_valid_command(msg::CommandType command) {
   return static_cast<std::uint32_t>(command) <= static_cast<std::uint32_t>(msg::RELEASE_LEASE);
 }
 
+std::string hand_text(std::string_view bus, std::uint8_t can_id) {
+  return "hand " + std::to_string(can_id) + " on bus '" + std::string(bus) + "'";
+}
+
 std::string describe_failure(hand::CommandError error, msg::CommandType command,
                              std::string_view bus, std::uint8_t can_id) {
   const std::string what = command_name(command);

@@ -1,6 +1,7 @@
-// dh3::dds::Service: set-up, start, stop and tear-down of the service's DDS
-// side. Its other jobs: service_publishing.cpp, service_requests.cpp,
-// service_leases.cpp (all on Service::Impl, service_impl.hpp).
+// dh3::dds::Service and its Impl: set-up, start, stop and tear-down of the
+// service's DDS side, and the wiring of its parts (service_impl.hpp).
+
+#include <algorithm>
 
 #include "service_impl.hpp"
 
@@ -11,9 +12,33 @@ using eprosima::fastrtps::types::ReturnCode_t;
 // ---------------------------------------------------------------------------
 // Set-up and tear-down
 
+Service::Impl::Impl(ServiceOptions options, const Clock& clock)
+    : options_(std::move(options)),
+      clock_(clock),
+      leases_(clock),
+      timer_(
+          [this] {
+            auto next = leases_.next_expiry();
+            if (const auto reply_due = replies_.next_expiry();
+                reply_due && (!next || *reply_due < *next)) {
+              next = reply_due;
+            }
+            return next;
+          },
+          [this] { sweep_expired(); }) {}
+
+Service::Impl::~Impl() {
+  stop();
+  // Schedulers go first: a scheduler that never ran may still report its
+  // hands offline while it shuts down, and that needs the writers.
+  for (auto& scheduler : schedulers_) scheduler.reset();
+  destroy_dds();
+}
+
 Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups) {
   contract::ParticipantOptions participant = options_.participant;
   participant.name = "dh3-service " + options_.name;
+  participant.cell = options_.name;
   contract::SetupReport report;
   auto made = contract::Participant::create(participant, report, &participant_listener_);
   // Before the outcome: an ignored option may explain a failure.
@@ -21,6 +46,10 @@ Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups) {
   for (const auto& note : report.notes) spdlog::info("{}", note);
   if (!made) return fail(std::move(made).error());
   participant_ = std::move(made).value();
+  if (const auto& cell = participant_->published_cell()) {
+    spdlog::info("publishing in the default partition and in '{}', for followers of the cell",
+                 *cell);
+  }
   if (!options_.participant.security_dir.empty()) {
     spdlog::info("DDS Security on: identity '{}' in '{}'", options_.participant.security_identity,
                  options_.participant.security_dir);
@@ -28,21 +57,17 @@ Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups) {
   if (auto created = create_writers(); !created) return created;
 
   for (auto& setup : setups) {
-    const auto index = static_cast<std::uint16_t>(buses_.size());
-    auto runtime = std::make_unique<BusRuntime>();
-    runtime->name = setup.name;
-    runtime->spec = setup.bus->spec();
-    runtime->observer = std::make_unique<BusObserver>(*this, index);
-    // Configured hands are in the service info from the start: not news (on_state).
-    for (const auto& hand : setup.hands) slot_locked(*runtime, hand.can_id).announced = true;
-    // In the list before the scheduler exists: it may report (states, never
-    // events) from its constructor.
-    BusRuntime& added = *buses_.emplace_back(std::move(runtime));
+    std::vector<std::uint8_t> configured;
+    for (const auto& hand : setup.hands) configured.push_back(hand.can_id);
+    // Known to the publisher before the scheduler exists: it may report
+    // (states, never events) from its constructor.
+    const std::uint16_t index = statuses_.add_bus(setup.name, setup.bus->spec(), configured);
+    auto& observer = observers_.emplace_back(std::make_unique<BusObserver>(statuses_, index));
     setup.scheduler.allow_admin = options_.allow_admin;
-    added.scheduler = std::make_unique<hand::BusScheduler>(
-        setup.name, std::move(setup.bus), setup.hands, setup.scheduler, clock_, *added.observer);
-    added.link_up = added.scheduler->link_state() == bus::LinkState::up;
-    directory_.add_bus(setup.name, added.scheduler->roster());
+    schedulers_.push_back(std::make_unique<hand::BusScheduler>(
+        setup.name, std::move(setup.bus), setup.hands, setup.scheduler, clock_, *observer));
+    statuses_.set_link_up(index, schedulers_.back()->link_state() == bus::LinkState::up);
+    directory_.add_bus(setup.name, schedulers_.back()->roster());
   }
   return {};
 }
@@ -63,11 +88,6 @@ std::string Service::Impl::cannot_create(const std::string& what) const {
 
 Result<void, std::string> Service::Impl::create_writers() {
   const contract::Topics& topics = participant_->topics();
-  status_topic_ = topics.status;
-  event_topic_ = topics.event;
-  info_topic_ = topics.info;
-  request_topic_ = topics.request;
-  reply_topic_ = topics.reply;
   const auto writer = [this](fdds::DataWriter*& out, fdds::Topic* topic, TopicRole role,
                              fdds::DataWriterListener* listener =
                                  nullptr) -> Result<void, std::string> {
@@ -77,16 +97,16 @@ Result<void, std::string> Service::Impl::create_writers() {
     if (out == nullptr) return fail(cannot_create("the writer of " + topic->get_name()));
     return {};
   };
-  if (auto created = writer(status_writer_, status_topic_, TopicRole::hand_status); !created) {
-    return created;
+  fdds::DataWriter* info_writer = nullptr;
+  auto created = writer(status_writer_, topics.status, TopicRole::hand_status);
+  if (created) created = writer(event_writer_, topics.event, TopicRole::hand_event);
+  if (created) created = writer(info_writer, topics.info, TopicRole::service_info);
+  if (created) {
+    created = writer(reply_writer_, topics.reply, TopicRole::reply, replies_.reply_listener());
   }
-  if (auto created = writer(event_writer_, event_topic_, TopicRole::hand_event); !created) {
-    return created;
-  }
-  if (auto created = writer(info_writer_, info_topic_, TopicRole::service_info); !created) {
-    return created;
-  }
-  return writer(reply_writer_, reply_topic_, TopicRole::reply, &reply_writer_listener_);
+  statuses_.set_writers(status_writer_, event_writer_, info_writer);
+  replies_.set_reply_writer(reply_writer_);
+  return created;
 }
 
 Result<void, std::string> Service::Impl::create_request_reader() {
@@ -95,35 +115,48 @@ Result<void, std::string> Service::Impl::create_request_reader() {
   // overwriting requests not yet taken, which would then never be answered.
   auto request_qos = contract::reader_qos(TopicRole::request);
   request_qos.history().kind = fdds::KEEP_ALL_HISTORY_QOS;
+  fdds::Topic* topic = participant_->topics().request;
   request_reader_ = participant_->subscriber().create_datareader(
-      request_topic_, request_qos, &request_listener_, fdds::StatusMask::data_available());
+      topic, request_qos, &request_listener_, fdds::StatusMask::data_available());
   if (request_reader_ == nullptr) {
     // Without it the service would run and never answer a request.
-    return fail(cannot_create("the reader of " + request_topic_->get_name()));
+    return fail(cannot_create("the reader of " + topic->get_name()));
   }
   return {};
+}
+
+void Service::Impl::create_group_endpoints() {
+  group_reply_writer_ = participant_->publisher().create_datawriter(
+      participant_->topics().group_reply, contract::writer_qos(TopicRole::reply),
+      replies_.group_reply_listener(), fdds::StatusMask::publication_matched());
+  replies_.set_group_reply_writer(group_reply_writer_);
+  auto qos = contract::reader_qos(TopicRole::request);
+  qos.history().kind = fdds::KEEP_ALL_HISTORY_QOS;
+  if (group_reply_writer_ != nullptr) {
+    group_request_reader_ = participant_->subscriber().create_datareader(
+        participant_->topics().group_request, qos, &group_request_listener_,
+        fdds::StatusMask::data_available());
+  }
+  if (group_request_reader_ == nullptr) {
+    spdlog::warn("group commands are off: {}",
+                 cannot_create("the group request reader and reply writer"));
+  }
 }
 
 Result<void, std::string> Service::Impl::start() {
   if (started_) return {};
   started_ = true;
-  publish_info();
-  for (std::size_t i = 0; i < buses_.size(); ++i) {
-    BusRuntime& bus = *buses_[i];
-    for (const hand::HandState& state : bus.scheduler->state()) {
-      std::lock_guard lock(bus.status_mutex);
-      if (slot_locked(bus, state.can_id).update_seq == 0) {
-        on_state_locked(static_cast<std::uint16_t>(i), state, false);
-      }
-    }
+  statuses_.publish_info();
+  for (std::size_t i = 0; i < schedulers_.size(); ++i) {
+    statuses_.publish_first(static_cast<std::uint16_t>(i), schedulers_[i]->state());
   }
-  for (auto& bus : buses_) bus->scheduler->start();
-  lease_timer_ = std::thread([this] { lease_timer_loop(); });
+  for (auto& scheduler : schedulers_) scheduler->start();
+  timer_.start();
   // Last: requests are only taken once everything they need runs.
   if (auto created = create_request_reader(); !created) return created;
   create_group_endpoints();
   spdlog::info("service '{}' on DDS domain {}: {} bus(es), admin commands {}", options_.name,
-               options_.participant.domain, buses_.size(),
+               options_.participant.domain, schedulers_.size(),
                options_.allow_admin ? "allowed" : "refused");
   return {};
 }
@@ -136,38 +169,14 @@ void Service::Impl::stop() {
     std::lock_guard lock(dispatch_mutex_);
     stopping_ = true;  // requests from now on are answered CANCELLED
   }
-  {
-    std::lock_guard lock(lease_timer_mutex_);
-    lease_timer_stop_ = true;
-  }
-  lease_timer_cv_.notify_all();
-  if (lease_timer_.joinable()) lease_timer_.join();
-
+  timer_.stop();
   // The schedulers end their pending commands CANCELLED and report hands offline.
-  for (auto& bus : buses_) bus->scheduler->stop();
-  std::vector<std::shared_ptr<PendingScan>> scans;
-  {
-    std::lock_guard lock(scans_mutex_);
-    scans.swap(scans_);
-  }
-  for (const auto& scan : scans) {
-    finish_scan(scan, msg::CANCELLED, {}, "SCAN cancelled: the service is shutting down");
-  }
+  for (auto& scheduler : schedulers_) scheduler->stop();
+  requests_.cancel_scans();
   // Whatever the schedulers did not report, every hand goes out offline.
-  for (std::size_t i = 0; i < buses_.size(); ++i) {
-    BusRuntime& bus = *buses_[i];
-    std::lock_guard lock(bus.status_mutex);
-    for (std::size_t id = 0; id < bus.hands.size(); ++id) {
-      HandSlot* slot = bus.hands[id].get();
-      if (slot && slot->written && slot->sample.online()) {
-        slot->sample.online(false);
-        write_status_locked(static_cast<std::uint16_t>(i), static_cast<std::uint8_t>(id), *slot);
-      }
-    }
-  }
+  statuses_.publish_all_offline();
   // Replies still waiting for their reader go out now, to the writer's history.
-  for (auto& reply : reply_gate_.take_all()) publish_reply(reply);
-  for (auto& reply : group_reply_gate_.take_all()) publish_group_reply(reply);
+  replies_.write_all_held();
   // Subscribers get the offline samples and last replies before we leave.
   const auto deadline = SteadyClock::now() + options_.shutdown_ack_timeout;
   for (fdds::DataWriter* writer :
@@ -192,10 +201,55 @@ void Service::Impl::destroy_dds() {
   if (group_request_reader_ != nullptr) group_request_reader_->set_listener(nullptr);
   group_request_reader_ = nullptr;
   group_reply_writer_ = nullptr;
-  if (reply_writer_ != nullptr) reply_writer_->set_listener(nullptr);
-  status_writer_ = event_writer_ = info_writer_ = reply_writer_ = nullptr;
+  replies_.detach();
+  statuses_.detach();
+  status_writer_ = event_writer_ = reply_writer_ = nullptr;
   request_reader_ = nullptr;
   participant_.reset();  // its listener first, then everything it contains
+}
+
+// ---------------------------------------------------------------------------
+// Requests, departures and expiry
+
+void Service::Impl::on_requests(fdds::DataReader& reader) {
+  std::lock_guard lock(dispatch_mutex_);
+  fdds::SampleInfo info;
+  while (reader.take_next_sample(&request_, &info) == ReturnCode_t::RETCODE_OK) {
+    if (!info.valid_data) continue;
+    if (options_.test_seam_tracer)
+      options_.test_seam_tracer(TracePoint::request_taken, request_.request_seq());
+    requests_.handle(request_, stopping_);
+  }
+}
+
+void Service::Impl::on_group_requests(fdds::DataReader& reader) {
+  std::lock_guard lock(dispatch_mutex_);
+  fdds::SampleInfo info;
+  while (reader.take_next_sample(&group_request_, &info) == ReturnCode_t::RETCODE_OK) {
+    if (info.valid_data) groups_.handle(group_request_, stopping_);
+  }
+}
+
+void Service::Impl::on_participant_left(const std::string& participant_id, bool dropped) {
+  if (const std::size_t dropped_replies = replies_.participant_left(participant_id)) {
+    spdlog::info("{} held replies to {} dropped: it left before its reply reader matched",
+                 dropped_replies, participant_id);
+  }
+  for (const auto& ended : leases_.drop_client(participant_id)) {
+    spdlog::info("{}: lease of '{}' ended, its participant {} the domain",
+                 hand_text(directory_.bus_name(ended.hand.bus), ended.hand.can_id), ended.holder,
+                 dropped ? "dropped out of" : "left");
+    statuses_.republish(ended.hand);
+  }
+}
+
+void Service::Impl::sweep_expired() {
+  replies_.write_expired();
+  for (const auto& ended : leases_.expire()) {
+    spdlog::info("{}: lease of '{}' expired",
+                 hand_text(directory_.bus_name(ended.hand.bus), ended.hand.can_id), ended.holder);
+    statuses_.republish(ended.hand);
+  }
 }
 
 // ---------------------------------------------------------------------------

@@ -1,6 +1,7 @@
 // A plant in small: two dh3-services on one domain. A client that follows
 // one cell (ClientOptions::follow) is sent none of the other cell's statuses
-// and events, because the services filter them on their side; a client that
+// and events: it reads in its cell's partition, which the other cells' writers
+// do not publish in, and the services filter on their side; a client that
 // follows one bus gets that bus only; a malformed follow is refused. Any
 // number of clients get only their own replies (the 32 filtered readers of
 // Fast DDS's default are lifted), and a hand at rest is republished once per
@@ -120,13 +121,10 @@ TEST(ClientFollow, AClientFollowingOneCellIsSentNoneOfTheOtherCellsStatusesOrEve
   ASSERT_TRUE(everything.wait_for_service(b, kClientDeadline));
   ASSERT_TRUE(everything.wait_for_service(a, kClientDeadline));
   ASSERT_TRUE(follower.wait_for_statuses(kClientDeadline));
-  // As it joined, cell b's writers sent it what they kept from before (each
-  // hand's last status and the service info: Fast DDS filters a writer's
-  // history only for the readers matched when it was written), dropped here.
-  ASSERT_TRUE(eventually([&] { return follower.watch_traffic().dropped_on_arrival >= 4; }))
-      << follower.watch_traffic().dropped_on_arrival;
-  const WatchTraffic joined = follower.watch_traffic();
-
+  // Cell b's writers publish in its own partition and the default one, the
+  // follower reads in cell a's (dh3_cell_partition.hpp): they never match it,
+  // so not even the samples they kept from before reach it (with the follow
+  // filter alone, each hand's last status and the service info did).
   exercise(everything, {b, "bus0", 2});  // the other cell works
   exercise(follower, {a, "bus0", 1});    // and its own
   ASSERT_TRUE(eventually([&] { return seen_all.events(b) >= 2 && seen.events(a) >= 2; }));
@@ -135,9 +133,9 @@ TEST(ClientFollow, AClientFollowingOneCellIsSentNoneOfTheOtherCellsStatusesOrEve
   EXPECT_EQ(seen.events(b), 0);
   EXPECT_GT(seen.statuses(a), 0);
   EXPECT_GT(seen_all.statuses(b), 0);
-  // Nothing of cell b reached it since: b's writers filtered for it.
-  EXPECT_EQ(follower.watch_traffic().dropped_on_arrival, joined.dropped_on_arrival);
-  EXPECT_GT(follower.watch_traffic().events, joined.events);
+  // Nothing of cell b reached it, then or since.
+  EXPECT_EQ(follower.watch_traffic().dropped_on_arrival, 0U);
+  EXPECT_GT(follower.watch_traffic().events, 0U);
   // It knows only its cell.
   const auto services = follower.services();
   ASSERT_EQ(services.size(), 1U);

@@ -28,6 +28,9 @@ using contract::result_code_name;
 [[nodiscard]] std::string describe_failure(hand::CommandError error, msg::CommandType command,
                                            std::string_view bus, std::uint8_t can_id);
 
+/// "hand 2 on bus 'bus0'", for log lines and reply messages.
+[[nodiscard]] std::string hand_text(std::string_view bus, std::uint8_t can_id);
+
 /// Who publishes a status sample, and what the service adds to the hand's state.
 struct StatusContext {
   std::string_view service;

@@ -1,15 +1,18 @@
-// Group requests: one command for several hands, all or none
-// (group_validation.hpp), their motion frames released together by the hand
-// layer (hand/group_release.hpp), one reply once every hand's command ended.
+// Group requests: checked all or none, submitted to every member's bus with
+// one GroupRelease, answered once when the last member ends.
+
+#include "group_commands.hpp"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
+#include <memory>
+#include <mutex>
+
+#include "dh3/dds/conversions.hpp"
 #include "dh3/hand/group_release.hpp"
-#include "service_impl.hpp"
 
 namespace dh3::dds {
-using contract::TopicRole;
-using eprosima::fastrtps::types::ReturnCode_t;
 
 namespace {
 
@@ -25,10 +28,9 @@ std::string member_text(const msg::HandAddress& hand) {
   return fmt::format("{}/{}", hand.bus(), hand.can_id());
 }
 
-/// Overall code and message: OK, or the first failed hand's code and every
-/// failed hand's reason. Hands CANCELLED because another failed are named
-/// only when no hand failed otherwise: the cause is the news.
-void summarize(msg::GroupReply& reply) {
+}  // namespace
+
+void summarize_group(msg::GroupReply& reply) {
   bool root_cause = false;
   for (const auto& member : reply.results()) {
     root_cause |= member.code() != msg::OK && member.code() != msg::CANCELLED;
@@ -45,42 +47,16 @@ void summarize(msg::GroupReply& reply) {
   reply.message(std::move(message));
 }
 
-}  // namespace
-
 /// One group's results, filled in by its members' completions on the bus loops.
-struct Service::Impl::PendingGroup {
+struct GroupCommands::Pending {
   std::mutex mutex;
-  msg::GroupReply reply;
-  std::size_t remaining = 0;
+  msg::GroupReply reply;      ///< under mutex
+  std::size_t remaining = 0;  ///< under mutex
 };
 
-void Service::Impl::create_group_endpoints() {
-  group_reply_writer_ = participant_->publisher().create_datawriter(
-      participant_->topics().group_reply, contract::writer_qos(TopicRole::reply),
-      &group_reply_writer_listener_, fdds::StatusMask::publication_matched());
-  auto qos = contract::reader_qos(TopicRole::request);
-  qos.history().kind = fdds::KEEP_ALL_HISTORY_QOS;
-  if (group_reply_writer_ != nullptr) {
-    group_request_reader_ = participant_->subscriber().create_datareader(
-        participant_->topics().group_request, qos, &group_request_listener_,
-        fdds::StatusMask::data_available());
-  }
-  if (group_request_reader_ == nullptr) {
-    spdlog::warn("group commands are off: {}",
-                 cannot_create("the group request reader and reply writer"));
-  }
-}
-
-void Service::Impl::on_group_requests(fdds::DataReader& reader) {
-  std::lock_guard lock(dispatch_mutex_);
-  fdds::SampleInfo info;
-  while (reader.take_next_sample(&group_request_, &info) == ReturnCode_t::RETCODE_OK) {
-    if (info.valid_data) handle_group(group_request_);
-  }
-}
-
-void Service::Impl::handle_group(msg::GroupRequest& request) {
-  if (!request.service().empty() && request.service() != options_.name) return;
+void GroupCommands::handle(msg::GroupRequest& request, bool stopping) {
+  const std::string& name = parts_.options.name;
+  if (!request.service().empty() && request.service() != name) return;
   msg::GroupReply reply;
   reply.client_id(request.client_id());
   reply.request_seq(request.request_seq());
@@ -88,44 +64,44 @@ void Service::Impl::handle_group(msg::GroupRequest& request) {
   for (const auto& hand : request.hands()) {
     msg::GroupMemberResult& member = reply.results().emplace_back();
     member.hand(hand);
-    member.hand().service(options_.name);
+    member.hand().service(name);
   }
   spdlog::debug("group request {}#{}: {} to {} hands, value {}", request.client_id(),
                 request.request_seq(), command_name(request.command()), request.hands().size(),
                 request.value());
-  if (stopping_) {
-    refuse_group(reply, GroupRefusal{{}, Rejection{msg::CANCELLED, "the service is shutting down"}});
+  if (stopping) {
+    refuse(reply, GroupRefusal{{}, Rejection{msg::CANCELLED, "the service is shutting down"}});
     return;
   }
   const std::string client_id = request.client_id();
-  auto valid = validate_group(request, directory_, [&](std::uint16_t bus, std::uint8_t can_id) {
-    return member_facts(bus, can_id, client_id);
-  });
+  auto valid = validate_group(
+      request, parts_.directory,
+      [&](std::uint16_t bus, std::uint8_t can_id) { return member_facts(bus, can_id, client_id); });
   if (!valid) {
-    refuse_group(reply, valid.error());
+    refuse(reply, valid.error());
     return;
   }
   const Duration timeout = request.timeout_ms() != 0
                                ? Duration(std::chrono::milliseconds(request.timeout_ms()))
                                : kDefaultGroupReadyTimeout;
-  submit_group(*valid, std::move(reply), timeout);
+  submit(*valid, std::move(reply), timeout);
 }
 
-MemberFacts Service::Impl::member_facts(std::uint16_t bus, std::uint8_t can_id,
+MemberFacts GroupCommands::member_facts(std::uint16_t bus, std::uint8_t can_id,
                                         const std::string& client_id) const {
   MemberFacts facts;
-  const BusRuntime& runtime = *buses_[bus];
-  facts.link_up = runtime.scheduler->link_state() == bus::LinkState::up;
-  for (const hand::HandState& state : runtime.scheduler->roster().published()) {
+  hand::BusScheduler& scheduler = *parts_.schedulers[bus];
+  facts.link_up = scheduler.link_state() == bus::LinkState::up;
+  for (const hand::HandState& state : scheduler.roster().published()) {
     if (state.can_id != can_id) continue;
     facts.online = state.online;
     facts.initialized = state.initialized;
   }
-  facts.lease_blocker = leases_.blocking_holder(HandKey{bus, can_id}, client_id);
+  facts.lease_blocker = parts_.leases.blocking_holder(HandKey{bus, can_id}, client_id);
   return facts;
 }
 
-void Service::Impl::refuse_group(msg::GroupReply& reply, const GroupRefusal& refusal) {
+void GroupCommands::refuse(msg::GroupReply& reply, const GroupRefusal& refusal) {
   auto& results = reply.results();
   for (auto& member : results) {
     member.code(msg::CANCELLED);
@@ -136,23 +112,23 @@ void Service::Impl::refuse_group(msg::GroupReply& reply, const GroupRefusal& ref
     results[refused.index].code(refused.why.code);
     results[refused.index].message(refused.why.message);
   }
-  summarize(reply);
+  summarize_group(reply);
   if (refusal.whole) {
     reply.code(refusal.whole->code);
     reply.message(refusal.whole->message);
   } else {
     reply.message("group refused, nothing sent: " + reply.message());
   }
-  write_group_reply(reply);
+  parts_.replies.write(reply);
 }
 
-void Service::Impl::submit_group(const std::vector<ValidRequest>& members, msg::GroupReply reply,
-                                 Duration timeout) {
+void GroupCommands::submit(const std::vector<ValidRequest>& members, msg::GroupReply reply,
+                           Duration timeout) {
   bool several_buses = false;
   for (const ValidRequest& member : members) several_buses |= member.bus != members.front().bus;
   auto group = std::make_shared<hand::GroupRelease>(
-      members.size(), several_buses ? kCrossBusLead : Duration{}, clock_.now() + timeout);
-  auto pending = std::make_shared<PendingGroup>();
+      members.size(), several_buses ? kCrossBusLead : Duration{}, parts_.clock.now() + timeout);
+  auto pending = std::make_shared<Pending>();
   pending->reply = std::move(reply);
   pending->remaining = members.size();
   for (std::size_t i = 0; i < members.size(); ++i) {
@@ -161,7 +137,7 @@ void Service::Impl::submit_group(const std::vector<ValidRequest>& members, msg::
     const std::uint16_t bus = members[i].bus;
     const std::uint8_t can_id = members[i].can_id;
     // Each member may complete at once (on this thread) or on its bus loop.
-    buses_[bus]->scheduler->submit(
+    parts_.schedulers[bus]->submit(
         can_id, std::move(command),
         [this, pending, group, i, bus, can_id](const hand::CommandResult& r) {
           std::unique_lock lock(pending->mutex);
@@ -173,7 +149,7 @@ void Service::Impl::submit_group(const std::vector<ValidRequest>& members, msg::
           } else {
             member.code(to_result_code(r.error()));
             std::string why = describe_failure(r.error(), pending->reply.command(),
-                                               directory_.bus_name(bus), can_id);
+                                               parts_.directory.bus_name(bus), can_id);
             if (const std::string abandoned = group->abandoned_because();
                 r.error() == hand::CommandError::cancelled && !abandoned.empty()) {
               why += " (the group was abandoned: " + abandoned + ")";
@@ -181,41 +157,11 @@ void Service::Impl::submit_group(const std::vector<ValidRequest>& members, msg::
             member.message(std::move(why));
           }
           if (--pending->remaining > 0) return;
-          summarize(pending->reply);
+          summarize_group(pending->reply);
           msg::GroupReply done = std::move(pending->reply);
           lock.unlock();
-          write_group_reply(done);
+          parts_.replies.write(done);
         });
-  }
-}
-
-void Service::Impl::write_group_reply(msg::GroupReply& reply) {
-  if (reply.code() != msg::OK) {
-    spdlog::debug("group reply {}#{}: {} {}", reply.client_id(), reply.request_seq(),
-                  result_code_name(reply.code()), reply.message());
-  }
-  if (group_reply_writer_ == nullptr) return;
-  const std::uint64_t seq = reply.request_seq();
-  const std::string client_id = reply.client_id();
-  if (group_reply_gate_.admit(reply) == GateOutcome::held) {
-    spdlog::debug("group reply {}#{} held until the client's reader matches", client_id, seq);
-    wake_lease_timer();  // its deadline may now be the timer's next
-    return;
-  }
-  publish_group_reply(reply);
-}
-
-void Service::Impl::on_group_reply_reader(const std::string& client_id, bool matched) {
-  for (auto& reply : group_reply_gate_.reader_matched(client_id, matched)) {
-    publish_group_reply(reply);
-  }
-}
-
-void Service::Impl::publish_group_reply(msg::GroupReply& reply) {
-  if (group_reply_writer_ == nullptr) return;
-  if (!group_reply_writer_->write(&reply)) {
-    spdlog::warn("could not publish the group reply to {}#{}", reply.client_id(),
-                 reply.request_seq());
   }
 }
 

@@ -1,0 +1,128 @@
+// Replies: written at once, or held by their gate until the client's reply
+// reader matches, its participant leaves, or the hold limit passes.
+
+#include "reply_channel.hpp"
+
+#include <fastrtps/rtps/common/Guid.h>
+#include <spdlog/spdlog.h>
+
+#include "dh3/dds/conversions.hpp"
+#include "dh3_participant.hpp"
+
+namespace dh3::dds {
+
+ReplyChannel::ReplyChannel(const Clock& clock, const RequestTracer& tracer,
+                           std::function<void()> on_held)
+    : tracer_(tracer),
+      on_held_(std::move(on_held)),
+      gate_(clock, kHoldLimit),
+      group_gate_(clock, kHoldLimit) {}
+
+void ReplyChannel::WriterListener::on_publication_matched(
+    eprosima::fastdds::dds::DataWriter* /*writer*/,
+    const eprosima::fastdds::dds::PublicationMatchedStatus& status) {
+  eprosima::fastrtps::rtps::GUID_t reader;
+  eprosima::fastrtps::rtps::iHandle2GUID(reader, status.last_subscription_handle);
+  const std::string client_id = contract::client_id_for(reader.guidPrefix);
+  const bool matched = status.current_count_change > 0;
+  if (group_) {
+    for (auto& reply : channel_.group_gate_.reader_matched(client_id, matched)) {
+      channel_.publish(reply);
+    }
+  } else {
+    for (auto& reply : channel_.gate_.reader_matched(client_id, matched)) channel_.publish(reply);
+  }
+}
+
+void ReplyChannel::detach() {
+  if (writer_ != nullptr) writer_->set_listener(nullptr);
+  writer_ = nullptr;
+  group_writer_ = nullptr;
+}
+
+void ReplyChannel::write(msg::CommandReply& reply) {
+  if (reply.code() != msg::OK) {
+    spdlog::debug("reply {}#{}: {} {}", reply.client_id(), reply.request_seq(),
+                  result_code_name(reply.code()), reply.message());
+  }
+  if (writer_ == nullptr) return;
+  const std::uint64_t seq = reply.request_seq();
+  const std::string client_id = reply.client_id();
+  if (gate_.admit(reply) == GateOutcome::held) {
+    spdlog::debug("reply {}#{} held until the client's reply reader matches", client_id, seq);
+    on_held_();
+    return;
+  }
+  publish(reply);
+}
+
+void ReplyChannel::write(msg::GroupReply& reply) {
+  if (reply.code() != msg::OK) {
+    spdlog::debug("group reply {}#{}: {} {}", reply.client_id(), reply.request_seq(),
+                  result_code_name(reply.code()), reply.message());
+  }
+  if (group_writer_ == nullptr) return;
+  const std::uint64_t seq = reply.request_seq();
+  const std::string client_id = reply.client_id();
+  if (group_gate_.admit(reply) == GateOutcome::held) {
+    spdlog::debug("group reply {}#{} held until the client's reader matches", client_id, seq);
+    on_held_();
+    return;
+  }
+  publish(reply);
+}
+
+void ReplyChannel::publish(msg::CommandReply& reply) {
+  if (tracer_) tracer_(TracePoint::reply_writing, reply.request_seq());
+  if (!writer_->write(&reply)) {
+    spdlog::warn("could not publish the reply to {}#{}", reply.client_id(), reply.request_seq());
+  }
+  if (tracer_) tracer_(TracePoint::reply_written, reply.request_seq());
+}
+
+void ReplyChannel::publish(msg::GroupReply& reply) {
+  if (group_writer_ == nullptr) return;
+  if (!group_writer_->write(&reply)) {
+    spdlog::warn("could not publish the group reply to {}#{}", reply.client_id(),
+                 reply.request_seq());
+  }
+}
+
+void ReplyChannel::participant_joined(const std::string& client_id) {
+  gate_.participant_joined(client_id);
+  group_gate_.participant_joined(client_id);
+}
+
+std::size_t ReplyChannel::participant_left(const std::string& client_id) {
+  return gate_.participant_left(client_id) + group_gate_.participant_left(client_id);
+}
+
+std::optional<TimePoint> ReplyChannel::next_expiry() const {
+  auto next = gate_.next_expiry();
+  if (const auto group_due = group_gate_.next_expiry();
+      group_due && (!next || *group_due < *next)) {
+    next = group_due;
+  }
+  return next;
+}
+
+void ReplyChannel::write_expired() {
+  const auto limit_s = std::chrono::duration_cast<std::chrono::seconds>(kHoldLimit).count();
+  for (auto& reply : gate_.expire()) {
+    spdlog::warn("reply {}#{} written without its client's reply reader matched, after {} s",
+                 reply.client_id(), reply.request_seq(), limit_s);
+    publish(reply);
+  }
+  for (auto& reply : group_gate_.expire()) {
+    spdlog::warn("group reply {}#{} written without its client's reader matched, after {} s",
+                 reply.client_id(), reply.request_seq(), limit_s);
+    publish(reply);
+  }
+}
+
+void ReplyChannel::write_all_held() {
+  for (auto& reply : gate_.take_all()) publish(reply);
+  for (auto& reply : group_gate_.take_all()) publish(reply);
+}
+
+}  // namespace dh3::dds

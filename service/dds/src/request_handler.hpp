@@ -1,0 +1,81 @@
+#pragma once
+// Command requests: each one validated (request_validation.hpp), run (a hand
+// command, a scan or a lease change) and answered with exactly one reply.
+//
+// Threading: handle() on the request listener's thread, one at a time (the
+// Service's dispatch lock); completions on the bus loops; writes under no lock of its own.
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "dh3/dds/hand_directory.hpp"
+#include "dh3/dds/lease_table.hpp"
+#include "dh3/dds/request_validation.hpp"
+#include "dh3/dds/service.hpp"
+#include "dh3/hand/bus_scheduler.hpp"
+#include "dh3_idl/dh3.h"
+#include "reply_sink.hpp"
+
+namespace dh3::dds {
+
+class ExpiryTimer;
+class StatusPublisher;
+
+/// What a reply echoes from its request.
+struct ReplyHeader {
+  std::string client_id;
+  std::uint64_t request_seq = 0;
+  msg::HandAddress hand;
+  msg::CommandType command = msg::INITIALIZE;
+};
+
+[[nodiscard]] msg::CommandReply make_reply(const ReplyHeader& header, msg::ResultCode code,
+                                           std::string message = {});
+
+/// The buses' schedulers, by bus index (the Service owns them).
+using Schedulers = std::vector<std::unique_ptr<hand::BusScheduler>>;
+
+class RequestHandler {
+ public:
+  /// The parts a request uses; each outlives the handler.
+  struct Parts {
+    const ServiceOptions& options;
+    const HandDirectory& directory;
+    LeaseTable& leases;
+    const Schedulers& schedulers;
+    StatusPublisher& statuses;
+    ReplySink& replies;
+    ExpiryTimer& timer;
+  };
+  explicit RequestHandler(Parts parts) : parts_(parts) {}
+  RequestHandler(const RequestHandler&) = delete;
+  RequestHandler& operator=(const RequestHandler&) = delete;
+
+  /// Answers the request (`stopping`: CANCELLED); `request` is reused by the
+  /// caller, its strings may be moved from.
+  void handle(msg::CommandRequest& request, bool stopping);
+  /// Answers every scan still pending CANCELLED (stop, after the buses stopped).
+  void cancel_scans();
+
+ private:
+  struct PendingScan {
+    ReplyHeader header;
+    std::atomic<bool> answered{false};
+  };
+
+  void submit_command(const ValidRequest& valid, ReplyHeader header);
+  void start_scan(const ValidRequest& valid, ReplyHeader header);
+  void finish_scan(const std::shared_ptr<PendingScan>& scan, msg::ResultCode code,
+                   const std::vector<std::uint8_t>& found, std::string message);
+  void handle_lease(const ValidRequest& valid, const ReplyHeader& header);
+
+  Parts parts_;
+  std::mutex scans_mutex_;
+  std::vector<std::shared_ptr<PendingScan>> scans_;  ///< under scans_mutex_
+};
+
+}  // namespace dh3::dds
