@@ -1,8 +1,8 @@
 #pragma once
 // One DH-3 hand as the bus loop drives it: its link (offline -> online, and back
-// after consecutive timeouts, link loss or shutdown), its initialization, its
-// command queue, the one frame it has in flight, its status poller and the
-// detection of the events a user cares about. The states are the types of
+// after consecutive timeouts, link loss or shutdown), its initialization, the
+// steps of its commands, its status poller and the detection of the events a
+// user cares about. The states are the types of
 // hand_driver_states.hpp; what a status value means is status_reading.hpp.
 // Loop thread only; the scheduler decides when the hand may send and hands it
 // the replies addressed to it.
@@ -17,11 +17,13 @@
 //   if it is not known yet, so a command right after start-up is not refused
 //   for lack of knowledge.
 //
-// The code is split by job: hand_driver.cpp (commands in, lifecycle, time,
-// reporting), hand_driver_sending.cpp (which frame goes next, the steps of each
-// command), hand_driver_receiving.cpp (replies and what they change). What a
-// pass reports (state, events, completions) waits in a HandOutbox until the
-// pass ends (hand_outbox.hpp).
+// It coordinates three collaborators, each owning its state: a FrameSlot (the
+// one frame in flight, its re-send, the pacing; frame_slot.hpp), a
+// CommandLedger (the commands queued, being sent or waiting for the hand, and
+// their completions; command_ledger.hpp) and a HandOutbox (what a pass
+// reports, held until the pass ends; hand_outbox.hpp). Its own code:
+// hand_driver.cpp (commands in, frames out, lifecycle, time, reporting) and
+// hand_driver_receiving.cpp (replies and what they change).
 
 #include <atomic>
 #include <cstdint>
@@ -33,12 +35,14 @@
 #include <variant>
 #include <vector>
 
+#include "command_ledger.hpp"
 #include "dh3/bus/bus.hpp"
 #include "dh3/hand/bus_scheduler.hpp"
 #include "dh3/hand/hand_driver_states.hpp"
 #include "dh3/hand/hand_roster.hpp"
 #include "dh3/hand/hand_types.hpp"
 #include "dh3/protocol/codec.hpp"
+#include "frame_slot.hpp"
 #include "hand_counters.hpp"
 #include "hand_outbox.hpp"
 
@@ -80,12 +84,12 @@ class HandDriver {
   [[nodiscard]] std::optional<protocol::Message> next_group_frame(TimePoint now);
   /// The frame returned by next_frame() could not be sent (would_block): it
   /// is offered again on the next call.
-  void unsend();
+  void unsend() { slot_.unsend(); }
   /// Sends nothing before `until` (the scheduler's pacing across senders: a
   /// discovery probe it sent itself, a frame to ID 0 that this hand received).
-  void hold_sends_until(TimePoint until);
+  void hold_sends_until(TimePoint until) { slot_.hold_sends_until(until); }
   /// The earliest time this hand's pacing lets it send again.
-  [[nodiscard]] TimePoint paced_until() const { return next_send_at_; }
+  [[nodiscard]] TimePoint paced_until() const { return slot_.paced_until(); }
   /// It has a command frame (or a re-send) ready to go once its pacing allows.
   [[nodiscard]] bool has_command_frame() const;
 
@@ -114,7 +118,7 @@ class HandDriver {
   void on_discovered(const protocol::Message& reply, TimePoint now);
 
  private:
-  // Sending (hand_driver_sending.cpp).
+  // Frames out (hand_driver.cpp).
   [[nodiscard]] std::optional<protocol::Message> job_frame(TimePoint now);
   [[nodiscard]] std::optional<protocol::Message> initialize_frame(TimePoint now,
                                                                   InitializeStep step);
@@ -129,8 +133,6 @@ class HandDriver {
   [[nodiscard]] bool pass_group_gate(TimePoint now);
   /// Ready and held for the group: nothing else goes to the hand meanwhile.
   [[nodiscard]] bool holding_for_group() const;
-  protocol::Message send(protocol::Message message, Purpose purpose, TimePoint now, bool retryable,
-                         Duration reply_timeout);
   protocol::Message send_job(protocol::Message message, TimePoint now);
   void finger_motion_sent(std::int32_t target, bool gripping);
   void rotation_motion_sent(std::int32_t target);
@@ -153,11 +155,14 @@ class HandDriver {
 
   // Lifecycle and time (hand_driver.cpp).
   void on_answer(TimePoint now);
-  void on_timeout(TimePoint now);
+  /// A frame went unanswered: re-sent (FrameSlot decides), or what it was for fails.
+  void on_timeout(const FrameSlot::Expired& expired, TimePoint now);
   void on_init_deadlines(TimePoint now);
   /// The one reset path: going offline, link loss and shutdown.
   void lose_link(TimePoint now, LinkLoss loss, const std::string& why);
   void set_init(InitState init);
+  [[nodiscard]] ActiveJob* active() { return ledger_.active(); }
+  [[nodiscard]] const ActiveJob* active() const { return ledger_.active(); }
   [[nodiscard]] Online* online() { return std::get_if<Online>(&link_); }
   [[nodiscard]] const Online* online() const { return std::get_if<Online>(&link_); }
   [[nodiscard]] Initializing* initializing();
@@ -166,17 +171,10 @@ class HandDriver {
   /// What to poll how often, from what the hand is doing now.
   [[nodiscard]] PollPlan poll_plan() const;
 
-  // Finishing and reporting (hand_driver.cpp).
-  void cancel_motion(bool fingers, bool rotation);
-  void finish_active(const CommandResult& result);
-  void finish_init_waiter(const CommandResult& result);
-  void finish_motion_waiter(const CommandResult& result);
-  void fail_everything(CommandError error);
+  // Reporting (hand_driver.cpp).
   void emit_rotation_event(EventKind kind, std::int32_t status, TimePoint now);
   void emit(EventKind kind, TimePoint now, std::int32_t value = 0, std::string message = {},
             std::optional<std::int32_t> position = {}, std::optional<std::int32_t> target = {});
-  /// Counts the job's result and queues its completion for flush().
-  void complete(Job& job, const CommandResult& result);
   void set_error(CommandError error, std::string message);
   /// Publishes the state if it changed, then the events, then the completions,
   /// so that whoever hears of an event or a result finds the state behind it.
@@ -186,7 +184,6 @@ class HandDriver {
 
   DriverContext& context_;
   const SchedulerOptions& options_;
-  std::atomic<int>& queued_;
   HandCounters& counters_;
   bool anonymous_;
   /// The hand's state, owned here on the loop thread; what other threads see is
@@ -199,16 +196,11 @@ class HandDriver {
   Link link_;
   int consecutive_timeouts_ = 0;
 
-  // Commands.
-  std::deque<Job> queue_;
-  std::optional<ActiveJob> active_;
-  std::optional<InitWaiter> init_waiter_;
-  std::optional<MotionWaiter> motion_waiter_;
+  // Commands: queued, being sent, waiting for the hand; their completions.
+  CommandLedger ledger_;
 
-  // Frames.
-  std::optional<InFlight> in_flight_;
-  std::optional<InFlight> resend_;  ///< timed out (or not sent), to be sent again
-  TimePoint next_send_at_{};
+  // Frames: the one in flight, its re-send, the pacing.
+  FrameSlot slot_;
   /// Inside next_group_frame(): a released group frame may pass its gate.
   bool releasing_group_ = false;
 

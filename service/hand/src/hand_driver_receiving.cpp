@@ -21,15 +21,11 @@ CommandResult ok(std::int32_t value, GraspOutcome grasp = GraspOutcome::none) {
 }  // namespace
 
 bool HandDriver::on_frame(const Message& message, TimePoint now) {
-  if (in_flight_ && in_flight_->message.reg == message.reg) {
-    // Matched on (hand, function, sub-function); the read/write byte is not
-    // compared (docs/protocol-notes.md reading 1).
-    const InFlight sent = *in_flight_;
-    in_flight_.reset();
-    counters_.observe_round_trip(now - sent.sent);
-    context_.latency.frame_to_reply.observe(now - sent.sent);
+  if (const auto sent = slot_.take_answered(message)) {
+    counters_.observe_round_trip(now - sent->sent);
+    context_.latency.frame_to_reply.observe(now - sent->sent);
     on_answer(now);
-    on_reply(sent, message, now);
+    on_reply(*sent, message, now);
     flush(now);
     return true;
   }
@@ -82,8 +78,8 @@ void HandDriver::on_reply(const InFlight& sent, const Message& reply, TimePoint 
 }
 
 void HandDriver::on_position_confirmed() {
-  if (motion_waiter_ && motion_waiter_->outcome) {
-    finish_motion_waiter(ok(state_.position, *motion_waiter_->outcome));
+  if (const MotionWaiter* waiter = ledger_.motion_waiter(); waiter && waiter->outcome) {
+    ledger_.finish_motion_waiter(ok(state_.position, *waiter->outcome));
   }
 }
 
@@ -120,7 +116,7 @@ void HandDriver::on_job_reply(const Message& sent, const Message& reply, TimePoi
   } else {
     apply_read(sent.reg, reply, now);
   }
-  if (active_) advance_job(reply, now);  // else: cancelled while its frame was in flight
+  if (active()) advance_job(reply, now);  // else: cancelled while its frame was in flight
 }
 
 bool HandDriver::on_write_echo(const Message& sent, const Message& reply, TimePoint now) {
@@ -129,9 +125,9 @@ bool HandDriver::on_write_echo(const Message& sent, const Message& reply, TimePo
     const std::string why = fmt::format("hand answered {} to a write of {} = {}", reply.data,
                                         protocol::name(sent.reg), sent.data);
     emit(EventKind::fault, now, reply.data, why);
-    if (active_) {
+    if (active()) {
       set_error(CommandError::failed, why);
-      finish_active(fail(CommandError::failed));
+      ledger_.finish_active(fail(CommandError::failed));
     }
     return false;
   }
@@ -150,17 +146,17 @@ bool HandDriver::on_write_echo(const Message& sent, const Message& reply, TimePo
 }
 
 void HandDriver::advance_job(const Message& reply, TimePoint now) {
-  ActiveJob& job = *active_;
+  ActiveJob& job = *active();
   const Command& command = job.job.command;
   if (job.check_initialized_first) {
     job.check_initialized_first = false;
     if (state_.initialized) return;  // on to the command's own frames
     if (command.kind == CommandKind::stop) {
-      finish_active(ok(state_.position));  // nothing moves before initialization
+      ledger_.finish_active(ok(state_.position));  // nothing moves before initialization
     } else {
       set_error(CommandError::not_initialized,
                 fmt::format("{} before initialization", to_string(command.kind)));
-      finish_active(fail(CommandError::not_initialized));
+      ledger_.finish_active(fail(CommandError::not_initialized));
     }
     return;
   }
@@ -170,11 +166,9 @@ void HandDriver::advance_job(const Message& reply, TimePoint now) {
       return;
     }
     // Echoed: never re-sent from here on; wait for the hand to finish.
-    finish_init_waiter(fail(CommandError::cancelled));
     const TimePoint deadline = now + command.timeout.value_or(options_.init_timeout);
     if (Initializing* init = initializing()) init->deadline = deadline;
-    init_waiter_ = InitWaiter{std::move(job.job), deadline};
-    active_.reset();
+    ledger_.active_waits_for_init(deadline);
     return;
   }
   if (auto* step = std::get_if<GraspStep>(&job.step); step && *step == GraspStep::set_force) {
@@ -186,24 +180,22 @@ void HandDriver::advance_job(const Message& reply, TimePoint now) {
     return;
   }
   if (command.kind == CommandKind::grasp || command.kind == CommandKind::release) {
-    finish_motion_waiter(fail(CommandError::cancelled));
     const TimePoint deadline = now + command.timeout.value_or(options_.motion_timeout);
-    motion_waiter_ = MotionWaiter{std::move(job.job), deadline, finger_epoch_, std::nullopt};
-    active_.reset();
+    ledger_.active_waits_for_motion(deadline, finger_epoch_);
     return;
   }
   if (command.kind == CommandKind::read_register &&
       (command.reg == reg::kGripStatus || command.reg == reg::kRotationStatus)) {
-    finish_active(ok(protocol::status_value(reply)));
+    ledger_.finish_active(ok(protocol::status_value(reply)));
     return;
   }
-  finish_active(ok(reply.data));
+  ledger_.finish_active(ok(reply.data));
 }
 
 void HandDriver::advance_stop(StopStep& step, const Message& reply) {
   switch (step) {
     case StopStep::read_position:
-      active_->held = reply.data;
+      active()->held = reply.data;
       state_.position = reply.data;
       step = StopStep::hold_position;
       return;
@@ -211,12 +203,12 @@ void HandDriver::advance_stop(StopStep& step, const Message& reply) {
       step = StopStep::read_rotation;
       return;
     case StopStep::read_rotation:
-      active_->held = reply.data;
+      active()->held = reply.data;
       state_.rotation = reply.data;
       step = StopStep::hold_rotation;
       return;
     case StopStep::hold_rotation:
-      finish_active(ok(state_.position));
+      ledger_.finish_active(ok(state_.position));
       return;
   }
 }
@@ -229,7 +221,7 @@ void HandDriver::on_initialized_flag(std::int32_t value, TimePoint now) {
     if (value != 1) return;
     set_init(Initialized{});
     emit(EventKind::initialized, now, value);
-    finish_init_waiter(ok(value));
+    ledger_.finish_init_waiter(ok(value));
     return;
   }
   if (value == 1) {
@@ -288,11 +280,12 @@ void HandDriver::finger_motion_ended(GripState grip, EventKind event, TimePoint 
   // A grasp is explained by the force it holds with; an arrival by its status.
   emit(event, now, event == EventKind::grasped ? state_.closing_force : 2);
   end_of_motion_.read_due = !stopped_at_target;
-  if (motion_waiter_ && motion_waiter_->epoch == finger_epoch_ && !motion_waiter_->outcome) {
+  if (MotionWaiter* waiter = ledger_.motion_waiter();
+      waiter && waiter->epoch == finger_epoch_ && !waiter->outcome) {
     // The result carries where the fingers stopped, after the same read.
-    motion_waiter_->outcome = grip == GripState::caught      ? GraspOutcome::grasped
-                              : grip == GripState::no_object ? GraspOutcome::missed
-                                                             : GraspOutcome::none;
+    waiter->outcome = grip == GripState::caught      ? GraspOutcome::grasped
+                      : grip == GripState::no_object ? GraspOutcome::missed
+                                                     : GraspOutcome::none;
   }
   if (stopped_at_target) on_position_confirmed();
 }
