@@ -600,12 +600,17 @@ std::optional<HandStatus> ClientCore::wait_status(
 // ---------------------------------------------------------------------------
 // Subscriptions
 
-std::shared_ptr<SubscriptionState> ClientCore::subscribe_events(EventCallback callback,
-                                                                std::optional<HandAddress> only) {
+std::shared_ptr<SubscriptionState> ClientCore::new_subscription(std::optional<HandAddress> only) {
   auto state = std::make_shared<SubscriptionState>();
-  state->on_event = std::move(callback);
   state->only = std::move(only);
   state->core = weak_from_this();
+  return state;
+}
+
+std::shared_ptr<SubscriptionState> ClientCore::subscribe_events(EventCallback callback,
+                                                                std::optional<HandAddress> only) {
+  auto state = new_subscription(std::move(only));
+  state->on_event = std::move(callback);
   std::lock_guard lock(mutex_);
   if (closed_) {
     state->active = false;
@@ -617,10 +622,8 @@ std::shared_ptr<SubscriptionState> ClientCore::subscribe_events(EventCallback ca
 
 std::shared_ptr<SubscriptionState> ClientCore::subscribe_status(StatusCallback callback,
                                                                 std::optional<HandAddress> only) {
-  auto state = std::make_shared<SubscriptionState>();
+  auto state = new_subscription(std::move(only));
   state->on_status = std::move(callback);
-  state->only = std::move(only);
-  state->core = weak_from_this();
   // Under mutex_, which every later status is posted under: the subscriber
   // sees the statuses known now, then each later one, in order.
   std::lock_guard lock(mutex_);

@@ -140,6 +140,8 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   void on_group_reply(const msg::GroupReply& reply);
 
  private:
+  /// A subscription of this client to `only` (or every hand), not yet added.
+  std::shared_ptr<SubscriptionState> new_subscription(std::optional<HandAddress> only);
   using Clock = PendingCalls::Clock;
   /// What a state change leads to, done after `mutex_` is released.
   struct Actions {

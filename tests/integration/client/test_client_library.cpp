@@ -312,6 +312,17 @@ TEST_F(ClientLibraryTest, ALateJoinerSeesTheLatestStatusAtOnce) {
 /// keeps the call open.
 class ServiceLifecycleTest : public ::testing::Test {
  protected:
+  /// Kills `service` with SIGKILL (it says goodbye to nobody) and starts a new
+  /// instance of the same service, which is what tells the client.
+  static std::unique_ptr<RunningService> kill_and_restart(std::unique_ptr<RunningService> service) {
+    service->process().process().send_signal(SIGKILL);
+    EXPECT_TRUE(service->process().process().wait_exit(kClientDeadline));
+    service.reset();
+    auto restarted = std::make_unique<RunningService>(sim_config());
+    EXPECT_TRUE(restarted->started());
+    return restarted;
+  }
+
   Client client_{client_options()};
 };
 
@@ -329,13 +340,8 @@ TEST_F(ServiceLifecycleTest, KilledServiceEndsPendingCallsAndTheSameHandWorksAft
   // answered, the service has the INITIALIZE (which takes ten minutes here).
   const Reply probe = client_.hand(hand_address(3)).read(reg::position);
   ASSERT_TRUE(probe) << probe.message;
-  service->process().process().send_signal(SIGKILL);
-  ASSERT_TRUE(service->process().process().wait_exit(kClientDeadline));
-  service.reset();
-
   // A new instance of the same service: the client tells it from the dead one.
-  RunningService restarted(sim_config());
-  ASSERT_TRUE(restarted.started());
+  const auto restarted = kill_and_restart(std::move(service));
   ASSERT_EQ(pending.wait_for(std::chrono::seconds(60)), std::future_status::ready);
   const Reply lost = pending.get();
   EXPECT_EQ(lost.code, Code::service_lost);
@@ -345,7 +351,6 @@ TEST_F(ServiceLifecycleTest, KilledServiceEndsPendingCallsAndTheSameHandWorksAft
   EXPECT_TRUE(again) << again.message;
   EXPECT_TRUE(one.wait_until([](const HandStatus& s) { return s.online && s.initialized; }));
 }
-
 
 TEST_F(ServiceLifecycleTest, KilledServiceEndsAPendingGroupCallServiceLost) {
   auto service = std::make_unique<RunningService>(sim_config(/*init_time_ms=*/600000));
@@ -361,12 +366,7 @@ TEST_F(ServiceLifecycleTest, KilledServiceEndsAPendingGroupCallServiceLost) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   ASSERT_GT(client_.command_traffic().requests_written, before) << "the group request never left";
-  service->process().process().send_signal(SIGKILL);
-  ASSERT_TRUE(service->process().process().wait_exit(kClientDeadline));
-  service.reset();
-
-  RunningService restarted(sim_config());
-  ASSERT_TRUE(restarted.started());
+  const auto restarted = kill_and_restart(std::move(service));
   ASSERT_EQ(pending.wait_for(std::chrono::seconds(60)), std::future_status::ready);
   const GroupReply lost = pending.get();
   EXPECT_EQ(lost.code, Code::service_lost) << lost.message;
