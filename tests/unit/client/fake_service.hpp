@@ -194,9 +194,11 @@ class FakeService {
 
   /// The participants whose reply readers the reply writer has matched. As
   /// dh3-service's ReplyGate does, a reply waits for its client's reader
-  /// (here at most 2 s, on the listener's thread): dh3's client reads
+  /// (here at most 10 s, on the listener's thread): dh3's client reads
   /// replies VOLATILE, so a reply written before the writer matched it
-  /// would be lost.
+  /// would be lost. The client may see its reader matched well before the
+  /// writer here does: 2 s were once too few under AddressSanitizer on a
+  /// loaded machine (ReadOnlyClient.WithoutTheInfoReaderCommandsStillWork).
   class ReplyMatches final : public eprosima::fastdds::dds::DataWriterListener {
    public:
     void on_publication_matched(eprosima::fastdds::dds::DataWriter* /*writer*/,
@@ -216,7 +218,7 @@ class FakeService {
     }
     void wait_for_reader_of(const std::string& client_id) {
       std::unique_lock lock(mutex_);
-      matched_.wait_for(lock, std::chrono::seconds(2),
+      matched_.wait_for(lock, std::chrono::seconds(10),
                         [&] { return prefixes_.count(client_id) > 0; });
     }
 
