@@ -165,10 +165,14 @@ Result<std::size_t, BusError> SocketCanBus::send_burst(std::span<const CanFrame>
     return dh3::fail(BusError::frame_invalid);
   }
   if (!can_carry_frames()) return dh3::fail(BusError::link_down);
-  std::array<can_frame, kMaxBurst> raw{};
-  std::array<iovec, kMaxBurst> io{};
-  std::array<mmsghdr, kMaxBurst> messages{};
+  // Not value-initialised: every send() comes here, and only `count` entries
+  // (one, but for a group) are used; each is cleared as it is filled.
+  std::array<can_frame, kMaxBurst> raw;
+  std::array<iovec, kMaxBurst> io;
+  std::array<mmsghdr, kMaxBurst> messages;
   for (std::size_t i = 0; i < count; ++i) {
+    raw[i] = can_frame{};
+    messages[i] = mmsghdr{};
     raw[i].can_id = frames[i].id;
     raw[i].len = frames[i].length;
     std::copy_n(frames[i].data.begin(), frames[i].length, raw[i].data);

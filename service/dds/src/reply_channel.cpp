@@ -6,6 +6,10 @@
 #include <fastrtps/rtps/common/Guid.h>
 #include <spdlog/spdlog.h>
 
+#include <cstdint>
+#include <string>
+#include <string_view>
+
 #include "dh3/dds/conversions.hpp"
 #include "dh3_participant.hpp"
 
@@ -40,36 +44,39 @@ void ReplyChannel::detach() {
   group_writer_ = nullptr;
 }
 
-void ReplyChannel::write(msg::CommandReply& reply) {
+namespace {
+
+enum class Admission : std::uint8_t { publish, held, no_writer };
+
+/// What becomes of a reply (command or group): logged if not OK, then
+/// published, held by its gate until the client's reader matches, or
+/// dropped when its writer is gone.
+template <typename Reply>
+Admission admit(Reply& reply, ReplyGate<Reply>& gate, bool has_writer, std::string_view what) {
   if (reply.code() != msg::OK) {
-    spdlog::debug("reply {}#{}: {} {}", reply.client_id(), reply.request_seq(),
+    spdlog::debug("{} {}#{}: {} {}", what, reply.client_id(), reply.request_seq(),
                   result_code_name(reply.code()), reply.message());
   }
-  if (writer_ == nullptr) return;
+  if (!has_writer) return Admission::no_writer;
   const std::uint64_t seq = reply.request_seq();
   const std::string client_id = reply.client_id();
-  if (gate_.admit(reply) == GateOutcome::held) {
-    spdlog::debug("reply {}#{} held until the client's reply reader matches", client_id, seq);
-    on_held_();
-    return;
-  }
-  publish(reply);
+  if (gate.admit(reply) == GateOutcome::pass) return Admission::publish;
+  spdlog::debug("{} {}#{} held until the client's reader matches", what, client_id, seq);
+  return Admission::held;
+}
+
+}  // namespace
+
+void ReplyChannel::write(msg::CommandReply& reply) {
+  const Admission admission = admit(reply, gate_, writer_ != nullptr, "reply");
+  if (admission == Admission::publish) publish(reply);
+  if (admission == Admission::held) on_held_();
 }
 
 void ReplyChannel::write(msg::GroupReply& reply) {
-  if (reply.code() != msg::OK) {
-    spdlog::debug("group reply {}#{}: {} {}", reply.client_id(), reply.request_seq(),
-                  result_code_name(reply.code()), reply.message());
-  }
-  if (group_writer_ == nullptr) return;
-  const std::uint64_t seq = reply.request_seq();
-  const std::string client_id = reply.client_id();
-  if (group_gate_.admit(reply) == GateOutcome::held) {
-    spdlog::debug("group reply {}#{} held until the client's reader matches", client_id, seq);
-    on_held_();
-    return;
-  }
-  publish(reply);
+  const Admission admission = admit(reply, group_gate_, group_writer_ != nullptr, "group reply");
+  if (admission == Admission::publish) publish(reply);
+  if (admission == Admission::held) on_held_();
 }
 
 void ReplyChannel::publish(msg::CommandReply& reply) {
