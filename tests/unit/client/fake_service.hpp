@@ -22,6 +22,7 @@
 #include <fastdds/dds/topic/Topic.hpp>
 #include <fastdds/dds/topic/TypeSupport.hpp>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <set>
@@ -183,8 +184,8 @@ class FakeService {
           replies = fake_.handler_(request);
         }
         fake_.changed_.notify_all();
-        fake_.reply_matches_.wait_for_reader_of(request.client_id());
-        for (auto& reply : replies) fake_.reply_writer_->write(&reply);
+        fake_.reply_matches_.send_when_matched(*fake_.reply_writer_, request.client_id(),
+                                               std::move(replies));
       }
     }
 
@@ -193,39 +194,56 @@ class FakeService {
   };
 
   /// The participants whose reply readers the reply writer has matched. As
-  /// dh3-service's ReplyGate does, a reply waits for its client's reader
-  /// (here at most 10 s, on the listener's thread): dh3's client reads
-  /// replies VOLATILE, so a reply written before the writer matched it
-  /// would be lost. The client may see its reader matched well before the
-  /// writer here does: 2 s were once too few under AddressSanitizer on a
-  /// loaded machine (ReadOnlyClient.WithoutTheInfoReaderCommandsStillWork).
+  /// dh3-service's ReplyGate does, the replies to a request wait for its
+  /// client's reader: dh3's client reads replies VOLATILE, so a reply written
+  /// before the writer matched it would be lost, and the client may see its
+  /// reader matched well before the writer here does. They are held, and
+  /// written by the writer's listener when the match comes, never by blocking
+  /// the request listener: client and fake share one process, so Fast DDS
+  /// hands them data on each other's threads, and a request listener that
+  /// waited for the match held back the discovery that brings it (a NO_REPLY
+  /// in ClientTest.ACallMadeBeforeTheServiceAppearsGoesOutOnceItIsReady when
+  /// the wait was a bounded 10 s).
   class ReplyMatches final : public eprosima::fastdds::dds::DataWriterListener {
    public:
-    void on_publication_matched(eprosima::fastdds::dds::DataWriter* /*writer*/,
+    void on_publication_matched(eprosima::fastdds::dds::DataWriter* writer,
                                 const eprosima::fastdds::dds::PublicationMatchedStatus& status)
         override {
       const std::string prefix = contract::client_id_for(
           eprosima::fastrtps::rtps::iHandle2GUID(status.last_subscription_handle).guidPrefix);
+      std::vector<msg::CommandReply> released;
       {
         std::lock_guard lock(mutex_);
         if (status.current_count_change > 0) {
           prefixes_.insert(prefix);
+          if (auto held = held_.find(prefix); held != held_.end()) {
+            released = std::move(held->second);
+            held_.erase(held);
+          }
         } else if (auto it = prefixes_.find(prefix); it != prefixes_.end()) {
           prefixes_.erase(it);
         }
       }
-      matched_.notify_all();
+      for (auto& reply : released) writer->write(&reply);
     }
-    void wait_for_reader_of(const std::string& client_id) {
-      std::unique_lock lock(mutex_);
-      matched_.wait_for(lock, std::chrono::seconds(10),
-                        [&] { return prefixes_.count(client_id) > 0; });
+    /// Writes `replies` now if `client_id`'s reader has matched, else when it does.
+    void send_when_matched(eprosima::fastdds::dds::DataWriter& writer,
+                           const std::string& client_id, std::vector<msg::CommandReply> replies) {
+      {
+        std::lock_guard lock(mutex_);
+        if (prefixes_.count(client_id) == 0) {
+          auto& held = held_[client_id];
+          held.insert(held.end(), replies.begin(), replies.end());
+          return;
+        }
+      }
+      for (auto& reply : replies) writer.write(&reply);
     }
 
    private:
     std::mutex mutex_;
-    std::condition_variable matched_;
     std::multiset<std::string> prefixes_;
+    std::map<std::string, std::vector<msg::CommandReply>> held_;  ///< by client_id
   };
 
   std::string name_;
