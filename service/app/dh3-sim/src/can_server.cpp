@@ -68,29 +68,21 @@ void CanServer::read_frames() {
   for (int round = 0; round < kMaxFramesPerRound && fd_.valid(); ++round) {
     // Room for a CAN FD frame too, so a longer datagram is seen as such.
     alignas(can_frame) unsigned char data[sizeof(canfd_frame)];
-    alignas(cmsghdr) unsigned char control[CMSG_SPACE(sizeof(timespec)) * 2];
-    iovec io{data, sizeof data};
-    msghdr message{};
-    message.msg_iov = &io;
-    message.msg_iovlen = 1;
-    message.msg_control = control;
-    message.msg_controllen = sizeof control;
-    const ssize_t got = ::recvmsg(fd_.get(), &message, MSG_DONTWAIT);
-    if (got < 0) {
-      if (errno == EINTR) continue;
-      if (errno == EAGAIN || errno == EWOULDBLOCK) return;
-      handle_error(errno, "receive");
+    const StampedRead read = read_stamped(fd_.get(), data, MSG_DONTWAIT);
+    if (read.got < 0) {
+      if (read.error == EINTR) continue;
+      if (read.error == EAGAIN || read.error == EWOULDBLOCK) return;
+      handle_error(read.error, "receive");
       return;
     }
-    if (got == 0) {
+    if (read.got == 0) {
       // A datagram socket reads 0 only when its peer (a socketpair's) closed.
       lose_fd("the other end closed");
       return;
     }
     note_working();
-    const bool truncated = (message.msg_flags & MSG_TRUNC) != 0;
-    handle_frame(data, truncated ? sizeof data + 1 : static_cast<std::size_t>(got),
-                 receive_timestamp(message));
+    handle_frame(data, read.truncated ? sizeof data + 1 : static_cast<std::size_t>(read.got),
+                 read.stamp);
   }
 }
 

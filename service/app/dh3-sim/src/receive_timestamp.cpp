@@ -33,4 +33,24 @@ std::optional<Duration> receive_timestamp(const msghdr& message) {
   return std::nullopt;
 }
 
+StampedRead read_stamped(int fd, std::span<unsigned char> buffer, int flags) {
+  // Room for both stamp kinds, whichever the kernel sends.
+  alignas(cmsghdr) unsigned char control[CMSG_SPACE(sizeof(timespec)) * 2];
+  iovec io{buffer.data(), buffer.size()};
+  msghdr message{};
+  message.msg_iov = &io;
+  message.msg_iovlen = 1;
+  message.msg_control = control;
+  message.msg_controllen = sizeof control;
+  StampedRead read;
+  read.got = ::recvmsg(fd, &message, flags);
+  if (read.got < 0) {
+    read.error = errno;
+    return read;
+  }
+  read.truncated = (message.msg_flags & MSG_TRUNC) != 0;
+  read.stamp = receive_timestamp(message);
+  return read;
+}
+
 }  // namespace dh3::sim

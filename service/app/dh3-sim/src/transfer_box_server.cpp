@@ -176,26 +176,21 @@ void TransferBoxServer::accept_clients() {
 void TransferBoxServer::read_client(Client& client) {
   std::uint8_t buffer[kReadChunk];
   for (;;) {
-    alignas(cmsghdr) unsigned char control[CMSG_SPACE(sizeof(timespec)) * 2];
-    iovec io{buffer, sizeof buffer};
-    msghdr message{};
-    message.msg_iov = &io;
-    message.msg_iovlen = 1;
-    message.msg_control = control;
-    message.msg_controllen = sizeof control;
-    const ssize_t got = ::recvmsg(client.fd.get(), &message, 0);
-    if (got == 0) {
+    const StampedRead read = read_stamped(client.fd.get(), buffer, 0);
+    if (read.got == 0) {
       close_client(client, "closed by the client");
       return;
     }
-    if (got < 0) {
-      if (errno == EINTR) continue;
-      if (errno != EAGAIN && errno != EWOULDBLOCK) close_client(client, errno_text(errno));
+    if (read.got < 0) {
+      if (read.error == EINTR) continue;
+      if (read.error != EAGAIN && read.error != EWOULDBLOCK) {
+        close_client(client, errno_text(read.error));
+      }
       return;
     }
     decoded_.clear();
     const std::uint64_t skipped_before = client.decoder.bytes_skipped();
-    client.decoder.feed(std::span(buffer, static_cast<std::size_t>(got)), decoded_);
+    client.decoder.feed(std::span(buffer, static_cast<std::size_t>(read.got)), decoded_);
     if (client.decoder.bytes_skipped() != skipped_before) {
       spdlog::debug("dh3-sim: client {}: skipped {} byte(s) that are no frame", client.id,
                     client.decoder.bytes_skipped() - skipped_before);
@@ -204,11 +199,11 @@ void TransferBoxServer::read_client(Client& client) {
     // segment, and TCP tells no more. Without a stamp (turned off, or a
     // kernel that gives none) the time of reading.
     const std::optional<Duration> stamped =
-        options_.kernel_timestamps ? receive_timestamp(message) : std::nullopt;
+        options_.kernel_timestamps ? read.stamp : std::nullopt;
     const Duration read_at = stamped.value_or(host_.clock().now().time_since_epoch());
     for (const protocol::Message& request : decoded_) host_.receive(request, client.id, read_at);
     host_.serve_due(*this);
-    if (!client.fd || static_cast<std::size_t>(got) < sizeof buffer) return;
+    if (!client.fd || static_cast<std::size_t>(read.got) < sizeof buffer) return;
   }
 }
 

@@ -9,7 +9,10 @@
 
 #include <sys/socket.h>
 
+#include <sys/types.h>
+
 #include <optional>
+#include <span>
 
 #include "dh3/base/clock.hpp"
 
@@ -23,5 +26,16 @@ namespace dh3::sim {
 /// (SCM_TIMESTAMPNS or SCM_TIMESTAMP), as time since the epoch of
 /// CLOCK_REALTIME; nullopt if the message carries none.
 [[nodiscard]] std::optional<Duration> receive_timestamp(const msghdr& message);
+
+/// What one recvmsg() read: the byte count, or -1 with the OS's errno.
+struct StampedRead {
+  ssize_t got = 0;
+  int error = 0;
+  bool truncated = false;  ///< a datagram longer than the buffer
+  std::optional<Duration> stamp;
+};
+
+/// One recvmsg() on `fd` into `buffer`, with room for the kernel's stamp.
+[[nodiscard]] StampedRead read_stamped(int fd, std::span<unsigned char> buffer, int flags);
 
 }  // namespace dh3::sim
