@@ -292,6 +292,7 @@ class Plant:
         self.teardown()
 
     def build_network(self):
+        self.make_room_in_neighbour_table()
         result = subprocess.run(["ip", "netns", "add", self.bridge], capture_output=True, text=True)
         if result.returncode != 0:
             raise Skip(f"ip netns add failed: {result.stderr.strip()}")
@@ -307,6 +308,48 @@ class Plant:
             self.add_host(f"c{i:02d}", f"169.254.2.{i + 1}")
         for k, addr in enumerate(self.ds_addresses()):
             self.add_host(f"d{k}", addr)
+
+    # The kernel's ARP table is one for all namespaces, and its limits (the
+    # gc_thresh sysctls, 128/512/1024 by default) are the initial namespace's.
+    # Every host of the plant keeps an entry for each host it talks to, so
+    # 50 hosts need about 2,500: over the limit, the kernel drops what a host
+    # sends to a peer it has no entry for ("neighbor table overflow" in
+    # dmesg, the socket's send reported as done). A real plant has a table per
+    # machine; this one raises the shared limits for its run, and puts back
+    # what it raised.
+    NEIGH = "/proc/sys/net/ipv4/neigh/default/gc_thresh{}"
+
+    def make_room_in_neighbour_table(self):
+        self.neigh_raised = {}
+        hosts = self.services + self.client_hosts + 1 + len(self.ds_addresses()) + 1
+        wanted = {1: hosts * hosts, 2: 2 * hosts * hosts, 3: 4 * hosts * hosts}
+        for k in (3, 2, 1):  # raise the hard limit first: thresh1 <= thresh2 <= thresh3
+            path = self.NEIGH.format(k)
+            try:
+                with open(path) as f:
+                    now = int(f.read())
+                if now < wanted[k]:
+                    with open(path, "w") as f:
+                        f.write(str(wanted[k]))
+                    self.neigh_raised[k] = now
+            except OSError as e:
+                self.log(f"   cannot raise {path} ({e}): a plant of {hosts} hosts may "
+                         "overflow the kernel's neighbour table")
+                return
+        if self.neigh_raised:
+            self.log(f"   kernel neighbour table limits raised for {hosts} hosts: "
+                     + ", ".join(f"gc_thresh{k} {v} -> {wanted[k]}"
+                                 for k, v in sorted(self.neigh_raised.items())))
+
+    def restore_neighbour_table(self):
+        for k in (1, 2, 3):  # lower thresh1 first
+            if k in getattr(self, "neigh_raised", {}):
+                try:
+                    with open(self.NEIGH.format(k), "w") as f:
+                        f.write(str(self.neigh_raised[k]))
+                except OSError:
+                    pass
+        self.neigh_raised = {}
 
     def add_host(self, short, addr):
         ns = self.ns(short)
@@ -558,3 +601,4 @@ class Plant:
                         pass
                 run("ip", "netns", "del", ns, check=False)
             self.made = []
+            self.restore_neighbour_table()
