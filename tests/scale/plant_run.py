@@ -99,16 +99,22 @@ def watcher_rates(ma, mb, dt):
 
 
 def command_stats(commanders, t0, t1):
-    reads, codes, cycles_cmds = [], {}, 0
+    reads, codes, ended_in_window = [], {}, 0
     for c in commanders:
         for r in c.lines():
-            if r.get("ev") != "cmd" or not (t0 <= r["t"] <= t1):
+            if r.get("ev") != "cmd":
                 continue
+            # Every command sent in the window, also one that ends after it
+            # (a NO_REPLY ends at its timeout, after the window).
+            sent = r["t"] - r["ms"] / 1000.0
+            if not (t0 <= r["t"] <= t1 or t0 <= sent <= t1):
+                continue
+            ended_in_window += t0 <= r["t"] <= t1
             codes[r["code"]] = codes.get(r["code"], 0) + 1
             if r["cmd"] == "read" and r["code"] == "OK":
                 reads.append(r["ms"])
     total = sum(codes.values())
-    return {"commands": total, "per_s": round(total / (t1 - t0), 1),
+    return {"commands": total, "per_s": round(ended_in_window / (t1 - t0), 1),
             "codes": codes, "failed": total - codes.get("OK", 0),
             "read_ms_p50": percentile(reads, 0.5), "read_ms_p99": percentile(reads, 0.99),
             "read_ms_max": max(reads) if reads else None, "reads": len(reads)}
@@ -134,43 +140,55 @@ def run_one(bins, args, services, discovery):
         result["services_up_s"] = round(time.time() - t_services, 2)
         time.sleep(args.settle)
 
-        # Every client at once.
+        # Every client at once, or one every --stagger seconds.
         at_start = snapshot(plant)
         t_start = time.time()
+
+        def paced(proc):
+            if args.stagger > 0:
+                time.sleep(args.stagger)
+            return proc
+
         commanders, watchers = [], []
-        measured = plant.start_watcher("c00", plant.cell(1), name="watch-cell01-measured")
+        measured = paced(plant.start_watcher("c00", plant.cell(1), name="watch-cell01-measured"))
         watchers.append(measured)
         host_cycle = [f"c{i:02d}" for i in range(1, client_hosts + 1)]
         n = 0
         for i in range(1, services + 1):
-            commanders.append(plant.start_commander(host_cycle[n % client_hosts],
-                                                    f"{plant.cell(i)}/bus0/1"))
+            commanders.append(paced(plant.start_commander(host_cycle[n % client_hosts],
+                                                          f"{plant.cell(i)}/bus0/1")))
             n += 1
             if i > 1:
-                watchers.append(plant.start_watcher(host_cycle[n % client_hosts], plant.cell(i)))
+                watchers.append(paced(plant.start_watcher(host_cycle[n % client_hosts],
+                                                          plant.cell(i))))
                 n += 1
-        watchers.append(plant.start_watcher(host_cycle[n % client_hosts], "all",
-                                            name="watch-plant"))
-        ctl = [plant.start_ctl_watcher(host_cycle[(n + 1) % client_hosts], "events", "ctl-events")]
+        watchers.append(paced(plant.start_watcher(host_cycle[n % client_hosts], "all",
+                                                  name="watch-plant")))
+        ctl = [paced(plant.start_ctl_watcher(host_cycle[(n + 1) % client_hosts], "events",
+                                             "ctl-events"))]
         if args.ctl_status:
-            ctl.append(plant.start_ctl_watcher(host_cycle[(n + 2) % client_hosts], "status",
-                                               "ctl-status"))
+            ctl.append(paced(plant.start_ctl_watcher(host_cycle[(n + 2) % client_hosts],
+                                                     "status", "ctl-status")))
         clients = [measured] + commanders + watchers[1:] + ctl
         result["clients"] = len(clients)
+        result["stagger_s"] = args.stagger
         log(f"   {len(clients)} clients started in {time.time() - t_start:.2f} s")
 
-        end = t_start + args.ready_deadline
+        end = time.time() + args.ready_deadline
         while time.time() < end:
             if all(plant.ready_time(c) for c in clients):
                 break
             time.sleep(0.2)
         startup = phase_costs(plant, at_start, snapshot(plant))
         ready = {c.name: plant.ready_time(c) for c in clients}
-        latencies = [t - t_start for t in ready.values() if t]
+        # Each from its own start: the same as from the common start when
+        # they start together.
+        since_start = {c.name: ready[c.name] - c.launched for c in clients if ready[c.name]}
+        latencies = list(since_start.values())
         by_kind = {}
         for c in clients:
-            if ready[c.name]:
-                by_kind.setdefault(c.kind, []).append(ready[c.name] - t_start)
+            if c.name in since_start:
+                by_kind.setdefault(c.kind, []).append(since_start[c.name])
         result["ready"] = {
             "p50_s": round(percentile(latencies, 0.5), 2) if latencies else None,
             "max_s": round(max(latencies), 2) if latencies else None,
@@ -205,7 +223,6 @@ def run_one(bins, args, services, discovery):
             c.signal(signal.SIGUSR2)
         cmd = phase_costs(plant, c0, d)
         cmd["watcher"] = watcher_rates(mc.get(measured.name), md.get(measured.name), d["t"] - c0["t"])
-        cmd["commands"] = command_stats(commanders, c0["t"], d["t"])
         cmd["load"] = plantlib.loadavg()
         result["commanding"] = cmd
         for c in commanders:
@@ -214,6 +231,8 @@ def run_one(bins, args, services, discovery):
             plant_wait = time.time() + 60
             while time.time() < plant_wait and not c.first("stopped"):
                 time.sleep(0.1)
+        # Once they stopped: a command still waiting for its reply has ended.
+        cmd["commands"] = command_stats(commanders, c0["t"], d["t"])
         stopped = [c.first("stopped") or {} for c in commanders]
         result["commander_traffic"] = {
             k: sum(r.get(k, 0) for r in stopped) for k in ("requests", "own_replies", "foreign_replies")}
@@ -247,7 +266,10 @@ def mib(kib):
 
 
 def print_tables(results):
-    log("\nStart-up (clients started together once every service was up)")
+    staggered = sorted({r.get("stagger_s", 0) for r in results} - {0})
+    how = f"one every {staggered[0]} s" if staggered else "together"
+    log(f"\nStart-up (clients started {how} once every service was up; ready: from each "
+        f"one's start)")
     log(f"{'setup':8} {'S x H':>7} {'clients':>7} {'ready p50':>9} {'max':>7} {'not ready':>9}  "
         f"load  others' CPU %")
     for r in results:
@@ -331,6 +353,9 @@ def main():
                         help="seconds after the services are up, and after every client is ready")
     parser.add_argument("--ready-deadline", type=float, default=180.0)
     parser.add_argument("--domain", type=int, default=0)
+    parser.add_argument("--stagger", type=float, default=0.0,
+                        help="seconds between client starts (default 0: all at once); "
+                             "ready times are then from each client's own start")
     parser.add_argument("--ctl-status", action="store_true",
                         help="also a `dh3ctl --json status --watch` of the whole plant (it spins a "
                              "core when its output is not a terminal: off by default)")
