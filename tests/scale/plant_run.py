@@ -212,6 +212,7 @@ def run_one(bins, args, services, discovery):
         result["rest"] = rest
 
         # Commanding.
+        t_commanding = time.time()  # before the signals: a first command may precede c0
         for c in commanders:
             c.signal(signal.SIGUSR1)
         c0 = snapshot(plant)
@@ -232,7 +233,7 @@ def run_one(bins, args, services, discovery):
             while time.time() < plant_wait and not c.first("stopped"):
                 time.sleep(0.1)
         # Once they stopped: a command still waiting for its reply has ended.
-        cmd["commands"] = command_stats(commanders, c0["t"], d["t"])
+        cmd["commands"] = command_stats(commanders, t_commanding, d["t"])
         stopped = [c.first("stopped") or {} for c in commanders]
         result["commander_traffic"] = {
             k: sum(r.get(k, 0) for r in stopped) for k in ("requests", "own_replies", "foreign_replies")}
