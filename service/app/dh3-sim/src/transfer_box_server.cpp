@@ -198,9 +198,9 @@ void TransferBoxServer::read_client(Client& client) {
     // One time for every frame of the read: the kernel stamps the newest
     // segment, and TCP tells no more. Without a stamp (turned off, or a
     // kernel that gives none) the time of reading.
-    const std::optional<Duration> stamped =
-        options_.kernel_timestamps ? read.stamp : std::nullopt;
-    const Duration read_at = stamped.value_or(host_.clock().now().time_since_epoch());
+    const Duration read_at = options_.kernel_timestamps && read.stamp
+                                 ? *read.stamp
+                                 : host_.clock().now().time_since_epoch();
     for (const protocol::Message& request : decoded_) host_.receive(request, client.id, read_at);
     host_.serve_due(*this);
     if (!client.fd || static_cast<std::size_t>(read.got) < sizeof buffer) return;
