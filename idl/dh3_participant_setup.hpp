@@ -194,29 +194,17 @@ class Participant {
   /// Where a follower of `service` makes its readers: a subscriber in the
   /// cell's partition (dh3_cell_partition.hpp), made on first use;
   /// subscriber() where the cell has none (a pattern-like name, access
-  /// control) or Fast DDS refuses it.
+  /// control), Fast DDS refuses it, or another cell was asked for first.
   [[nodiscard]] eprosima::fastdds::dds::Subscriber& cell_subscriber(const std::string& service) {
-    namespace fdds = eprosima::fastdds::dds;
-    const auto partition = cell_partition(service);
-    if (!partition || access_control_) return *subscriber_;
-    if (cell_subscriber_ == nullptr) {
-      fdds::SubscriberQos qos = fdds::SUBSCRIBER_QOS_DEFAULT;
-      qos.partition().push_back(partition->c_str());
-      cell_subscriber_ = participant_->create_subscriber(qos);
-    }
-    return cell_subscriber_ != nullptr ? *cell_subscriber_ : *subscriber_;
+    return in_cell(service, *subscriber_, cell_subscriber_,
+                   eprosima::fastdds::dds::SUBSCRIBER_QOS_DEFAULT,
+                   [this](const auto& qos) { return participant_->create_subscriber(qos); });
   }
   /// Likewise where a follower of `service` makes its request writers.
   [[nodiscard]] eprosima::fastdds::dds::Publisher& cell_publisher(const std::string& service) {
-    namespace fdds = eprosima::fastdds::dds;
-    const auto partition = cell_partition(service);
-    if (!partition || access_control_) return *publisher_;
-    if (cell_publisher_ == nullptr) {
-      fdds::PublisherQos qos = fdds::PUBLISHER_QOS_DEFAULT;
-      qos.partition().push_back(partition->c_str());
-      cell_publisher_ = participant_->create_publisher(qos);
-    }
-    return cell_publisher_ != nullptr ? *cell_publisher_ : *publisher_;
+    return in_cell(service, *publisher_, cell_publisher_,
+                   eprosima::fastdds::dds::PUBLISHER_QOS_DEFAULT,
+                   [this](const auto& qos) { return participant_->create_publisher(qos); });
   }
   /// A service's cell partition, which its publisher and subscriber use
   /// besides the default one; nullopt if none.
@@ -289,8 +277,25 @@ class Participant {
   Topics topics_;
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
+  /// The publisher or subscriber `made` in `service`'s cell partition, made
+  /// with `qos` on first use; `plain` where there is none. One cell per
+  /// participant: a follower follows one.
+  template <typename Entity, typename Qos, typename Create>
+  Entity& in_cell(const std::string& service, Entity& plain, Entity*& made, Qos qos,
+                  Create create) {
+    const auto partition = cell_partition(service);
+    if (!partition || access_control_) return plain;
+    if (made == nullptr && (cell_.empty() || cell_ == *partition)) {
+      qos.partition().push_back(partition->c_str());
+      made = create(qos);
+      cell_ = *partition;
+    }
+    return made != nullptr && cell_ == *partition ? *made : plain;
+  }
+
   eprosima::fastdds::dds::Subscriber* cell_subscriber_ = nullptr;
   eprosima::fastdds::dds::Publisher* cell_publisher_ = nullptr;
+  std::string cell_;  ///< the partition of the two above, once one is made
   std::optional<std::string> published_cell_;
   bool security_from_profile_ = false;
   bool access_control_ = false;

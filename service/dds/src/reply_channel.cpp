@@ -44,39 +44,32 @@ void ReplyChannel::detach() {
   group_writer_ = nullptr;
 }
 
-namespace {
-
-enum class Admission : std::uint8_t { publish, held, no_writer };
-
-/// What becomes of a reply (command or group): logged if not OK, then
-/// published, held by its gate until the client's reader matches, or
-/// dropped when its writer is gone.
+/// Logged if not OK, then published, held by its gate until the client's
+/// reader matches, or dropped when its writer is gone.
 template <typename Reply>
-Admission admit(Reply& reply, ReplyGate<Reply>& gate, bool has_writer, std::string_view what) {
+void ReplyChannel::pass_through(Reply& reply, ReplyGate<Reply>& gate, bool has_writer,
+                                std::string_view what) {
   if (reply.code() != msg::OK) {
     spdlog::debug("{} {}#{}: {} {}", what, reply.client_id(), reply.request_seq(),
                   result_code_name(reply.code()), reply.message());
   }
-  if (!has_writer) return Admission::no_writer;
+  if (!has_writer) return;
   const std::uint64_t seq = reply.request_seq();
   const std::string client_id = reply.client_id();
-  if (gate.admit(reply) == GateOutcome::pass) return Admission::publish;
+  if (gate.admit(reply) == GateOutcome::pass) {
+    publish(reply);
+    return;
+  }
   spdlog::debug("{} {}#{} held until the client's reader matches", what, client_id, seq);
-  return Admission::held;
+  on_held_();
 }
 
-}  // namespace
-
 void ReplyChannel::write(msg::CommandReply& reply) {
-  const Admission admission = admit(reply, gate_, writer_ != nullptr, "reply");
-  if (admission == Admission::publish) publish(reply);
-  if (admission == Admission::held) on_held_();
+  pass_through(reply, gate_, writer_ != nullptr, "reply");
 }
 
 void ReplyChannel::write(msg::GroupReply& reply) {
-  const Admission admission = admit(reply, group_gate_, group_writer_ != nullptr, "group reply");
-  if (admission == Admission::publish) publish(reply);
-  if (admission == Admission::held) on_held_();
+  pass_through(reply, group_gate_, group_writer_ != nullptr, "group reply");
 }
 
 void ReplyChannel::publish(msg::CommandReply& reply) {

@@ -12,6 +12,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "dh3/base/clock.hpp"
 #include "dh3/dds/reply_gate.hpp"
@@ -82,6 +83,9 @@ class ReplyChannel final : public ReplySink {
   /// Writes past the gate.
   void publish(msg::CommandReply& reply);
   void publish(msg::GroupReply& reply);
+  /// What write() does for either kind of reply (defined in the .cpp only).
+  template <typename Reply>
+  void pass_through(Reply& reply, ReplyGate<Reply>& gate, bool has_writer, std::string_view what);
 
   const RequestTracer& tracer_;
   std::function<void()> on_held_;
