@@ -89,7 +89,10 @@ def run_command(name: str, call) -> bool:
     reply = call()
     elapsed_ms = (time.perf_counter() - start) * 1000.0
     code = reply.code.name if hasattr(reply.code, "name") else str(reply.code)
-    emit({"ev": "cmd", "cmd": name, "code": code, "ms": round(elapsed_ms, 3)})
+    line = {"ev": "cmd", "cmd": name, "code": code, "ms": round(elapsed_ms, 3)}
+    if not reply.ok:
+        line["message"] = reply.message
+    emit(line)
     return reply.ok
 
 

@@ -130,7 +130,7 @@ def run_one(bins, args, services, discovery):
     log(f"== plant: {services} services x {args.hands} hands, {discovery} discovery, "
         f"{client_hosts + 1} client hosts; load average {result['load_before']}")
     with Plant(bins, services=services, hands=args.hands, client_hosts=client_hosts,
-               discovery=discovery, domain=args.domain,
+               discovery=discovery, domain=args.domain, service_log_level=args.service_log_level,
                workdir=os.path.join(args.workdir, f"s{services}-{discovery}")) as plant:
         plant.follow = args.follow
         plant.start_discovery_servers()
@@ -364,6 +364,9 @@ def main():
                         help="the commanders, cell watchers and the late joiner follow their cell "
                              "(dh3.Client(follow=...)): the services send each only its cell's "
                              "statuses and events; the plant watchers still follow everything")
+    parser.add_argument("--service-log-level", default="info",
+                        help="the services' --log-level; debug logs every request and every "
+                             "client participant and request writer a service finds or loses")
     parser.add_argument("--out", default="", help="directory for the JSON files (default BUILD/scale)")
     parser.add_argument("--workdir", default="", help="logs (default: a fresh folder in /tmp)")
     parser.add_argument("--check", action="store_true",

@@ -242,7 +242,8 @@ class CtlWatcher(Proc):
 
 class Plant:
     def __init__(self, bins, services=2, hands=8, client_hosts=2, discovery="simple",
-                 domain=0, workdir=None, tag=None, objects=True, log=print):
+                 domain=0, workdir=None, tag=None, objects=True, log=print,
+                 service_log_level="info"):
         if discovery not in ("simple", "server"):
             raise ValueError(discovery)
         require_root()
@@ -251,6 +252,7 @@ class Plant:
         self.bins, self.services, self.hands = bins, services, hands
         self.client_hosts, self.discovery, self.domain = client_hosts, discovery, domain
         self.objects, self.log = objects, log
+        self.service_log_level = service_log_level
         self.tag = tag or os.environ.get("PLANT_TAG") or f"pl{os.getpid() % 100000}"
         self.workdir = workdir or f"/tmp/{self.tag}"
         os.makedirs(self.workdir, exist_ok=True)
@@ -472,7 +474,7 @@ class Plant:
     def start_service(self, i):
         host = f"s{i:02d}"
         argv = [self.bins["dh3-service"], "--config", self.service_config(i), "--name", self.cell(i),
-                "--log-level", "info"] + self.dds_args(host)
+                "--log-level", self.service_log_level] + self.dds_args(host)
         # A restarted service appends to the same log.
         name = self.cell(i) if i not in self.service_procs else f"{self.cell(i)}-r{time.time():.0f}"
         proc = self.spawn(name, "service", host, argv)

@@ -117,7 +117,8 @@ Result<void, std::string> Service::Impl::create_request_reader() {
   request_qos.history().kind = fdds::KEEP_ALL_HISTORY_QOS;
   fdds::Topic* topic = participant_->topics().request;
   request_reader_ = participant_->subscriber().create_datareader(
-      topic, request_qos, &request_listener_, fdds::StatusMask::data_available());
+      topic, request_qos, &request_listener_,
+      fdds::StatusMask::data_available() << fdds::StatusMask::subscription_matched());
   if (request_reader_ == nullptr) {
     // Without it the service would run and never answer a request.
     return fail(cannot_create("the reader of " + topic->get_name()));

@@ -86,6 +86,17 @@ class Service::Impl {
    public:
     explicit RequestListener(Impl& impl) : impl_(impl) {}
     void on_data_available(fdds::DataReader* reader) override { impl_.on_requests(*reader); }
+    // Only logged: which clients' requests can reach us (a client whose
+    // writer never matches here gets no reply, whatever it sees on its side).
+    void on_subscription_matched(fdds::DataReader* /*reader*/,
+                                 const fdds::SubscriptionMatchedStatus& status) override {
+      spdlog::debug("request writer of {} {} ({} matched)",
+                    contract::client_id_for(eprosima::fastrtps::rtps::iHandle2GUID(
+                                                status.last_publication_handle)
+                                                .guidPrefix),
+                    status.current_count_change > 0 ? "matched" : "unmatched",
+                    status.current_count);
+    }
 
    private:
     Impl& impl_;
@@ -107,6 +118,8 @@ class Service::Impl {
         fdds::DomainParticipant* /*participant*/,
         eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
       using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo;
+      spdlog::debug("participant {} '{}': {}", contract::client_id_for(info.info.m_guid.guidPrefix),
+                    info.info.m_participantName.to_string(), status_name(info.status));
       if (info.status == Status::DISCOVERED_PARTICIPANT) {
         impl_.replies_.participant_joined(contract::client_id_for(info.info.m_guid.guidPrefix));
       } else if (info.status == Status::REMOVED_PARTICIPANT ||
@@ -117,6 +130,16 @@ class Service::Impl {
     }
 
    private:
+    static const char* status_name(eprosima::fastrtps::rtps::ParticipantDiscoveryInfo::DISCOVERY_STATUS status) {
+      using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo;
+      switch (status) {
+        case Status::DISCOVERED_PARTICIPANT: return "discovered";
+        case Status::CHANGED_QOS_PARTICIPANT: return "changed its QoS";
+        case Status::REMOVED_PARTICIPANT: return "left";
+        case Status::DROPPED_PARTICIPANT: return "dropped (lease expired)";
+      }
+      return "?";
+    }
     Impl& impl_;
   };
 
