@@ -49,6 +49,27 @@ inline const eprosima::fastrtps::Duration_t announcement_period{1, 0};
   return true;
 }
 
+/// How long a discovery server keeps a client of dh3 (the client library)
+/// without hearing from it, instead of Fast DDS's 20 s. A service keeps the
+/// 20 s: its lease is what tells the clients that a killed service is gone.
+///
+/// Why: a busy server loses clients. In a plant of 64 services and 130
+/// clients started one every 0.5 s on two cores, the server pair declared 84
+/// live clients gone within the first minute (each service logged them as
+/// having left the domain; no service was lost). Fast DDS 2.9 never told the
+/// services of them again, so their commands went unanswered for good (8 of
+/// 64 commanders failed their first command). With 60 s no client was lost
+/// and no command failed (BENCHMARKS.md section 9).
+///
+/// The price: a client that dies without leaving the domain (SIGKILL, power
+/// cut, cable) keeps the control leases it holds for up to 60 s instead of
+/// 20, unless their own time to live ends first.
+inline const eprosima::fastrtps::Duration_t client_lease_with_servers{60, 0};
+
+inline void use_client_lease_with_servers(eprosima::fastdds::dds::DomainParticipantQos& qos) {
+  qos.wire_protocol().builtin.discovery_config.leaseDuration = client_lease_with_servers;
+}
+
 /// Simple discovery for a participant that needs services, not its fellow
 /// clients: it announces itself to the domain's discovery multicast group as
 /// usual, but does not listen to that group, so it learns of a participant

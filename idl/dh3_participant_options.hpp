@@ -27,10 +27,11 @@ struct ParticipantOptions {
   /// Also the shared-memory transport between processes on one host. Needs a
   /// Fast DDS with the listener fix of 2.12.1 (dh3_participant.hpp).
   bool shared_memory = false;
-  /// With simple discovery, find services but not fellow clients
-  /// (dh3_discovery.hpp, hear_services_only): for the client library. A
-  /// service leaves it off, or no such client would find it.
-  bool hear_services_only = false;
+  /// A participant of the client library, not a service (which leaves it
+  /// off). With simple discovery it finds services but not fellow clients
+  /// (dh3_discovery.hpp, hear_services_only); with discovery servers its
+  /// lease is longer (client_lease_with_servers).
+  bool is_client = false;
   /// Fast DDS discovery servers as "HOST[:PORT]" (dh3_discovery_servers.hpp);
   /// empty: ROS_DISCOVERY_SERVER's if set, unless an XML profile decides.
   std::vector<std::string> discovery_servers;

@@ -96,8 +96,12 @@ make_participant_qos(const ParticipantOptions& options, SetupReport& report) {
   for (const auto& server : *servers) {
     report.notes.push_back("discovery server " + server.to_string());
   }
-  if (options.hear_services_only && servers->empty() && options.xml_profile_file.empty()) {
-    hear_services_only(qos, static_cast<std::uint32_t>(options.domain));
+  if (options.is_client && options.xml_profile_file.empty()) {
+    if (servers->empty()) {
+      hear_services_only(qos, static_cast<std::uint32_t>(options.domain));
+    } else {
+      use_client_lease_with_servers(qos);
+    }
   }
   if (!options.security_dir.empty()) {
     if (has_property(qos, "dds.sec.auth.plugin")) {

@@ -17,7 +17,7 @@ contract::ParticipantOptions participant_options(const ClientOptions& options) {
   participant_options.udp_only = options.udp_only;
   participant_options.shared_memory = options.shared_memory;
   // A client needs services, not the other clients (issue 23).
-  participant_options.hear_services_only = true;
+  participant_options.is_client = true;
   participant_options.discovery_servers = options.discovery_servers;
   participant_options.xml_profile_file = options.xml_profile_file;
   participant_options.xml_profile = options.xml_profile;

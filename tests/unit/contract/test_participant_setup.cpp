@@ -123,7 +123,7 @@ TEST(ParticipantSetup, UdpOnlyAndSharedMemoryTogetherAreRefused) {
 
 TEST(ParticipantSetup, HearingServicesOnlyLeavesTheDiscoveryGroupButAnnouncesToIt) {
   ParticipantOptions options = on_test_domain("setup");
-  options.hear_services_only = true;
+  options.is_client = true;
   SetupReport report;
   const auto qos = dh3::contract::make_participant_qos(options, report);
   ASSERT_TRUE(qos.has_value()) << qos.error();
@@ -140,6 +140,37 @@ TEST(ParticipantSetup, HearingServicesOnlyLeavesTheDiscoveryGroupButAnnouncesToI
   const auto with_server = dh3::contract::make_participant_qos(options, report);
   ASSERT_TRUE(with_server.has_value()) << with_server.error();
   EXPECT_TRUE(with_server->wire_protocol().builtin.initialPeersList.empty());
+}
+
+// A busy discovery server loses clients whose lease is Fast DDS's 20 s
+// (dh3_discovery.hpp says how it was seen); a service keeps the default, so
+// that a killed one is still noticed as soon.
+TEST(ParticipantSetup, AClientOfDiscoveryServersKeepsALongerLeaseThanAService) {
+  SetupReport report;
+  const auto lease_of = [&](const ParticipantOptions& options) {
+    const auto qos = dh3::contract::make_participant_qos(options, report);
+    EXPECT_TRUE(qos.has_value()) << qos.error();
+    return qos.has_value() ? qos->wire_protocol().builtin.discovery_config.leaseDuration
+                           : eprosima::fastrtps::Duration_t{};
+  };
+  const auto fast_dds_default = eprosima::fastdds::dds::DomainParticipantQos()
+                                    .wire_protocol()
+                                    .builtin.discovery_config.leaseDuration;
+  ASSERT_EQ(fast_dds_default.seconds, 20);
+  ASSERT_NE(dh3::contract::client_lease_with_servers, fast_dds_default);
+
+  ParticipantOptions client = on_test_domain("lease-client");
+  client.is_client = true;
+  client.discovery_servers = {"127.0.0.1:11811"};
+  EXPECT_EQ(lease_of(client), dh3::contract::client_lease_with_servers);
+
+  ParticipantOptions service = on_test_domain("lease-service");
+  service.discovery_servers = {"127.0.0.1:11811"};
+  EXPECT_EQ(lease_of(service), fast_dds_default);
+
+  // Simple discovery: every participant checks the others itself.
+  client.discovery_servers.clear();
+  EXPECT_EQ(lease_of(client), fast_dds_default);
 }
 
 /// The names of the participants a participant discovered.
@@ -180,9 +211,9 @@ TEST(ParticipantSetup, ClientsThatHearServicesOnlyFindTheServiceButNotEachOther)
   Discovered at_b;
   auto service = Participant::create(on_test_domain("hear-service"), report, &at_service);
   ParticipantOptions a_options = on_test_domain("hear-a");
-  a_options.hear_services_only = true;
+  a_options.is_client = true;
   ParticipantOptions b_options = on_test_domain("hear-b");
-  b_options.hear_services_only = true;
+  b_options.is_client = true;
   auto a = Participant::create(a_options, report, &at_a);
   auto b = Participant::create(b_options, report, &at_b);
   ASSERT_TRUE(service.has_value() && a.has_value() && b.has_value());
