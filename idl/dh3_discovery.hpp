@@ -54,10 +54,11 @@ inline const eprosima::fastrtps::Duration_t announcement_period{1, 0};
 /// 20 s: its lease is what tells the clients that a killed service is gone.
 ///
 /// Why: a busy server loses clients. In a plant of 64 services and 130
-/// clients started one every 0.5 s on two cores, the server pair declared 84
-/// live clients gone within the first minute (each service logged them as
-/// having left the domain; no service was lost). Fast DDS 2.9 never told the
-/// services of them again, so their commands went unanswered for good (8 of
+/// clients started one every 0.5 s on two cores, the server pair declared 105
+/// live clients gone within minutes (each service logged them as
+/// having left the domain; no service was lost). Fast DDS 2.9 did not always
+/// announce them to the services again (cell01's commander: never), and
+/// then their commands went unanswered (8 of
 /// 64 commanders failed their first command). With 60 s no client was lost
 /// and no command failed (BENCHMARKS.md section 9).
 ///

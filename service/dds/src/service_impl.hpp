@@ -90,12 +90,10 @@ class Service::Impl {
     // writer never matches here gets no reply, whatever it sees on its side).
     void on_subscription_matched(fdds::DataReader* /*reader*/,
                                  const fdds::SubscriptionMatchedStatus& status) override {
-      spdlog::debug("request writer of {} {} ({} matched)",
-                    contract::client_id_for(eprosima::fastrtps::rtps::iHandle2GUID(
-                                                status.last_publication_handle)
-                                                .guidPrefix),
-                    status.current_count_change > 0 ? "matched" : "unmatched",
-                    status.current_count);
+      const auto writer = eprosima::fastrtps::rtps::iHandle2GUID(status.last_publication_handle);
+      spdlog::debug(
+          "request writer of {} {} ({} matched)", contract::client_id_for(writer.guidPrefix),
+          status.current_count_change > 0 ? "matched" : "unmatched", status.current_count);
     }
 
    private:
@@ -130,13 +128,18 @@ class Service::Impl {
     }
 
    private:
-    static const char* status_name(eprosima::fastrtps::rtps::ParticipantDiscoveryInfo::DISCOVERY_STATUS status) {
+    static const char* status_name(
+        eprosima::fastrtps::rtps::ParticipantDiscoveryInfo::DISCOVERY_STATUS status) {
       using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo;
       switch (status) {
-        case Status::DISCOVERED_PARTICIPANT: return "discovered";
-        case Status::CHANGED_QOS_PARTICIPANT: return "changed its QoS";
-        case Status::REMOVED_PARTICIPANT: return "left";
-        case Status::DROPPED_PARTICIPANT: return "dropped (lease expired)";
+        case Status::DISCOVERED_PARTICIPANT:
+          return "discovered";
+        case Status::CHANGED_QOS_PARTICIPANT:
+          return "changed its QoS";
+        case Status::REMOVED_PARTICIPANT:
+          return "left";
+        case Status::DROPPED_PARTICIPANT:
+          return "dropped (lease expired)";
       }
       return "?";
     }
