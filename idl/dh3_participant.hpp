@@ -19,6 +19,7 @@
 
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 #include <fastdds/rtps/common/GuidPrefix_t.hpp>
+#include <fastdds/rtps/common/InstanceHandle.h>
 #include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <cstddef>
@@ -83,6 +84,12 @@ inline std::string client_id_for(const eprosima::fastrtps::rtps::GuidPrefix_t& p
     id.push_back(kDigits[prefix.value[i] & 0x0F]);
   }
   return id;
+}
+
+/// The client_id of the participant of a matched reader or writer, or of a
+/// sample's writer (a match status's last handle, SampleInfo::publication_handle).
+inline std::string client_id_for(const eprosima::fastrtps::rtps::InstanceHandle_t& handle) {
+  return client_id_for(eprosima::fastrtps::rtps::iHandle2GUID(handle).guidPrefix);
 }
 
 }  // namespace dh3::contract

@@ -5,8 +5,6 @@
 // Thread-safe once set up: writes and counters from any thread (Fast DDS's are);
 // its listeners run on Fast DDS threads, call only ClientCore and never write.
 
-#include <fastdds/rtps/common/InstanceHandle.h>
-
 #include <cstdint>
 #include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
@@ -39,11 +37,6 @@ class OnDdsListener {
   bool was_;
 };
 
-/// A participant's GUID prefix in hex, as client_id_for() spells it.
-inline std::string prefix_of(const fdds::InstanceHandle_t& handle) {
-  return contract::client_id_for(frtps::iHandle2GUID(handle).guidPrefix);
-}
-
 class ClientEndpoints {
   // The listeners: each hands what Fast DDS reports to ClientCore.
   class ParticipantListener final : public fdds::DomainParticipantListener {
@@ -73,7 +66,8 @@ class ClientEndpoints {
                                 const fdds::PublicationMatchedStatus& status) override {
       const OnDdsListener on_listener;
       core_.on_matched(ServiceTracker::Endpoint::request_reader,
-                       prefix_of(status.last_subscription_handle), status.current_count_change > 0);
+                       contract::client_id_for(status.last_subscription_handle),
+                       status.current_count_change > 0);
     }
 
    private:
@@ -87,7 +81,8 @@ class ClientEndpoints {
                                 const fdds::PublicationMatchedStatus& status) override {
       const OnDdsListener on_listener;
       core_.on_matched(ServiceTracker::Endpoint::group_request_reader,
-                       prefix_of(status.last_subscription_handle), status.current_count_change > 0);
+                       contract::client_id_for(status.last_subscription_handle),
+                       status.current_count_change > 0);
     }
 
    private:
@@ -129,7 +124,7 @@ class ClientEndpoints {
       const OnDdsListener on_listener;
       const std::string topic = plain_topic_name(*reader);
       const bool matched = status.current_count_change > 0;
-      const std::string prefix = prefix_of(status.last_publication_handle);
+      const std::string prefix = contract::client_id_for(status.last_publication_handle);
       using Endpoint = ServiceTracker::Endpoint;
       if (topic == own_replies_topic_ || topic == topics::COMMAND_REPLY) {
         core_.on_matched(Endpoint::reply_writer, prefix, matched);
@@ -155,7 +150,7 @@ class ClientEndpoints {
       fdds::SampleInfo info;
       while (reader->take_next_sample(&sample, &info) ==
              eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK) {
-        if (info.valid_data) handle(sample, prefix_of(info.publication_handle));
+        if (info.valid_data) handle(sample, contract::client_id_for(info.publication_handle));
       }
     }
     ClientCore& core_;

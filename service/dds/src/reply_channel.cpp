@@ -25,9 +25,7 @@ ReplyChannel::ReplyChannel(const Clock& clock, const RequestTracer& tracer,
 void ReplyChannel::WriterListener::on_publication_matched(
     eprosima::fastdds::dds::DataWriter* /*writer*/,
     const eprosima::fastdds::dds::PublicationMatchedStatus& status) {
-  eprosima::fastrtps::rtps::GUID_t reader;
-  eprosima::fastrtps::rtps::iHandle2GUID(reader, status.last_subscription_handle);
-  const std::string client_id = contract::client_id_for(reader.guidPrefix);
+  const std::string client_id = contract::client_id_for(status.last_subscription_handle);
   const bool matched = status.current_count_change > 0;
   if (group_) {
     for (auto& reply : channel_.group_gate_.reader_matched(client_id, matched)) {

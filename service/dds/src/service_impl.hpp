@@ -90,10 +90,11 @@ class Service::Impl {
     // writer never matches here gets no reply, whatever it sees on its side).
     void on_subscription_matched(fdds::DataReader* /*reader*/,
                                  const fdds::SubscriptionMatchedStatus& status) override {
-      const auto writer = eprosima::fastrtps::rtps::iHandle2GUID(status.last_publication_handle);
-      spdlog::debug(
-          "request writer of {} {} ({} matched)", contract::client_id_for(writer.guidPrefix),
-          status.current_count_change > 0 ? "matched" : "unmatched", status.current_count);
+      if (!spdlog::should_log(spdlog::level::debug)) return;
+      spdlog::debug("request writer of {} {} ({} matched)",
+                    contract::client_id_for(status.last_publication_handle),
+                    status.current_count_change > 0 ? "matched" : "unmatched",
+                    status.current_count);
     }
 
    private:
@@ -116,14 +117,14 @@ class Service::Impl {
         fdds::DomainParticipant* /*participant*/,
         eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
       using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo;
-      spdlog::debug("participant {} '{}': {}", contract::client_id_for(info.info.m_guid.guidPrefix),
+      const std::string participant_id = contract::client_id_for(info.info.m_guid.guidPrefix);
+      spdlog::debug("participant {} '{}': {}", participant_id,
                     info.info.m_participantName.to_string(), status_name(info.status));
       if (info.status == Status::DISCOVERED_PARTICIPANT) {
-        impl_.replies_.participant_joined(contract::client_id_for(info.info.m_guid.guidPrefix));
+        impl_.replies_.participant_joined(participant_id);
       } else if (info.status == Status::REMOVED_PARTICIPANT ||
                  info.status == Status::DROPPED_PARTICIPANT) {
-        impl_.on_participant_left(contract::client_id_for(info.info.m_guid.guidPrefix),
-                                  info.status == Status::DROPPED_PARTICIPANT);
+        impl_.on_participant_left(participant_id, info.status == Status::DROPPED_PARTICIPANT);
       }
     }
 
