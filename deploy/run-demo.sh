@@ -3,7 +3,7 @@
 # simulator, with no hardware.
 #
 # Starts dh3-service with three simulated hands (CAN IDs 1, 2, 3 on bus "bus0"
-# of service "demo"; an object sits between the fingers of hand 2 at 40 %).
+# of service "dh3", the default name; an object sits between the fingers of hand 2 at 40 %).
 #  - When dh3ctl is part of the build, a short scripted session lists the
 #    hands, initializes them, moves, rotates and grasps, and shows status and
 #    the events as they arrive; then the service is stopped (SIGINT) and
@@ -24,7 +24,7 @@ jobs=${JOBS:-2}
 domain=${DH3_DEMO_DOMAIN:-0}
 web_port=${DH3_DEMO_WEB_PORT:-8080}
 
-deploy/install-deps.sh
+deploy/install-deps.sh --build   # only what building and running need; the test command installs the test tools
 # Release, as tests/run-all.sh builds the same tree (its -O3 warnings are errors there).
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 targets=(dh3-service)
@@ -64,10 +64,10 @@ cleanup() {
 }
 trap cleanup EXIT
 
-# The same setup as `dh3-service --name demo --bus sim:1,2,3`, plus names and an
+# The same setup as `dh3-service --bus sim:1,2,3`, plus names and an
 # object for hand 2, which only the config file can give.
 cat >"$config" <<EOF
-name: demo
+name: dh3
 domain: $domain
 buses:
   - name: bus0
@@ -80,7 +80,7 @@ EOF
 
 say() { printf '\n\033[1m== %s\033[0m\n' "$*"; }
 
-say "dh3-service on the simulator: service 'demo', DDS domain $domain, bus0 with hands 1, 2, 3"
+say "dh3-service on the simulator: service 'dh3', DDS domain $domain, bus0 with hands 1, 2, 3"
 sed 's/^/  /' "$config"
 
 if ((have_ctl == 0)); then
@@ -97,7 +97,7 @@ ctl=$(find "$build/client" -name dh3ctl -type f -perm -u+x | head -n 1)
 service_pid=$!
 # Started once it logs that it serves requests (or gone if it could not start).
 for _ in $(seq 200); do
-  grep -q "service 'demo' on DDS domain" "$log" && break
+  grep -q "service 'dh3' on DDS domain" "$log" && break
   kill -0 "$service_pid" 2>/dev/null || { cat "$log"; exit 1; }
   sleep 0.05
 done
@@ -115,7 +115,7 @@ if ((have_web == 1)); then
   done
   if grep -q "dh3-web: serving" "$web_log"; then
     say "dh3-web: the web console and the HTTP API"
-    echo "  open http://127.0.0.1:$web_port/ in a browser (on this machine; see README: dh3-web)"
+    echo "  open http://127.0.0.1:$web_port/ in a browser (on this machine; see docs/user-guide.md: dh3-web)"
     echo "  bearer token for commands: $(cat "$token_file")"
     echo "  e.g. curl http://127.0.0.1:$web_port/api/hands"
   else
@@ -141,20 +141,20 @@ run list
 say "initializing every hand at once"
 pids=()
 for id in 1 2 3; do
-  run init "demo/bus0/$id" &
+  run init "dh3/bus0/$id" &
   pids+=($!)
 done
 wait "${pids[@]}"
 run status
 say "moving hand 1 to 30 %, rotating hand 3 to 50 %"
-run move demo/bus0/1 30
-run rotate demo/bus0/3 50
+run move dh3/bus0/1 30
+run rotate dh3/bus0/3 50
 say "grasping with hand 2 (an object at 40 %: GRASPED) and hand 1 (nothing there: MISSED)"
-run grasp demo/bus0/2 60
-run grasp demo/bus0/1 40
+run grasp dh3/bus0/2 60
+run grasp dh3/bus0/1 40
 run status
 say "firmware of hand 1"
-run version demo/bus0/1
+run version dh3/bus0/1
 if [[ -n $web_pid && -t 0 ]]; then
   say "the service and dh3-web keep running: http://127.0.0.1:$web_port/ (token $(cat "$token_file"))"
   read -r -p "  press Enter to stop them " _ || true

@@ -122,7 +122,7 @@ if ip netns add "$ns" 2>"$work/err"; then
     wait_for 90 health "$run_id-ns" || fail "the service in $ns never turned healthy"
     if client "${net[@]}" --entrypoint dh3ctl "$image" --udp-only --domain "$domain" --timeout 8 list \
       >"$work/list" 2>&1; then
-      fail "a loopback-only client found the service on every interface (the README says it does not)"
+      fail "a loopback-only client found the service on every interface (docs/operations.md says it does not)"
     else
       ok "dh3ctl's loopback default does not reach it: $(tail -n 1 "$work/list")"
     fi

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The shared-memory pitfall of the README's deployment section, with two real
+# The shared-memory pitfall of docs/operations.md's deployment section, with two real
 # containers of the image on the host's network (traffic kept on loopback):
 # dh3-service and a dh3ctl client that both ask for Fast DDS's shared memory
 # (--shared-memory), each with its own IPC namespace (podman's default, so its

@@ -78,7 +78,7 @@ def main():
     dockerfile_uid = check_dockerfile(src, programs)
     check_compose(src, docs, configs, programs)
     check_kubernetes(src, docs, configs, programs, dockerfile_uid)
-    check_readme(src)
+    check_docs(src)
     check_configs(check_config, configs)
     if print_programs:
         for program in sorted(programs):
@@ -310,21 +310,24 @@ def check_kubernetes(src, docs, configs, programs, uid):
     print(f"kubernetes: {sum(len(v) for v in by_kind.values())} objects")
 
 
-def check_readme(src):
-    """Every deploy/, tests/ or idl/ path the README names exists."""
-    path = os.path.join(src, "README.md")
-    if not os.path.isfile(path):
+def check_docs(src):
+    """Every deploy/, tests/ or idl/ path the README and docs/ name exists."""
+    if not os.path.isfile(os.path.join(src, "README.md")):
         problem("README.md missing")
         return
-    with open(path, encoding="utf-8") as f:
-        text = f.read()
-    if "## Deployment" not in text:
-        problem("README.md has no Deployment section")
-    named = set(re.findall(r"`((?:deploy|tests|idl)/[A-Za-z0-9_./-]+)`", text))
-    for name in sorted(named):
-        if not os.path.exists(os.path.join(src, name)):
-            problem(f"README.md names {name}, which does not exist")
-    print(f"README.md: {len(named)} paths named, checked")
+    operations = os.path.join(src, "docs", "operations.md")
+    if not os.path.isfile(operations) or "## Deployment" not in open(operations, encoding="utf-8").read():
+        problem("docs/operations.md has no Deployment section")
+    pages = ["README.md"] + sorted(
+        os.path.join("docs", p) for p in os.listdir(os.path.join(src, "docs")) if p.endswith(".md"))
+    for page in pages:
+        with open(os.path.join(src, page), encoding="utf-8") as f:
+            text = f.read()
+        named = set(re.findall(r"`((?:deploy|tests|idl)/[A-Za-z0-9_./-]+)`", text))
+        for name in sorted(named):
+            if not os.path.exists(os.path.join(src, name)):
+                problem(f"{page} names {name}, which does not exist")
+        print(f"{page}: {len(named)} paths named, checked")
 
 
 def check_configs(check_config, configs):

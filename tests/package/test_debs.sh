@@ -104,7 +104,7 @@ depends python3-dh3 'python3 \(>= 3\.' 'python3 \(<< 3\.' 'libdh3client0\.1 \(>=
 
 # lintian: neither errors nor warnings. Its notes (I:) are printed: the
 # hardening ones say the tree was not built with dpkg-buildflags' hardening
-# flags (README, "Installing on a cell PC").
+# flags (docs/operations.md, "Installing on a cell PC").
 lintian --tag-display-limit 0 --display-level '>=info' "$debs"/*.deb >"$work/lintian" 2>"$work/lintian.err"
 lintian_status=$?
 echo "lintian $(dpkg-query -W -f '${Version}' lintian 2>/dev/null) on the packages:"

@@ -3,7 +3,7 @@
 # their simulated hands, then CLIENTS dh3ctl processes started at the same
 # moment, each reading one hand's position, with BUSY busy loops on the CPU
 # beside them. Every client must be answered; the script counts each
-# outcome and prints the failures' messages. The README's default transports
+# outcome and prints the failures' messages. docs/operations.md's default transports
 # throughout (no transport option given to anyone).
 #
 #   client_burst.sh DH3_SERVICE DH3CTL [CLIENTS [SERVICES [BUSY]]]

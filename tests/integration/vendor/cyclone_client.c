@@ -1,5 +1,5 @@
 /* A participant of another DDS vendor (Eclipse Cyclone DDS, C API) built from
- * idl/dh3.idl by Cyclone's own IDL compiler, as the README's contract section
+ * idl/dh3.idl by Cyclone's own IDL compiler, as docs/contract.md
  * tells other vendors to: it waits for a hand's status, asks the service for
  * the hand's firmware version (READ_REGISTER 0x1301) and waits for the reply.
  * With "lease" it instead takes the hand's control lease under its

@@ -2,7 +2,7 @@
 # dh3-service on a simulated hand, and a participant of Eclipse Cyclone DDS
 # built from idl/dh3.idl (cyclone_client.c): it must see the hand's status,
 # match the service's request reader and get an OK reply to a command. Then,
-# as the README says, a Cyclone participant that took a hand's lease under its
+# as docs/contract.md says, a Cyclone participant that took a hand's lease under its
 # GUID prefix is seen to leave the domain at once when it sends key hashes
 # (Cyclone's Internal/GenerateKeyhash), and otherwise drops out when its DDS
 # lease runs out: the service's log says which of the two ended the lease.

@@ -1,6 +1,6 @@
 // The configuration keys are declared once (config_keys.hpp): the parser
 // accepts exactly the declared keys with the declared ranges, its defaults are
-// the declared ones, and the README's table is the declaration's.
+// the declared ones, and docs/configuration.md's table is the declaration's.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -132,20 +132,20 @@ TEST(ConfigKeys, TheParsersDefaultsAreTheDeclaredOnes) {
   }
 }
 
-TEST(ConfigKeys, TheReadmesTableIsTheDeclaration) {
-  std::ifstream file(DH3_README);
-  ASSERT_TRUE(file) << DH3_README;
+TEST(ConfigKeys, TheDocumentedTableIsTheDeclaration) {
+  std::ifstream file(DH3_CONFIG_DOC);
+  ASSERT_TRUE(file) << DH3_CONFIG_DOC;
   std::stringstream text;
   text << file.rdbuf();
-  const std::string readme = text.str();
+  const std::string doc = text.str();
   const std::string begin = "<!-- config-keys: dh3-service --config-keys -->\n";
-  const auto start = readme.find(begin);
-  ASSERT_NE(start, std::string::npos) << "README.md has no marked configuration table";
+  const auto start = doc.find(begin);
+  ASSERT_NE(start, std::string::npos) << "docs/configuration.md has no marked configuration table";
   const auto table_start = start + begin.size();
-  const auto end = readme.find("\n\n", table_start);
-  const std::string table = readme.substr(table_start, end - table_start + 1);
+  const auto end = doc.find("\n\n", table_start);
+  const std::string table = doc.substr(table_start, end - table_start + 1);
   EXPECT_EQ(table, config_keys_table())
-      << "README.md's configuration table differs from config_keys.cpp; replace it with the "
+      << "docs/configuration.md's configuration table differs from config_keys.cpp; replace it with the "
          "output of `dh3-service --config-keys`";
 }
 

@@ -55,7 +55,7 @@ constexpr std::array kKeys{
     ConfigKey{"buses[].discovery_interval_ms", milliseconds, "30000", 0, kDay, "how often a bus without listed hands scans for new ones; 0: never again"},
     ConfigKey{"buses[].probe_spacing_ms", milliseconds, "1", 0, kDay, "the gap between two probes of a scan"},
 
-    ConfigKey{"buses[].record", map, "", 0, 0, "the flight recorder: every frame sent and received, candump log format (README \"Flight recorder and replay\"); absent: off"},
+    ConfigKey{"buses[].record", map, "", 0, 0, "the flight recorder: every frame sent and received, candump log format (docs/user-guide.md, \"Flight recorder and replay\"); absent: off"},
 
     ConfigKey{"buses[].sim.reply_delay_ms", milliseconds, "2", 0, kDay, "how long a simulated hand takes to reply"},
     ConfigKey{"buses[].sim.position_speed", number, "200", 0.001, 1e6, "finger speed, percent of the stroke per second"},

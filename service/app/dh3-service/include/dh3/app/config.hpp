@@ -3,7 +3,7 @@
 // and the defaults that run it on the simulator with no configuration at all.
 //
 // Every key of the file, with its type, default, range and meaning, is
-// declared in config_keys.cpp (`dh3-service --config-keys`, the README's
+// declared in config_keys.cpp (`dh3-service --config-keys`, docs/configuration.md's
 // table). A small file:
 //
 //   name: cell7

@@ -2,8 +2,8 @@
 // Every key of dh3-service's YAML configuration, declared once: its path,
 // type, default, range and one line of doc. The parser takes its known keys
 // and the ranges of numbers from here, `dh3-service --config-keys` prints the
-// README's table from it, and tests/unit/app/test_config_keys.cpp checks the
-// README's table and the defaults the parser gives against it.
+// docs/configuration.md's table from it, and tests/unit/app/test_config_keys.cpp checks the
+// docs/configuration.md's table and the defaults the parser gives against it.
 // Pure data and lookups: safe from any thread.
 
 #include <cstdint>
@@ -31,7 +31,7 @@ struct ConfigKey {
   /// list: "buses[].hands[].id".
   std::string_view path;
   KeyType type = KeyType::text;
-  /// The default as the README shows it; "" when the key has none (required,
+  /// The default as docs/configuration.md shows it; "" when the key has none (required,
   /// or absent means off).
   std::string_view fallback;
   /// Integers, milliseconds and numbers: the inclusive range the parser
@@ -41,14 +41,14 @@ struct ConfigKey {
   std::string_view doc;
 };
 
-/// Every key, parents before their children, in the README's order.
+/// Every key, parents before their children, in docs/configuration.md's order.
 [[nodiscard]] std::span<const ConfigKey> config_keys();
 /// The declaration of `path`; nullptr for a key that is not declared.
 [[nodiscard]] const ConfigKey* find_config_key(std::string_view path);
 /// The names of the keys directly under `parent` ("" for the file's root,
 /// "dds", "buses[]", "buses[].sim", "buses[].hands[]").
 [[nodiscard]] std::vector<std::string_view> child_keys(std::string_view parent);
-/// The README's configuration table (Markdown), one row per key.
+/// docs/configuration.md's configuration table (Markdown), one row per key.
 [[nodiscard]] std::string config_keys_table();
 
 }  // namespace dh3::app
