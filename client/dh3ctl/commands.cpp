@@ -170,10 +170,12 @@ int watch_statuses(Context& c, std::optional<HandAddress> only, int count) {
       },
       only);
   const auto done = [&] { return count > 0 && updates >= count; };
-  while (!c.interrupted && !done()) {
+  // Into a pipe the callback prints every sample: nothing to do here but wait.
+  if (!redraw) c.wait_until_interrupted(mutex, cv, done);
+  while (redraw && !c.interrupted && !done()) {
     c.wait_until_interrupted(mutex, cv, [&] { return changed || done(); });
     std::unique_lock lock(mutex);
-    if (!changed || !redraw) continue;
+    if (!changed) continue;
     changed = false;
     lock.unlock();
     std::vector<HandStatus> hands;

@@ -5,7 +5,16 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <chrono>
 #include <csignal>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
 
 #include "client_fixture.hpp"
 
@@ -118,6 +127,38 @@ TEST_F(Dh3ctlTest, StatusWatchStreamsUpdatesUntilInterrupted) {
   const auto status = watch.wait_exit(kClientDeadline);
   ASSERT_TRUE(status && WIFEXITED(*status));
   EXPECT_EQ(WEXITSTATUS(*status), 0);
+}
+
+/// CPU seconds (user + system) the process `pid` has used so far.
+double cpu_seconds(pid_t pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string text((std::istreambuf_iterator<char>(stat)), std::istreambuf_iterator<char>());
+  // Fields after the command name, which is in parentheses and may hold spaces.
+  std::istringstream fields(text.substr(text.rfind(')') + 2));
+  std::vector<std::string> field{std::istream_iterator<std::string>(fields), {}};
+  if (field.size() < 13) return -1;
+  const double ticks = static_cast<double>(::sysconf(_SC_CLK_TCK));
+  return (std::stod(field[11]) + std::stod(field[12])) / ticks;
+}
+
+TEST_F(Dh3ctlTest, StatusWatchIntoAPipeIdlesWhileNothingChanges) {
+  Process watch(DH3CTL_PATH, ctl_args({"--json", "status", hand_spec(2), "--watch"}),
+                Process::Stdin::dev_null);
+  ASSERT_TRUE(watch.wait_for_line("{", kClientDeadline));
+  // A busy loop takes a core, or its share of one on a loaded machine; a
+  // waiting watcher takes next to nothing. The window is a sampling interval,
+  // not a deadline: a tenth of it is far above what waiting costs and below
+  // what spinning gets even with eight busy processes on two cores.
+  const double cpu_before = cpu_seconds(watch.pid());
+  ASSERT_GE(cpu_before, 0.0);
+  const auto started = std::chrono::steady_clock::now();
+  std::this_thread::sleep_for(std::chrono::seconds(3));
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  const double used = cpu_seconds(watch.pid()) - cpu_before;
+  EXPECT_LT(used, wall / 10) << "dh3ctl status --watch used " << used << " s of CPU in " << wall
+                              << " s at rest";
+  watch.send_signal(SIGINT);
+  EXPECT_TRUE(watch.wait_exit(kClientDeadline));
 }
 
 TEST(Dh3ctlWithoutServiceTest, NoServiceExitsNonZeroAndSaysSo) {
