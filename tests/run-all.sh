@@ -39,6 +39,8 @@ fi
 # tree (package.debs): a warning only the optimizer sees shows here first.
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DDH3_WERROR=ON
 cmake --build "$build" -j "$jobs"
+# The ROS 2 layout test's independent encoder (npm, test-only).
+tests/ros2/install-npm.sh "$build/ros2-npm"
 end_phase "build"
 status=0
 ctest --test-dir "$build" --output-on-failure -j "$jobs" "$@" || status=$?

@@ -1,0 +1,87 @@
+#include "ros2_options.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include "client_options_cli.hpp"
+#include "ros_names.hpp"
+
+#ifndef DH3_VERSION
+#define DH3_VERSION "0.0.0"
+#endif
+
+namespace dh3::ros2 {
+
+namespace {
+
+void add_unit_options(CLI::App& app, JointUnits& units) {
+  app.add_option("--units", units.raw_percent,
+                 "si: meters, radians and newtons (default); percent: the hand's own percent")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, bool>{{"si", false},
+                                                                      {"percent", true}}));
+  app.add_option("--opening-max", units.opening_max_m,
+                 "the opening between the fingers at 100 %, in meters (default 0.095, from "
+                 "DH's ROS 1 driver: check it against your hand)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--force-max", units.force_max_n,
+                 "the force at 100 %, in newtons (default 90, from DH's ROS 1 driver)")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--rotation-min", units.rotation_min_rad,
+                 "the rotation joint at 0 %, in radians (default 0)");
+  app.add_option("--rotation-max", units.rotation_max_rad,
+                 "the rotation joint at 100 %, in radians (default pi/2: the protocol's 90 "
+                 "degrees)");
+}
+
+}  // namespace
+
+std::optional<int> parse_ros2_options(int argc, const char* const* argv, Ros2Options& options,
+                                      std::ostream& out, std::ostream& err) {
+  CLI::App app{
+      "dh3-ros2: the DH-3 hands of a DDS domain as ROS 2 sees a gripper: sensor_msgs/JointState "
+      "on a joint_states topic, without linking ROS 2 (docs/ros2.md)."};
+  app.name("dh3-ros2");
+  app.set_version_flag("--version", DH3_VERSION);
+  app.add_option("--namespace", options.ros_namespace,
+                 "the ROS namespace relative names resolve in (default /)");
+  app.add_option("--joint-states", options.joint_states,
+                 "the JointState topic, a ROS name (default joint_states)");
+  app.add_option("--finger-joint", options.joint_names.finger,
+                 "each hand's finger joint (the opening), a pattern of {service}, {bus} and {id} "
+                 "(default {service}_{bus}_{id}_finger_joint)");
+  app.add_option("--rotation-joint", options.joint_names.rotation,
+                 "each hand's rotation joint (default {service}_{bus}_{id}_rotation_joint)");
+  add_unit_options(app, options.units);
+  app.add_option("--log-level", options.log_level, "trace, debug, info, warn, error (default info)")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
+  ctl::add_client_options(app, options.client);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error, out, err) == 0 ? 0 : 2;
+  }
+  auto topic = resolve_name(options.ros_namespace, options.joint_states);
+  if (!topic) {
+    err << "dh3-ros2: --joint-states: " << topic.error() << "\n";
+    return 2;
+  }
+  options.joint_states_dds = topic_on_dds(*topic);
+  options.client.participant_name = "dh3-ros2";
+  return std::nullopt;
+}
+
+contract::ParticipantOptions ros_participant_options(const ClientOptions& client) {
+  contract::ParticipantOptions options;
+  options.name = "dh3_ros2";
+  options.domain = client.domain;
+  options.interfaces = client.interfaces;
+  options.udp_only = client.udp_only;
+  options.shared_memory = client.shared_memory;
+  options.discovery_servers = client.discovery_servers;
+  options.xml_profile_file = client.xml_profile_file;
+  options.xml_profile = client.xml_profile;
+  options.security_dir = client.security_dir;
+  options.security_identity = client.security_identity;
+  return options;
+}
+
+}  // namespace dh3::ros2

@@ -1,0 +1,39 @@
+#pragma once
+// dh3-ros2's command line: how it joins the DDS domain (the options of dh3ctl
+// and dh3-web), its ROS 2 names and its units.
+
+#include <optional>
+#include <ostream>
+#include <string>
+
+#include "dh3/client.hpp"
+#include "dh3_participant_options.hpp"
+#include "joint_state_message.hpp"
+#include "joint_units.hpp"
+
+namespace dh3::ros2 {
+
+struct Ros2Options {
+  ClientOptions client;
+  /// The ROS namespace relative names resolve in.
+  std::string ros_namespace = "/";
+  /// The JointState topic, as a ROS name; resolved into `joint_states_dds`.
+  std::string joint_states = "joint_states";
+  std::string joint_states_dds;
+  JointNames joint_names;
+  JointUnits units;
+  std::string log_level = "info";
+};
+
+/// Fills `options` from the command line. nullopt: go on; a number: exit with
+/// it (after --help, --version, or a bad option reported on `err`).
+[[nodiscard]] std::optional<int> parse_ros2_options(int argc, const char* const* argv,
+                                                    Ros2Options& options, std::ostream& out,
+                                                    std::ostream& err);
+
+/// The ROS 2 participant's transports, discovery and security: the client's.
+/// Unlike the client's own participant it hears every participant, as ROS 2
+/// nodes are not dh3 services.
+[[nodiscard]] contract::ParticipantOptions ros_participant_options(const ClientOptions& client);
+
+}  // namespace dh3::ros2

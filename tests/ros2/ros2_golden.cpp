@@ -1,0 +1,123 @@
+// Prints dh3-ros2's messages as they go on the wire, one line each:
+// "DDS_TYPE_NAME HEX" (the encapsulation header and the XCDR1 body). The
+// JointState is made from a fixed hand status by dh3-ros2's own conversion
+// with the default units; every other message from fixed values.
+// check_golden.js encodes the same messages with an independent encoder
+// (npm @foxglove/rosmsg2-serialization) and compares.
+
+#include <fastdds/rtps/common/SerializedPayload.h>
+
+#include <cstdio>
+#include <numeric>
+
+#include "joint_state_message.hpp"
+#include "ros2_interfacesPubSubTypes.h"
+
+namespace {
+
+namespace am = action_msgs::msg::dds_;
+namespace as = action_msgs::srv::dds_;
+namespace ca = control_msgs::action::dds_;
+
+constexpr std::int32_t kSec = 1'700'000'000;
+constexpr std::uint32_t kNanosec = 123'456'789;
+
+template <typename PubSub, typename Message>
+void print(Message message) {
+  PubSub type;
+  eprosima::fastrtps::rtps::SerializedPayload_t payload(type.getSerializedSizeProvider(&message)());
+  if (!type.serialize(&message, &payload)) {
+    std::printf("%s SERIALIZE_FAILED\n", type.getName());
+    return;
+  }
+  std::printf("%s ", type.getName());
+  for (std::uint32_t i = 0; i < payload.length; ++i) std::printf("%02x", payload.data[i]);
+  std::printf("\n");
+}
+
+unique_identifier_msgs::msg::dds_::UUID_ uuid() {
+  unique_identifier_msgs::msg::dds_::UUID_ id;
+  std::iota(id.uuid().begin(), id.uuid().end(), std::uint8_t{0});
+  return id;
+}
+
+builtin_interfaces::msg::dds_::Time_ stamp() {
+  builtin_interfaces::msg::dds_::Time_ time;
+  time.sec(kSec);
+  time.nanosec(kNanosec);
+  return time;
+}
+
+am::GoalInfo_ goal_info() {
+  am::GoalInfo_ info;
+  info.goal_id(uuid());
+  info.stamp(stamp());
+  return info;
+}
+
+void print_joint_state() {
+  dh3::HandStatus status;
+  status.address = {"dh3", "bus0", 1};
+  status.online = status.initialized = true;
+  status.grip = dh3::GripState::caught;
+  status.position = 40;
+  status.rotation = 50;
+  status.closing_force = 60;
+  status.read_at_ns = static_cast<std::uint64_t>(kSec) * 1'000'000'000 + kNanosec;
+  print<sensor_msgs::msg::dds_::JointState_PubSubType>(
+      dh3::ros2::joint_state_of(status, dh3::ros2::JointNames{}, dh3::ros2::JointUnits{}));
+}
+
+void print_action_msgs() {
+  am::GoalStatus_ status;
+  status.goal_info(goal_info());
+  status.status(2);
+  am::GoalStatusArray_ array;
+  array.status_list({status, status});
+  print<am::GoalStatusArray_PubSubType>(array);
+  as::CancelGoal_Request_ cancel;
+  cancel.goal_info(goal_info());
+  print<as::CancelGoal_Request_PubSubType>(cancel);
+  as::CancelGoal_Response_ canceling;
+  canceling.return_code(0);
+  canceling.goals_canceling({goal_info()});
+  print<as::CancelGoal_Response_PubSubType>(canceling);
+}
+
+void print_gripper_command() {
+  ca::GripperCommand_SendGoal_Request_ goal;
+  goal.goal_id(uuid());
+  goal.goal().command().position(0.02);
+  goal.goal().command().max_effort(20.0);
+  print<ca::GripperCommand_SendGoal_Request_PubSubType>(goal);
+  ca::GripperCommand_SendGoal_Response_ accepted;
+  accepted.accepted(true);
+  accepted.stamp(stamp());
+  print<ca::GripperCommand_SendGoal_Response_PubSubType>(accepted);
+  ca::GripperCommand_GetResult_Request_ ask;
+  ask.goal_id(uuid());
+  print<ca::GripperCommand_GetResult_Request_PubSubType>(ask);
+  ca::GripperCommand_GetResult_Response_ result;
+  result.status(4);
+  result.result().position(0.0285);
+  result.result().effort(54.0);
+  result.result().stalled(true);
+  result.result().reached_goal(false);
+  print<ca::GripperCommand_GetResult_Response_PubSubType>(result);
+  ca::GripperCommand_FeedbackMessage_ feedback;
+  feedback.goal_id(uuid());
+  feedback.feedback().position(0.05);
+  feedback.feedback().effort(0.0);
+  feedback.feedback().stalled(false);
+  feedback.feedback().reached_goal(false);
+  print<ca::GripperCommand_FeedbackMessage_PubSubType>(feedback);
+}
+
+}  // namespace
+
+int main() {
+  print_joint_state();
+  print_action_msgs();
+  print_gripper_command();
+  return 0;
+}
