@@ -7,6 +7,7 @@
 
 #include "client_endpoints.hpp"
 #include "conversions.hpp"
+#include "hand_lookup.hpp"
 
 namespace dh3::detail {
 
@@ -547,6 +548,17 @@ bool ClientCore::wait_for_statuses(Timeout timeout) {
 Found<HandAddress> ClientCore::wait_for_hand(const HandSpec& spec, Timeout timeout) {
   std::unique_lock lock(mutex_);
   std::optional<Found<HandAddress>> answer;
+  // Refused as soon as the live services' own lists rule the hand out, rather
+  // than at the end of the wait.
+  const auto ruled_out = [&] {
+    std::vector<ServiceInfo> live;
+    for (auto& info : tracker_.infos()) {
+      if (tracker_.alive(info.name)) live.push_back(std::move(info));
+    }
+    auto why = detail::hand_ruled_out(spec, live);
+    if (why) answer = Found<HandAddress>{Code::unknown_hand, std::move(*why)};
+    return why.has_value();
+  };
   const auto check = [&] {
     if (closed_) return true;
     auto resolved = resolve_hand(spec, cache_.known_hands(tracker_.infos()));
@@ -556,9 +568,9 @@ Found<HandAddress> ClientCore::wait_for_hand(const HandSpec& spec, Timeout timeo
         answer = std::move(resolved);
         return true;
       }
-      return false;
+      return ruled_out();
     }
-    if (!cache_.has(*resolved)) return false;
+    if (!cache_.has(*resolved)) return ruled_out();
     answer = std::move(resolved);
     return true;
   };

@@ -167,6 +167,18 @@ TEST_F(ClientLibraryTest, ErrorsCarryTheServicesCodeAndMessage) {
   EXPECT_THAT(bad_bus.message, HasSubstr("no bus 'nobus'"));
 }
 
+TEST_F(ClientLibraryTest, AHandTheServiceDoesNotListIsRefusedWithWhatItLists) {
+  // The wait is long on purpose: the service's own list of its hands answers,
+  // not the end of the wait, and the answer names the hands there are.
+  const auto timeout = std::chrono::seconds(300);
+  for (const std::string& spec : {test_service_name() + "/bus0/9", std::string("bus7/1")}) {
+    auto found = client_.wait_for_hand(spec, timeout);
+    ASSERT_FALSE(found) << spec;
+    EXPECT_EQ(found.code(), Code::unknown_hand) << spec;
+    EXPECT_THAT(found.message(), HasSubstr(hand_spec(1))) << spec;
+  }
+}
+
 TEST_F(ClientLibraryTest, ScanFindsTheHandsOnTheBus) {
   const Reply scan = client_.scan(test_service_name(), "bus0");
   ASSERT_TRUE(scan) << scan.message;
