@@ -192,5 +192,19 @@ TEST(ServiceLifecycle, HelpExitsWithZero) {
   EXPECT_THAT(output, HasSubstr("--allow-admin"));
 }
 
+// --help and the refusal say the same: the simulator runs with neither a
+// config file nor --bus; a config file without buses needs --bus.
+TEST(ServiceLifecycle, AConfigFileWithoutBusesNeedsBusAsHelpSays) {
+  const auto [help_code, help] = run_to_exit("--help");
+  EXPECT_EQ(help_code, 0);
+  EXPECT_THAT(help, HasSubstr("With neither a config file nor --bus it runs the simulator"));
+  EXPECT_THAT(help, HasSubstr("a config file lists its buses, or --bus gives them"));
+
+  TempFile config("name: cell7\n");
+  const auto [code, output] = run_to_exit("--config " + config.path());
+  EXPECT_EQ(code, 2);
+  EXPECT_THAT(output, HasSubstr("no bus configured: give --bus SPEC or buses in the config file"));
+}
+
 }  // namespace
 }  // namespace dh3::test

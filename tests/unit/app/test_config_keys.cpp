@@ -17,6 +17,7 @@
 namespace dh3::app {
 namespace {
 
+using ::testing::AllOf;
 using ::testing::HasSubstr;
 
 // A file in which the key at `path` (a leaf) has `value`: each list level is
@@ -130,6 +131,63 @@ TEST(ConfigKeys, TheParsersDefaultsAreTheDeclaredOnes) {
     ASSERT_NE(key, nullptr) << path;
     EXPECT_EQ(key->fallback, value) << path;
   }
+}
+
+// A rule runs in one place: the command line's value meets the key's range
+// and is refused with the file's words, naming the option instead of the line.
+TEST(ConfigKeys, TheCommandLineMeetsTheKeysOwnRules) {
+  const auto from_file = parse_config("domain: 233\n", "keys.yaml");
+  ASSERT_FALSE(from_file.ok());
+  EXPECT_EQ(from_file.error().message, "keys.yaml:1: domain: 233 is out of range (0-232)");
+  CommandLine line;
+  line.domain = 233;
+  const auto from_line = apply_command_line(default_config(), line);
+  ASSERT_FALSE(from_line.ok());
+  EXPECT_EQ(from_line.error().message, "--domain: 233 is out of range (0-232)");
+
+  line = {};
+  line.security_identity = "../etc";
+  const auto identity = apply_command_line(default_config(), line);
+  ASSERT_FALSE(identity.ok());
+  EXPECT_EQ(identity.error().message,
+            "--security-identity: security identity '../etc' is not a plain name (letters, "
+            "digits, '-', '_', '.')");
+}
+
+// --help's text for an option is its key's: the doc, the range and the
+// default the option struct gives.
+TEST(ConfigKeys, AnOptionsHelpIsItsKeysDeclaration) {
+  const ConfigKey& domain = *find_config_key("domain");
+  EXPECT_EQ(option_name(domain), "--domain");
+  EXPECT_THAT(option_help("domain"), AllOf(HasSubstr(std::string(domain.doc)),
+                                           HasSubstr("0-232"), HasSubstr("default 0")));
+  EXPECT_THAT(option_help("log_level"), HasSubstr("default info"));
+  EXPECT_THAT(option_help("name"), HasSubstr("default " + default_config().name));
+}
+
+// With neither a file nor --bus the service runs the simulator; a file lists
+// its buses or --bus gives them, and the table, --help and the refusal say so.
+TEST(ConfigKeys, WithoutBusesOnlyNoFileAtAllMeansTheSimulator) {
+  const ConfigKey& buses = *find_config_key("buses");
+  EXPECT_THAT(buses.fallback, AllOf(HasSubstr("no file and no --bus"), HasSubstr("sim:1,2,3 as bus0")));
+  EXPECT_THAT(std::string(buses.doc), HasSubstr("needs --bus"));
+  const ServiceConfig no_file = default_config();
+  ASSERT_EQ(no_file.buses.size(), 1U);
+  EXPECT_EQ(no_file.buses[0].name, "bus0");
+  EXPECT_EQ(no_file.buses[0].spec, "sim:1,2,3");
+
+  const auto file = parse_config("name: cell7\n", "cell.yaml");
+  ASSERT_TRUE(file.ok()) << file.error().message;
+  const auto refused = apply_command_line(*file, CommandLine{});
+  ASSERT_FALSE(refused.ok());
+  EXPECT_THAT(refused.error().message,
+              AllOf(HasSubstr("no bus configured"), HasSubstr("--bus"), HasSubstr("config file")));
+  CommandLine line;
+  line.buses = {"sim"};
+  const auto given = apply_command_line(*file, line);
+  ASSERT_TRUE(given.ok()) << given.error().message;
+  EXPECT_EQ(given->name, "cell7");
+  EXPECT_EQ(given->buses.at(0).spec, "sim");
 }
 
 TEST(ConfigKeys, TheDocumentedTableIsTheDeclaration) {

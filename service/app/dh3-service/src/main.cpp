@@ -55,73 +55,69 @@ struct EarlyExit {
   int status = 0;
 };
 
+/// The option of the key at `path` as the keys' table declares it ("-d,--domain").
+std::string option_of(std::string_view path) {
+  return std::string(dh3::app::find_config_key(path)->option);
+}
+
+/// An option of a key: its name and help come from the keys' table, its
+/// value goes to `target` (an optional: set only when given).
+template <class T>
+void add_key_option(CLI::App& cli, std::string_view path, std::optional<T>& target,
+                    std::string_view detail = {}) {
+  auto* option = cli.add_option_function<T>(
+      option_of(path), [&target](const T& value) { target = value; },
+      std::string(detail) + dh3::app::option_help(path));
+  option->allow_extra_args(false);
+}
+
 /// -i, --udp-only, --shared-memory, --discovery-server: straight into `line`.
 void add_transport_options(CLI::App& cli, dh3::app::CommandLine& line) {
-  cli.add_option("-i,--interface", line.interfaces,
-                 "IPv4 address of a network interface for DDS (repeatable), or * for all; "
-                 "default loopback only")
+  using dh3::app::option_help;
+  // One address per -i: a stray word is an error.
+  cli.add_option(option_of("dds.interfaces"), line.interfaces,
+                 "repeatable; " + option_help("dds.interfaces"))
       ->allow_extra_args(false);
-  cli.add_flag("--udp-only", line.udp_only, "UDP only, no shared memory (the default)");
-  cli.add_flag("--shared-memory", line.shared_memory,
-               "also Fast DDS's shared-memory transport on this host (needs Fast DDS 2.12.1 or "
-               "later: 2.9's listener can go deaf after a peer exits)");
-  cli.add_option("--discovery-server", line.discovery_servers,
-                 "a Fast DDS discovery server as HOST[:PORT] (repeatable; the n-th is the "
-                 "server with id n; replaces the file's); default: ROS_DISCOVERY_SERVER if set")
+  cli.add_flag(option_of("dds.udp_only"), line.udp_only, option_help("dds.udp_only"));
+  cli.add_flag(option_of("dds.shared_memory"), line.shared_memory,
+               "needs Fast DDS 2.12.1 or later: 2.9's listener can go deaf after a peer exits; " +
+                   option_help("dds.shared_memory"));
+  cli.add_option(option_of("dds.discovery_servers"), line.discovery_servers,
+                 "repeatable, replaces the file's; " + option_help("dds.discovery_servers"))
       ->allow_extra_args(false);
 }
 
 /// What the command line asks for.
 dh3::Result<Invocation, EarlyExit> parse_command_line(int argc, char** argv) {
+  using dh3::app::option_help;
   Invocation invocation;
   auto& line = invocation.line;
-  auto& config_path = invocation.config_path;
   CLI::App cli{
-      "dh3-service: DH-3 robot hands on DDS. With no config and no --bus it runs the "
-      "simulator with hands 1, 2 and 3."};
-  std::string name;
-  std::string log_level;
-  int domain = 0;
-  cli.add_option("-c,--config", config_path, "YAML configuration file")->check(CLI::ExistingFile);
-  cli.add_option("-b,--bus", line.buses,
-                 "a bus as SPEC or NAME=SPEC (repeatable; replaces the file's buses): sim, "
-                 "sim:1,2,3, socketcan:can0, tcp:HOST:PORT, serial:PATH@BAUD")
-      ->allow_extra_args(false);  // one SPEC per --bus: a stray word is an error
-  auto* name_option = cli.add_option("-n,--name", name, "service name (default dh3)");
-  auto* domain_option = cli.add_option("-d,--domain", domain, "DDS domain id (default 0)");
-  auto* level_option =
-      cli.add_option("-l,--log-level", log_level,
-                     "trace, debug, info, warn, error, critical or off (default info)");
-  cli.add_flag("--allow-admin", line.allow_admin, "accept SET_CAN_ID and SET_BAUD_RATE");
+      "dh3-service: DH-3 robot hands on DDS. With neither a config file nor --bus it runs the "
+      "simulator with hands 1, 2 and 3; a config file lists its buses, or --bus gives them."};
+  cli.add_option("-c,--config", invocation.config_path, "YAML configuration file")
+      ->check(CLI::ExistingFile);
+  // One SPEC per --bus: a stray word is an error.
+  cli.add_option(option_of("buses"), line.buses,
+                 "a bus as SPEC or NAME=SPEC (repeatable; replaces the file's buses): " +
+                     option_help("buses[].spec"))
+      ->allow_extra_args(false);
+  add_key_option(cli, "name", line.name);
+  add_key_option(cli, "domain", line.domain);
+  add_key_option(cli, "log_level", line.log_level);
+  cli.add_flag(option_of("allow_admin"), line.allow_admin, option_help("allow_admin"));
   add_transport_options(cli, line);
-  std::string xml_file;
-  std::string xml_profile;
-  std::string security_dir;
-  std::string security_identity;
-  auto* xml_option =
-      cli.add_option("--xml", xml_file, "Fast DDS XML profiles file for the participant's QoS");
-  auto* profile_option = cli.add_option(
-      "--profile", xml_profile, "participant profile in the --xml file (default: its default)");
-  auto* security_dir_option = cli.add_option(
-      "--security-dir", security_dir,
-      "enable DDS Security with the credentials in DIR (as deploy/security/make-test-pki.sh "
-      "lays them out)");
-  auto* security_identity_option =
-      cli.add_option("--security-identity", security_identity,
-                     "the identity (sub-directory of --security-dir) to use (default service)");
-  std::string metrics_address;
-  auto* metrics_option = cli.add_option(
-      "--metrics", metrics_address,
-      "serve Prometheus metrics at http://HOST:PORT/metrics (e.g. 127.0.0.1:9464; port 0 picks "
-      "a free one, the log says which); empty turns the config file's off");
+  add_key_option(cli, "dds.xml_profile_file", line.xml_profile_file);
+  add_key_option(cli, "dds.xml_profile", line.xml_profile);
+  add_key_option(cli, "dds.security.dir", line.security_dir, "enable DDS Security: ");
+  add_key_option(cli, "dds.security.identity", line.security_identity);
+  add_key_option(cli, "metrics", line.metrics_address,
+                 "e.g. 127.0.0.1:9464, the log says the port; empty turns the file's off; ");
   bool print_config_keys = false;
   cli.add_flag("--config-keys", print_config_keys,
                "print every key of the configuration file (Markdown table) and exit");
-  std::string record_dir;
-  auto* record_option = cli.add_option(
-      "--record", record_dir,
-      "flight recorder: write every frame of every bus, with its time and direction, into DIR "
-      "(candump log format, files BUS.000001.log, ...; a bus's record: settings keep their caps)");
+  add_key_option(cli, "buses[].record.dir", line.record_dir,
+                 "flight recorder of every bus (a bus's record: settings keep their caps): ");
   cli.set_version_flag("--version", DH3_VERSION);
   try {
     cli.parse(argc, argv);
@@ -135,15 +131,6 @@ dh3::Result<Invocation, EarlyExit> parse_command_line(int argc, char** argv) {
     std::fputs(dh3::app::config_keys_table().c_str(), stdout);
     return dh3::fail(EarlyExit{0});
   }
-  if (*name_option) line.name = name;
-  if (*domain_option) line.domain = domain;
-  if (*level_option) line.log_level = log_level;
-  if (*xml_option) line.xml_profile_file = xml_file;
-  if (*profile_option) line.xml_profile = xml_profile;
-  if (*security_dir_option) line.security_dir = security_dir;
-  if (*security_identity_option) line.security_identity = security_identity;
-  if (*metrics_option) line.metrics_address = metrics_address;
-  if (*record_option) line.record_dir = record_dir;
   return invocation;
 }
 

@@ -2,9 +2,11 @@
 // dh3-service's configuration: a YAML file (--config), command-line overrides,
 // and the defaults that run it on the simulator with no configuration at all.
 //
-// Every key of the file, with its type, default, range and meaning, is
-// declared in config_keys.cpp (`dh3-service --config-keys`, docs/configuration.md's
-// table). A small file:
+// Every key of the file, with its type, range, meaning and the field it
+// fills, is declared in config_keys.cpp (`dh3-service --config-keys`, the
+// docs/configuration.md's table); its default is the field's default member below. A file
+// lists its buses (or --bus gives them); only with neither a file nor --bus
+// does the service run the simulator (default_config()). A small file:
 //
 //   name: cell7
 //   dds: {interfaces: [10.0.0.5]}
