@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "dh3/client.hpp"
+#include "hand_actions.hpp"
 #include "joint_state_publisher.hpp"
 #include "ros2_options.hpp"
 #include "ros_participant.hpp"
@@ -43,13 +44,17 @@ int main(int argc, char** argv) {
     std::cerr << "dh3-ros2: " << client.error() << "\n";
     return 1;
   }
+  dh3::ros2::HandActions actions(**participant, client, options.ros_namespace, options.action,
+                                 options.units);
   auto statuses = client.subscribe_status([&](const dh3::HandStatus& status) {
+    actions.on_status(status);
     if (!joint_states->on_status(status)) {
       spdlog::warn("dh3-ros2: the joint state of {} was not written", status.address.to_string());
     }
   });
   // One line on stdout for people and for scripts that start it.
-  std::cout << "dh3-ros2: publishing joint states on " << options.joint_states_dds << " (domain "
+  std::cout << "dh3-ros2: publishing joint states on " << options.joint_states_dds
+            << " and an action per hand, " << options.action << " (domain "
             << options.client.domain << ")" << std::endl;
 
   int signal_number = 0;

@@ -38,7 +38,8 @@ std::optional<int> parse_ros2_options(int argc, const char* const* argv, Ros2Opt
                                       std::ostream& out, std::ostream& err) {
   CLI::App app{
       "dh3-ros2: the DH-3 hands of a DDS domain as ROS 2 sees a gripper: sensor_msgs/JointState "
-      "on a joint_states topic, without linking ROS 2 (docs/ros2.md)."};
+      "on a joint_states topic and a control_msgs/action/GripperCommand action per hand, "
+      "without linking ROS 2 (docs/ros2.md)."};
   app.name("dh3-ros2");
   app.set_version_flag("--version", DH3_VERSION);
   app.add_option("--namespace", options.ros_namespace,
@@ -50,6 +51,9 @@ std::optional<int> parse_ros2_options(int argc, const char* const* argv, Ros2Opt
                  "(default {service}_{bus}_{id}_finger_joint)");
   app.add_option("--rotation-joint", options.joint_names.rotation,
                  "each hand's rotation joint (default {service}_{bus}_{id}_rotation_joint)");
+  app.add_option("--action", options.action,
+                 "each hand's control_msgs/action/GripperCommand action, a pattern of {service}, "
+                 "{bus} and {id} (default {service}_{bus}_{id}/gripper_cmd)");
   add_unit_options(app, options.units);
   app.add_option("--log-level", options.log_level, "trace, debug, info, warn, error (default info)")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));

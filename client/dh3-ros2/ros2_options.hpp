@@ -21,6 +21,9 @@ struct Ros2Options {
   std::string joint_states = "joint_states";
   std::string joint_states_dds;
   JointNames joint_names;
+  /// Each hand's GripperCommand action, a ROS name pattern of {service},
+  /// {bus} and {id}, resolved in the namespace.
+  std::string action = "{service}_{bus}_{id}/gripper_cmd";
   JointUnits units;
   std::string log_level = "info";
 };

@@ -1,0 +1,357 @@
+#include "gripper_action_server.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+
+namespace dh3::ros2 {
+
+namespace {
+
+// action_msgs/msg/GoalStatus and action_msgs/srv/CancelGoal.
+constexpr std::int8_t kAccepted = 1;
+constexpr std::int8_t kExecuting = 2;
+constexpr std::int8_t kCanceling = 3;
+constexpr std::int8_t kSucceeded = 4;
+constexpr std::int8_t kCanceled = 5;
+constexpr std::int8_t kAborted = 6;
+constexpr std::int8_t kErrorNone = 0;
+constexpr std::int8_t kErrorUnknownGoal = 2;
+constexpr std::int8_t kErrorGoalTerminated = 3;
+
+constexpr std::int32_t kMinForcePercent = 20;  // docs/protocol-notes.md reading 4
+constexpr auto kLeaseTtl = std::chrono::seconds(30);
+constexpr auto kFeedbackPeriod = std::chrono::milliseconds(50);
+constexpr auto kMotionDeadline = std::chrono::seconds(30);
+constexpr std::size_t kTerminalGoalsKept = 16;
+
+bool terminal(std::int8_t status) {
+  return status >= kSucceeded;
+}
+
+/// The first event that ends a motion, handed from the client's dispatcher
+/// thread to the goal's.
+class MotionEnd {
+ public:
+  void on_event(const HandEvent& event) {
+    switch (event.kind) {
+      case EventKind::arrived:
+      case EventKind::grasped:
+      case EventKind::missed:
+      case EventKind::dropped:
+      case EventKind::fault:
+      case EventKind::offline:
+        break;
+      default:
+        return;
+    }
+    std::lock_guard lock(mutex_);
+    if (!event_) event_ = event;
+    changed_.notify_all();
+  }
+  std::optional<HandEvent> wait(std::chrono::milliseconds timeout) {
+    std::unique_lock lock(mutex_);
+    changed_.wait_for(lock, timeout, [this] { return event_.has_value(); });
+    return event_;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::optional<HandEvent> event_;
+};
+
+builtin_interfaces::msg::dds_::Time_ now() {
+  const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                      std::chrono::system_clock::now().time_since_epoch())
+                      .count();
+  builtin_interfaces::msg::dds_::Time_ time;
+  time.sec(static_cast<std::int32_t>(ns / 1'000'000'000));
+  time.nanosec(static_cast<std::uint32_t>(ns % 1'000'000'000));
+  return time;
+}
+
+}  // namespace
+
+GripperActionServer::GripperActionServer(RosParticipant& participant, Client& client,
+                                         HandAddress hand, const std::string& action,
+                                         JointUnits units)
+    : client_(client),
+      hand_(std::move(hand)),
+      action_(action),
+      units_(units),
+      feedback_(participant.writer(
+          "rt" + action + "/_action/feedback",
+          eprosima::fastdds::dds::TypeSupport(new gc::GripperCommand_FeedbackMessage_PubSubType()),
+          RosQos::standard)),
+      status_(participant.writer("rt" + action + "/_action/status",
+                                 eprosima::fastdds::dds::TypeSupport(
+                                     new action_msgs::msg::dds_::GoalStatusArray_PubSubType()),
+                                 RosQos::action_status)),
+      send_goal_(participant, action + "/_action/send_goal",
+                 [this](const auto& request, const RequestId& id) { on_send_goal(request, id); }),
+      cancel_goal_(
+          participant, action + "/_action/cancel_goal",
+          [this](const auto& request, const RequestId& id) { on_cancel_goal(request, id); }),
+      get_result_(
+          participant, action + "/_action/get_result",
+          [this](const auto& request, const RequestId& id) { on_get_result(request, id); }) {}
+
+GripperActionServer::~GripperActionServer() {
+  std::vector<std::thread> workers;
+  {
+    std::lock_guard lock(mutex_);
+    for (auto& [id, goal] : goals_) goal->cancel = true;
+    workers.swap(workers_);
+  }
+  for (auto& worker : workers) worker.join();
+}
+
+bool GripperActionServer::ok() const {
+  return feedback_ != nullptr && status_ != nullptr && send_goal_.ok() && cancel_goal_.ok() &&
+         get_result_.ok();
+}
+
+Result<GripperActionServer::Target, std::string> GripperActionServer::target_of(
+    const control_msgs::msg::dds_::GripperCommand_& command) {
+  const auto status = client_.status(hand_);
+  if (!status) return fail("no such hand");
+  if (!status->online) return fail(std::string("the hand is offline"));
+  if (!status->initialized) return fail(std::string("the hand is not initialized"));
+  Target target;
+  const auto position = units_.opening_percent(command.position());
+  if (!position) return fail("position " + std::to_string(command.position()) + " out of range");
+  target.position = *position;
+  if (command.max_effort() > 0.0 || std::isnan(command.max_effort())) {
+    const auto force = units_.force_percent(command.max_effort());
+    if (!force || *force < kMinForcePercent) {
+      return fail("max_effort " + std::to_string(command.max_effort()) + " out of range");
+    }
+    target.force = force;
+  }
+  return target;
+}
+
+void GripperActionServer::on_send_goal(const gc::GripperCommand_SendGoal_Request_& request,
+                                       const RequestId& id) {
+  gc::GripperCommand_SendGoal_Response_ response;
+  response.stamp(now());
+  auto target = target_of(request.goal().command());
+  if (!target) {
+    spdlog::info("dh3-ros2: {} rejects a goal: {}", action_, target.error());
+    response.accepted(false);
+    send_goal_.reply(id, response);
+    return;
+  }
+  auto goal = std::make_shared<Goal>();
+  goal->id = request.goal_id().uuid();
+  goal->stamp = response.stamp();
+  goal->status = kAccepted;
+  {
+    std::lock_guard lock(mutex_);
+    if (goals_.count(goal->id) != 0) {
+      response.accepted(false);  // a goal id is used once
+    } else {
+      response.accepted(true);
+      goals_[goal->id] = goal;
+      publish_status_locked();
+    }
+  }
+  send_goal_.reply(id, response);
+  if (!response.accepted()) return;
+  std::lock_guard lock(mutex_);
+  workers_.emplace_back([this, goal, target = *target] { execute(goal, target); });
+}
+
+void GripperActionServer::execute(const std::shared_ptr<Goal>& goal, Target target) {
+  {
+    std::lock_guard lock(mutex_);
+    if (running_) running_->cancel = true;  // a new goal preempts the one running
+  }
+  // One goal at a time holds the hand (and this client's lease on it).
+  std::lock_guard executing(executing_);
+  {
+    std::lock_guard lock(mutex_);
+    running_ = goal;
+  }
+  if (goal->cancel) {  // cancelled while it waited
+    finish(goal, kCanceled, state_of(client_.status(hand_)));
+    return;
+  }
+  Hand hand = client_.hand(hand_);
+  std::int8_t end = kAborted;
+  if (auto lease = hand.acquire_lease(kLeaseTtl); !lease) {
+    spdlog::warn("dh3-ros2: {} aborts a goal: lease: {}", action_, lease.message);
+  } else {
+    end = move(hand, goal, target);
+    hand.release_lease();
+  }
+  finish(goal, end, state_of(hand.status()));
+  std::lock_guard lock(mutex_);
+  if (running_ == goal) running_.reset();
+}
+
+std::int8_t GripperActionServer::move(Hand& hand, const std::shared_ptr<Goal>& goal,
+                                      Target target) {
+  if (target.force) {
+    if (auto set = hand.set_force(*target.force); !set) {
+      spdlog::warn("dh3-ros2: {} aborts a goal: force: {}", action_, set.message);
+      return kAborted;
+    }
+  }
+  {
+    std::lock_guard lock(mutex_);
+    set_status(*goal, kExecuting);
+  }
+  // A move is answered when the hand took it; the motion's end is an event.
+  MotionEnd end;
+  auto watching = hand.subscribe([&end](const HandEvent& event) { end.on_event(event); });
+  if (auto started = hand.move_to(target.position); !started) {
+    if (goal->cancel) return kCanceled;
+    spdlog::warn("dh3-ros2: {} aborts a goal: {}: {}", action_, to_string(started.code),
+                 started.message);
+    return kAborted;
+  }
+  const auto deadline = std::chrono::steady_clock::now() + kMotionDeadline;
+  std::optional<HandEvent> ended;
+  while (!(ended = end.wait(kFeedbackPeriod))) {
+    if (goal->cancel) {
+      hand.stop();
+      return kCanceled;
+    }
+    if (std::chrono::steady_clock::now() > deadline) {
+      spdlog::warn("dh3-ros2: {} aborts a goal: the motion did not end", action_);
+      return kAborted;
+    }
+    publish_feedback(*goal, state_of(hand.status()));
+  }
+  if (ended->kind != EventKind::arrived && ended->kind != EventKind::grasped &&
+      ended->kind != EventKind::missed) {
+    spdlog::warn("dh3-ros2: {} aborts a goal: {} {}", action_, to_string(ended->kind),
+                 ended->message);
+    return kAborted;
+  }
+  // Where the fingers stopped is read just after the event.
+  const auto at = ended->timestamp_ns;
+  hand.wait_until(
+      [at](const HandStatus& s) { return s.grip != GripState::moving && s.read_at_ns > at; },
+      std::chrono::milliseconds(kMotionDeadline));
+  return kSucceeded;
+}
+
+void GripperActionServer::publish_feedback(const Goal& goal,
+                                           const gc::GripperCommand_Result_& state) {
+  gc::GripperCommand_FeedbackMessage_ feedback;
+  feedback.goal_id().uuid(goal.id);
+  feedback.feedback().position(state.position());
+  feedback.feedback().effort(state.effort());
+  feedback.feedback().stalled(state.stalled());
+  feedback.feedback().reached_goal(state.reached_goal());
+  feedback_->write(&feedback);
+}
+
+gc::GripperCommand_Result_ GripperActionServer::state_of(
+    const std::optional<HandStatus>& status) const {
+  gc::GripperCommand_Result_ result;
+  if (!status || status->position < 0) return result;
+  result.position(units_.opening(status->position));
+  result.stalled(status->grip == GripState::caught);
+  result.effort(result.stalled() ? units_.force(status->closing_force) : 0.0);
+  result.reached_goal(status->grip == GripState::arrived);
+  return result;
+}
+
+void GripperActionServer::finish(const std::shared_ptr<Goal>& goal, std::int8_t status,
+                                 gc::GripperCommand_Result_ result) {
+  std::vector<RequestId> waiting;
+  {
+    std::lock_guard lock(mutex_);
+    goal->result = result;
+    set_status(*goal, status);
+    waiting.swap(goal->waiting_for_result);
+    forget_old_goals_locked();
+  }
+  gc::GripperCommand_GetResult_Response_ response;
+  response.status(status);
+  response.result(result);
+  for (const auto& id : waiting) get_result_.reply(id, response);
+}
+
+void GripperActionServer::on_get_result(const gc::GripperCommand_GetResult_Request_& request,
+                                        const RequestId& id) {
+  gc::GripperCommand_GetResult_Response_ response;
+  {
+    std::lock_guard lock(mutex_);
+    const auto found = goals_.find(request.goal_id().uuid());
+    if (found != goals_.end() && !terminal(found->second->status)) {
+      found->second->waiting_for_result.push_back(id);  // answered when it ends
+      return;
+    }
+    if (found != goals_.end()) {
+      response.status(found->second->status);
+      response.result(found->second->result);
+    }  // an unknown goal: STATUS_UNKNOWN
+  }
+  get_result_.reply(id, response);
+}
+
+void GripperActionServer::on_cancel_goal(const action_msgs::srv::dds_::CancelGoal_Request_& request,
+                                         const RequestId& id) {
+  action_msgs::srv::dds_::CancelGoal_Response_ response;
+  const Uuid& wanted = request.goal_info().goal_id().uuid();
+  const bool every = std::all_of(wanted.begin(), wanted.end(), [](auto b) { return b == 0; });
+  {
+    std::lock_guard lock(mutex_);
+    bool known = false;
+    for (auto& [goal_id, goal] : goals_) {
+      if (!every && goal_id != wanted) continue;
+      known = true;
+      if (terminal(goal->status)) continue;
+      goal->cancel = true;
+      set_status(*goal, kCanceling);
+      action_msgs::msg::dds_::GoalInfo_ info;
+      info.goal_id().uuid(goal_id);
+      info.stamp(goal->stamp);
+      response.goals_canceling().push_back(info);
+    }
+    response.return_code(!response.goals_canceling().empty() ? kErrorNone
+                         : known || every                    ? kErrorGoalTerminated
+                                                             : kErrorUnknownGoal);
+  }
+  cancel_goal_.reply(id, response);
+}
+
+void GripperActionServer::set_status(Goal& goal, std::int8_t status) {
+  goal.status = status;
+  publish_status_locked();
+}
+
+void GripperActionServer::publish_status_locked() {
+  action_msgs::msg::dds_::GoalStatusArray_ array;
+  for (const auto& [id, goal] : goals_) {
+    action_msgs::msg::dds_::GoalStatus_ status;
+    status.goal_info().goal_id().uuid(id);
+    status.goal_info().stamp(goal->stamp);
+    status.status(goal->status);
+    array.status_list().push_back(status);
+  }
+  status_->write(&array);
+}
+
+void GripperActionServer::forget_old_goals_locked() {
+  std::vector<std::shared_ptr<Goal>> ended;
+  for (const auto& [id, goal] : goals_) {
+    if (terminal(goal->status)) ended.push_back(goal);
+  }
+  if (ended.size() <= kTerminalGoalsKept) return;
+  std::sort(ended.begin(), ended.end(), [](const auto& a, const auto& b) {
+    return std::make_pair(a->stamp.sec(), a->stamp.nanosec()) <
+           std::make_pair(b->stamp.sec(), b->stamp.nanosec());
+  });
+  for (std::size_t i = 0; i + kTerminalGoalsKept < ended.size(); ++i) goals_.erase(ended[i]->id);
+}
+
+}  // namespace dh3::ros2
