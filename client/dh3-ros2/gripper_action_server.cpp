@@ -204,7 +204,7 @@ std::int8_t GripperActionServer::move(Hand& hand, const std::shared_ptr<Goal>& g
   }
   {
     std::lock_guard lock(mutex_);
-    set_status(*goal, kExecuting);
+    if (!goal->cancel) set_status(*goal, kExecuting);  // CANCELING stays
   }
   // A move is answered when the hand took it; the motion's end is an event.
   MotionEnd end;

@@ -154,6 +154,22 @@ TEST_F(Ros2ActionTest, AGoalMovesTheHandWithFeedbackAndReachesIt) {
   EXPECT_TRUE(hand.wait_until([](const HandStatus& s) { return s.lease_holder.empty(); }))
       << "the goal kept the lease";
   EXPECT_TRUE(hand.move_to(100));
+
+  // A status reader that joins now gets the goal's end (TRANSIENT_LOCAL, depth 1).
+  auto* status = participant_->reader(
+      "rt" + action_of(2) + "/_action/status",
+      eprosima::fastdds::dds::TypeSupport(new action_msgs::msg::dds_::GoalStatusArray_PubSubType()),
+      ros2::RosQos::action_status, nullptr);
+  ASSERT_NE(status, nullptr);
+  EXPECT_TRUE(wait_for_sample<action_msgs::msg::dds_::GoalStatusArray_>(
+      status,
+      [](const auto& array) {
+        return array.status_list().size() == 1 &&
+               array.status_list()[0].goal_info().goal_id().uuid() == goal_id(1) &&
+               array.status_list()[0].status() == kSucceeded;
+      },
+      kClientDeadline))
+      << "a late status reader did not get the succeeded goal";
 }
 
 TEST_F(Ros2ActionTest, ClosingOnAnObjectStalls) {
