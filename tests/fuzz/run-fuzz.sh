@@ -34,6 +34,7 @@ fi
 
 flags=(-std=c++20 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all)
 for layer in base protocol bus hand dds; do flags+=(-I "$root/service/$layer/include"); done
+flags+=(-I "$root/service/dds/src")  # the request validation is private to the DDS side
 protocol=("$root"/service/protocol/src/*.cpp)
 status=0
 

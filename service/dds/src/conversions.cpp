@@ -1,4 +1,4 @@
-#include "dh3/dds/conversions.hpp"
+#include "conversions.hpp"
 
 #include <chrono>
 

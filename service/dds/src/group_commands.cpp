@@ -9,7 +9,7 @@
 #include <memory>
 #include <mutex>
 
-#include "dh3/dds/conversions.hpp"
+#include "conversions.hpp"
 #include "dh3/hand/group_release.hpp"
 
 namespace dh3::dds {

@@ -10,14 +10,14 @@
 #include <vector>
 
 #include "dh3/base/clock.hpp"
-#include "dh3/dds/group_validation.hpp"
-#include "dh3/dds/hand_directory.hpp"
-#include "dh3/dds/lease_table.hpp"
-#include "dh3/dds/request_validation.hpp"
 #include "dh3/dds/service.hpp"
 #include "dh3_idl/dh3.h"
+#include "group_validation.hpp"
+#include "hand_directory.hpp"
+#include "lease_table.hpp"
 #include "reply_sink.hpp"
 #include "request_handler.hpp"
+#include "request_validation.hpp"
 
 namespace dh3::dds {
 

@@ -1,10 +1,10 @@
-#include "dh3/dds/group_validation.hpp"
+#include "group_validation.hpp"
 
 #include <set>
 #include <utility>
 
-#include "dh3/dds/conversions.hpp"
-#include "dh3/hand/hand_driver_states.hpp"
+#include "conversions.hpp"
+#include "dh3/hand/command_validation.hpp"
 
 namespace dh3::dds {
 namespace {

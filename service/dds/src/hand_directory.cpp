@@ -1,4 +1,4 @@
-#include "dh3/dds/hand_directory.hpp"
+#include "hand_directory.hpp"
 
 namespace dh3::dds {
 

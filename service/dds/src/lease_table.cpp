@@ -1,4 +1,4 @@
-#include "dh3/dds/lease_table.hpp"
+#include "lease_table.hpp"
 
 #include <cctype>
 

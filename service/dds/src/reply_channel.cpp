@@ -10,7 +10,7 @@
 #include <string>
 #include <string_view>
 
-#include "dh3/dds/conversions.hpp"
+#include "conversions.hpp"
 #include "dh3_participant.hpp"
 
 namespace dh3::dds {

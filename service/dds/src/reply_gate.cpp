@@ -1,4 +1,4 @@
-#include "dh3/dds/reply_gate.hpp"
+#include "reply_gate.hpp"
 
 #include <algorithm>
 #include <iterator>

@@ -7,7 +7,7 @@
 
 #include <chrono>
 
-#include "dh3/dds/conversions.hpp"
+#include "conversions.hpp"
 #include "expiry_timer.hpp"
 #include "status_publisher.hpp"
 

@@ -12,13 +12,13 @@
 #include <string>
 #include <vector>
 
-#include "dh3/dds/hand_directory.hpp"
-#include "dh3/dds/lease_table.hpp"
-#include "dh3/dds/request_validation.hpp"
 #include "dh3/dds/service.hpp"
 #include "dh3/hand/bus_scheduler.hpp"
 #include "dh3_idl/dh3.h"
+#include "hand_directory.hpp"
+#include "lease_table.hpp"
 #include "reply_sink.hpp"
+#include "request_validation.hpp"
 
 namespace dh3::dds {
 

@@ -1,10 +1,10 @@
-#include "dh3/dds/request_validation.hpp"
+#include "request_validation.hpp"
 
 #include <chrono>
 #include <cstdio>
 #include <optional>
 
-#include "dh3/dds/conversions.hpp"
+#include "conversions.hpp"
 #include "dh3/hand/command_validation.hpp"
 #include "dh3/protocol/registers.hpp"
 #include "dh3_value_ranges.hpp"

@@ -31,9 +31,7 @@
 #include <string>
 #include <vector>
 
-#include "dh3/dds/conversions.hpp"
-#include "dh3/dds/hand_directory.hpp"
-#include "dh3/dds/lease_table.hpp"
+#include "conversions.hpp"
 #include "dh3/dds/service.hpp"
 #include "dh3_idl/dh3PubSubTypes.h"
 #include "dh3_participant.hpp"
@@ -41,6 +39,8 @@
 #include "dh3_qos.hpp"
 #include "expiry_timer.hpp"
 #include "group_commands.hpp"
+#include "hand_directory.hpp"
+#include "lease_table.hpp"
 #include "reply_channel.hpp"
 #include "request_handler.hpp"
 #include "status_publisher.hpp"

@@ -9,7 +9,7 @@
 #include <chrono>
 #include <utility>
 
-#include "dh3/dds/conversions.hpp"
+#include "conversions.hpp"
 
 namespace dh3::dds {
 

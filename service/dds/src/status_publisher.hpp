@@ -16,11 +16,11 @@
 
 #include "dh3/base/clock.hpp"
 #include "dh3/bus/bus.hpp"
-#include "dh3/dds/hand_directory.hpp"
-#include "dh3/dds/lease_table.hpp"
 #include "dh3/dds/service.hpp"
 #include "dh3/hand/hand_types.hpp"
 #include "dh3_idl/dh3.h"
+#include "hand_directory.hpp"
+#include "lease_table.hpp"
 
 namespace dh3::dds {
 

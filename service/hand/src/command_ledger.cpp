@@ -6,6 +6,7 @@
 
 #include <utility>
 
+#include "dh3/hand/command_validation.hpp"
 #include "dh3/hand/group_release.hpp"
 
 namespace dh3::hand {

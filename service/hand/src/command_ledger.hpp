@@ -17,9 +17,9 @@
 #include <string>
 
 #include "dh3/base/clock.hpp"
-#include "dh3/hand/hand_driver_states.hpp"
 #include "dh3/hand/hand_types.hpp"
 #include "hand_counters.hpp"
+#include "hand_driver_states.hpp"
 #include "hand_outbox.hpp"
 
 namespace dh3::hand {

@@ -87,4 +87,26 @@ Result<void, ValidationFailure> validate(std::uint8_t can_id, const Command& com
   return invalid("unknown command");
 }
 
+bool moves_fingers(const Command& command) {
+  switch (command.kind) {
+    case CommandKind::move_to:
+    case CommandKind::grasp:
+    case CommandKind::release:
+      return true;
+    case CommandKind::write_register:
+      return command.reg == protocol::reg::kPosition;
+    default:
+      return false;
+  }
+}
+
+bool moves_rotation(const Command& command) {
+  return command.kind == CommandKind::rotate_to ||
+         (command.kind == CommandKind::write_register && command.reg == protocol::reg::kRotation);
+}
+
+bool needs_initialization(const Command& command) {
+  return moves_fingers(command) || moves_rotation(command) || command.kind == CommandKind::stop;
+}
+
 }  // namespace dh3::hand

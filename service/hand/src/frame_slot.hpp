@@ -12,8 +12,8 @@
 #include <optional>
 
 #include "dh3/base/clock.hpp"
-#include "dh3/hand/hand_driver_states.hpp"
 #include "dh3/protocol/codec.hpp"
+#include "hand_driver_states.hpp"
 
 namespace dh3::hand {
 

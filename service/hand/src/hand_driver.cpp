@@ -278,13 +278,11 @@ std::optional<Message> HandDriver::background_frame(TimePoint now) {
 
 std::optional<Message> HandDriver::online_frame(Online& on, TimePoint now) {
   const std::uint8_t id = state_.can_id;
-  if (end_of_motion_.read_due) {
-    end_of_motion_.read_due = false;
+  if (fingers_.take_read_due()) {
     return slot_.send(protocol::make_read(id, reg::kPosition), Purpose::confirm_position, now, true,
                       options_.reply_timeout);
   }
-  if (end_of_rotation_.read_due) {
-    end_of_rotation_.read_due = false;
+  if (rotation_.take_read_due()) {
     return slot_.send(protocol::make_read(id, reg::kRotation), Purpose::confirm_rotation, now, true,
                       options_.reply_timeout);
   }
@@ -319,7 +317,7 @@ void HandDriver::finger_motion_sent(std::int32_t target, bool gripping) {
   // A grasp or release waiting for the previous motion to end is superseded.
   ledger_.finish_motion_waiter(fail(CommandError::cancelled));
   ++finger_epoch_;
-  finger_motion_ = FingerMotion{target, gripping, state_.position < 0 || target < state_.position};
+  fingers_.start(FingerMotion{target, gripping, state_.position < 0 || target < state_.position});
   hold_untouched_ = false;
   state_.target_position = target;
   state_.grip = GripState::moving;
@@ -327,7 +325,7 @@ void HandDriver::finger_motion_sent(std::int32_t target, bool gripping) {
 
 void HandDriver::rotation_motion_sent(std::int32_t target) {
   if (active()) active()->motion_sent = true;
-  rotation_motion_ = RotationMotion{target};
+  rotation_.start(RotationMotion{target});
   state_.rotation_target = target;
   state_.rotation_state = RotationState::moving;
 }
@@ -364,12 +362,12 @@ PollPlan HandDriver::poll_plan() const {
   // Status 0 also means "default" (after power-on or initialization), so only
   // motions we commanded count as moving.
   PollActivity activity;
-  if (finger_motion_) {
-    activity.fingers = finger_motion_->closing ? FingerActivity::closing : FingerActivity::opening;
+  if (const auto& motion = fingers_.motion()) {
+    activity.fingers = motion->closing ? FingerActivity::closing : FingerActivity::opening;
   } else if (state_.grip == GripState::caught) {
     activity.fingers = FingerActivity::holding;
   }
-  activity.rotating = rotation_motion_.has_value();
+  activity.rotating = rotation_.motion().has_value();
   activity.initializing = initializing() != nullptr;
   return plan_polls(activity,
                     PollIntervals{options_.poll_interval_watch, options_.poll_interval_moving,
@@ -389,12 +387,8 @@ void HandDriver::on_answer(TimePoint now) {
 
 void HandDriver::lose_link(TimePoint now, LinkLoss loss, const std::string& why) {
   slot_.clear();
-  finger_motion_.reset();
-  rotation_motion_.reset();
-  end_of_motion_.read_due = false;
-  end_of_motion_.recheck_arrival = false;
-  end_of_rotation_.read_due = false;
-  end_of_rotation_.recheck_arrival = false;
+  fingers_.clear();
+  rotation_.clear();
   const bool was_online = online() != nullptr;
   // Probed again after the probe interval; a returning link probes at once.
   link_ = Offline{now + options_.offline_probe_interval};
@@ -479,10 +473,10 @@ void HandDriver::on_timeout(const FrameSlot::Expired& expired, TimePoint now) {
                                                  protocol::describe(lost.message), lost.attempts));
     ledger_.finish_active(fail(CommandError::timeout));
   } else if (lost.purpose == Purpose::confirm_position) {
-    end_of_motion_.recheck_arrival = false;  // the status is read again anyway
-    on_position_confirmed();                 // with the position as last read
+    fingers_.read_lost();
+    on_position_confirmed();  // with the position as last read
   } else if (lost.purpose == Purpose::confirm_rotation) {
-    end_of_rotation_.recheck_arrival = false;
+    rotation_.read_lost();
   }
   // Polls and probes are simply read again later.
   if (online() && !anonymous_ && consecutive_timeouts_ >= options_.offline_after_timeouts) {
@@ -510,7 +504,7 @@ std::optional<TimePoint> HandDriver::next_wakeup() const {
       // never polled or probed
     } else if (const auto* offline = std::get_if<Offline>(&link_)) {
       consider(std::max(slot_.paced_until(), offline->next_probe_at));
-    } else if (const Online* on = online(); end_of_motion_.read_due || end_of_rotation_.read_due ||
+    } else if (const Online* on = online(); fingers_.read_due() || rotation_.read_due() ||
                                             (init && init->check_now) || !on->refresh.empty()) {
       consider(slot_.paced_until());
     } else {

@@ -17,11 +17,13 @@
 //   if it is not known yet, so a command right after start-up is not refused
 //   for lack of knowledge.
 //
-// It coordinates three collaborators, each owning its state: a FrameSlot (the
+// It coordinates its collaborators, each owning its state: a FrameSlot (the
 // one frame in flight, its re-send, the pacing; frame_slot.hpp), a
 // CommandLedger (the commands queued, being sent or waiting for the hand, and
-// their completions; command_ledger.hpp) and a HandOutbox (what a pass
-// reports, held until the pass ends; hand_outbox.hpp). Its own code:
+// their completions; command_ledger.hpp), a HandOutbox (what a pass
+// reports, held until the pass ends; hand_outbox.hpp) and an AxisWatch per
+// axis, fingers and rotation (the motion, the read of where it stopped, an
+// arrival that may be stale; axis_watch.hpp). Its own code:
 // hand_driver.cpp (commands in, frames out, lifecycle, time, reporting) and
 // hand_driver_receiving.cpp (replies and what they change).
 
@@ -35,15 +37,16 @@
 #include <variant>
 #include <vector>
 
+#include "axis_watch.hpp"
 #include "command_ledger.hpp"
 #include "dh3/bus/bus.hpp"
 #include "dh3/hand/bus_scheduler.hpp"
-#include "dh3/hand/hand_driver_states.hpp"
 #include "dh3/hand/hand_roster.hpp"
 #include "dh3/hand/hand_types.hpp"
 #include "dh3/protocol/codec.hpp"
 #include "frame_slot.hpp"
 #include "hand_counters.hpp"
+#include "hand_driver_states.hpp"
 #include "hand_outbox.hpp"
 
 namespace dh3::hand {
@@ -146,8 +149,8 @@ class HandDriver {
   void advance_job(const protocol::Message& reply, TimePoint now);
   void advance_stop(StopStep& step, const protocol::Message& reply);
   void apply_read(protocol::Register reg, const protocol::Message& reply, TimePoint now);
-  void on_grip_status(std::int32_t status, TimePoint now, bool may_recheck = true);
-  void on_rotation_status(std::int32_t status, TimePoint now, bool may_recheck = true);
+  void on_grip_status(std::int32_t status, TimePoint now);
+  void on_rotation_status(std::int32_t status, TimePoint now);
   void on_initialized_flag(std::int32_t value, TimePoint now);
   /// Where the fingers stopped was read: a grasp or release waiting for it ends.
   void on_position_confirmed();
@@ -204,16 +207,11 @@ class HandDriver {
   /// Inside next_group_frame(): a released group frame may pass its gate.
   bool releasing_group_ = false;
 
-  // Motions. The epoch counts finger position writes sent.
-  std::optional<FingerMotion> finger_motion_;
-  std::optional<RotationMotion> rotation_motion_;
+  // Motions, one watch per axis. The epoch counts finger position writes sent.
+  AxisWatch<FingerMotion> fingers_;
+  AxisWatch<RotationMotion> rotation_;
   std::uint64_t finger_epoch_ = 0;
   bool hold_untouched_ = false;  ///< holding a catch, no finger command sent since
-  EndOfMotion end_of_motion_;
-  EndOfRotation end_of_rotation_;
-  /// Status values outside the document, reported once per axis.
-  std::int32_t last_undefined_grip_status_ = 0;
-  std::int32_t last_undefined_rotation_status_ = 0;
 };
 
 }  // namespace dh3::hand

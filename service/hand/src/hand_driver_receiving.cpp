@@ -4,8 +4,8 @@
 
 #include <fmt/format.h>
 
-#include "dh3/hand/status_reading.hpp"
 #include "hand_driver.hpp"
+#include "status_reading.hpp"
 
 namespace dh3::hand {
 namespace {
@@ -59,20 +59,17 @@ void HandDriver::on_reply(const InFlight& sent, const Message& reply, TimePoint 
       return;
     case Purpose::confirm_position:
       apply_read(reply.reg, reply, now);
-      if (end_of_motion_.recheck_arrival) {
-        end_of_motion_.recheck_arrival = false;
-        on_grip_status(static_cast<std::int32_t>(FingerStatus::arrived), now, false);
-        end_of_motion_.read_due = false;  // this read is where the fingers stopped
-      }
+      if (fingers_.rechecking())
+        on_grip_status(static_cast<std::int32_t>(FingerStatus::arrived), now);
+      fingers_.read_answered();
       on_position_confirmed();
       return;
     case Purpose::confirm_rotation:
       apply_read(reply.reg, reply, now);
-      if (end_of_rotation_.recheck_arrival) {
-        end_of_rotation_.recheck_arrival = false;
-        on_rotation_status(static_cast<std::int32_t>(RotationStatus::arrived), now, false);
-        end_of_rotation_.read_due = false;  // this read is where the rotation stopped
+      if (rotation_.rechecking()) {
+        on_rotation_status(static_cast<std::int32_t>(RotationStatus::arrived), now);
       }
+      rotation_.read_answered();
       return;
   }
 }
@@ -86,7 +83,7 @@ void HandDriver::on_position_confirmed() {
 void HandDriver::apply_read(Register r, const Message& reply, TimePoint now) {
   if (r == reg::kPosition) {
     state_.position = reply.data;
-    if (finger_motion_) finger_motion_->position_read = true;
+    fingers_.value_read();
   } else if (r == reg::kGripStatus) {
     on_grip_status(protocol::status_value(reply), now);
   } else if (r == reg::kRotation) {
@@ -139,8 +136,8 @@ bool HandDriver::on_write_echo(const Message& sent, const Message& reply, TimePo
   if (sent.reg == reg::kInitialize) {
     // Initialization (re)started: not initialized until 0x0802 reads 1.
     set_init(Initializing{now + options_.init_timeout, now + options_.poll_interval_moving});
-    finger_motion_.reset();
-    rotation_motion_.reset();
+    fingers_.forget_motion();
+    rotation_.forget_motion();
   }
   return true;
 }
@@ -236,18 +233,13 @@ void HandDriver::on_initialized_flag(std::int32_t value, TimePoint now) {
   }
 }
 
-void HandDriver::on_grip_status(std::int32_t status, TimePoint now, bool may_recheck) {
+void HandDriver::on_grip_status(std::int32_t status, TimePoint now) {
   const GripReading reading =
-      read_grip_status(status, FingerView{state_.grip, finger_motion_, hold_untouched_,
-                                          state_.position, last_undefined_grip_status_});
-  if (finger_motion_ && status == static_cast<std::int32_t>(FingerStatus::moving)) {
-    finger_motion_->moving_seen = true;
-  }
-  if (reading.stale && may_recheck && status == static_cast<std::int32_t>(FingerStatus::arrived)) {
-    // A 2 before any 0 of this motion, with the position last read far from
-    // the target: the arrival of a short motion, or from before it. Read now.
-    end_of_motion_.recheck_arrival = true;
-    end_of_motion_.read_due = true;
+      read_grip_status(status, FingerView{state_.grip, fingers_.motion(), hold_untouched_,
+                                          state_.position, fingers_.last_undefined()});
+  if (!fingers_.take_status(status == static_cast<std::int32_t>(FingerStatus::moving),
+                            reading.stale,
+                            status == static_cast<std::int32_t>(FingerStatus::arrived))) {
     return;
   }
   if (reading.hold_starts) hold_untouched_ = true;
@@ -260,7 +252,7 @@ void HandDriver::on_grip_status(std::int32_t status, TimePoint now, bool may_rec
     emit(EventKind::dropped, now, status,
          fmt::format("object lost at position {} while holding", state_.position));
   } else if (reading.event == EventKind::fault) {
-    last_undefined_grip_status_ = status;
+    fingers_.undefined_reported(status);
     emit(EventKind::fault, now, status,
          fmt::format("grip status {} is not one the document defines", status));
   }
@@ -273,13 +265,11 @@ void HandDriver::finger_motion_ended(GripState grip, EventKind event, TimePoint 
   // stopped is read next: a status sample then says it, and a grasp or release
   // waiting for the motion ends with it. Not when a read during this motion
   // found them at the target and the status says they stopped without a catch.
-  const bool stopped_at_target = event != EventKind::grasped && finger_motion_ &&
-                                 finger_motion_->position_read &&
-                                 state_.position == finger_motion_->target;
-  finger_motion_.reset();
+  const bool stopped_at_target =
+      event != EventKind::grasped && fingers_.read_at_target(state_.position);
+  fingers_.end(stopped_at_target);
   // A grasp is explained by the force it holds with; an arrival by its status.
   emit(event, now, event == EventKind::grasped ? state_.closing_force : 2);
-  end_of_motion_.read_due = !stopped_at_target;
   if (MotionWaiter* waiter = ledger_.motion_waiter();
       waiter && waiter->epoch == finger_epoch_ && !waiter->outcome) {
     // The result carries where the fingers stopped, after the same read.
@@ -290,27 +280,21 @@ void HandDriver::finger_motion_ended(GripState grip, EventKind event, TimePoint 
   if (stopped_at_target) on_position_confirmed();
 }
 
-void HandDriver::on_rotation_status(std::int32_t status, TimePoint now, bool may_recheck) {
+void HandDriver::on_rotation_status(std::int32_t status, TimePoint now) {
   const RotationReading reading = read_rotation_status(
-      status, RotationView{rotation_motion_, state_.rotation, last_undefined_rotation_status_});
-  if (rotation_motion_ && status == static_cast<std::int32_t>(RotationStatus::moving)) {
-    rotation_motion_->moving_seen = true;
-  }
-  if (reading.stale && may_recheck) {
-    // A 2 before any 0, far from the target as last read: read the rotation.
-    end_of_rotation_.recheck_arrival = true;
-    end_of_rotation_.read_due = true;
+      status, RotationView{rotation_.motion(), state_.rotation, rotation_.last_undefined()});
+  if (!rotation_.take_status(status == static_cast<std::int32_t>(RotationStatus::moving),
+                             reading.stale,
+                             status == static_cast<std::int32_t>(RotationStatus::arrived))) {
     return;
   }
-  if (reading.motion_ended) rotation_motion_.reset();
   if (reading.state) state_.rotation_state = *reading.state;
-  if (reading.event == EventKind::rotation_arrived ||
-      reading.event == EventKind::rotation_blocked) {
+  if (reading.motion_ended) {
     // Reported now, with the rotation last read; where it stopped is read next.
+    rotation_.end(false);
     emit_rotation_event(*reading.event, status, now);
-    end_of_rotation_.read_due = true;
   } else if (reading.event == EventKind::fault) {
-    last_undefined_rotation_status_ = status;
+    rotation_.undefined_reported(status);
     emit(EventKind::fault, now, status,
          fmt::format("rotation status {} is not one the document defines", status));
   }

@@ -1,4 +1,4 @@
-#include "dh3/hand/status_reading.hpp"
+#include "status_reading.hpp"
 
 #include <cstdlib>
 

@@ -1,7 +1,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "dh3/dds/conversions.hpp"
+#include "conversions.hpp"
 
 namespace dh3::dds {
 namespace {

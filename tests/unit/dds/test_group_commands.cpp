@@ -5,10 +5,10 @@
 
 #include <string>
 
-#include "dh3/dds/hand_directory.hpp"
-#include "dh3/dds/lease_table.hpp"
 #include "dh3/hand/hand_roster.hpp"
 #include "group_commands.hpp"
+#include "hand_directory.hpp"
+#include "lease_table.hpp"
 #include "recording_reply_sink.hpp"
 
 namespace dh3::dds {

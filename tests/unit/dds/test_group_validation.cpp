@@ -6,7 +6,7 @@
 
 #include <map>
 
-#include "dh3/dds/group_validation.hpp"
+#include "group_validation.hpp"
 
 namespace dh3::dds {
 namespace {

@@ -2,7 +2,7 @@
 
 #include <chrono>
 
-#include "dh3/dds/lease_table.hpp"
+#include "lease_table.hpp"
 
 namespace dh3::dds {
 namespace {

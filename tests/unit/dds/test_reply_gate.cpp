@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "dh3/dds/reply_gate.hpp"
+#include "reply_gate.hpp"
 
 namespace dh3::dds {
 namespace {

@@ -6,10 +6,10 @@
 
 #include <chrono>
 
-#include "dh3/dds/hand_directory.hpp"
-#include "dh3/dds/lease_table.hpp"
 #include "dh3/hand/hand_roster.hpp"
 #include "expiry_timer.hpp"
+#include "hand_directory.hpp"
+#include "lease_table.hpp"
 #include "recording_reply_sink.hpp"
 #include "request_handler.hpp"
 #include "status_publisher.hpp"

@@ -3,9 +3,9 @@
 
 #include <chrono>
 
-#include "dh3/dds/conversions.hpp"
-#include "dh3/dds/request_validation.hpp"
+#include "conversions.hpp"
 #include "dh3/protocol/registers.hpp"
+#include "request_validation.hpp"
 
 namespace dh3::dds {
 namespace {

@@ -5,9 +5,9 @@
 
 #include <chrono>
 
-#include "dh3/dds/hand_directory.hpp"
-#include "dh3/dds/lease_table.hpp"
 #include "dh3/hand/hand_roster.hpp"
+#include "hand_directory.hpp"
+#include "lease_table.hpp"
 #include "status_publisher.hpp"
 
 namespace dh3::dds {

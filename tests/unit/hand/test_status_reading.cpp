@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "dh3/hand/status_reading.hpp"
+#include "status_reading.hpp"
 
 namespace dh3::hand {
 namespace {

@@ -8,11 +8,11 @@
 #include <chrono>
 #include <string>
 
-#include "dh3/dds/conversions.hpp"
-#include "dh3/dds/hand_directory.hpp"
-#include "dh3/dds/request_validation.hpp"
+#include "conversions.hpp"
 #include "dh3/metrics/metrics_exporter.hpp"
 #include "dh3_names.hpp"
+#include "hand_directory.hpp"
+#include "request_validation.hpp"
 #include "support/metrics_scrape.hpp"
 
 namespace dh3::metrics {

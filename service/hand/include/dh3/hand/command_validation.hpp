@@ -31,4 +31,10 @@ struct ValidationFailure {
 /// there" (docs/protocol-notes.md reading 10): reading or setting the CAN ID.
 [[nodiscard]] bool may_address_id_zero(const Command& command);
 
+/// Whether a command starts a finger motion, a rotation, or needs the hand
+/// initialized (a motion, or a stop, which holds the axes where they are).
+[[nodiscard]] bool moves_fingers(const Command& command);
+[[nodiscard]] bool moves_rotation(const Command& command);
+[[nodiscard]] bool needs_initialization(const Command& command);
+
 }  // namespace dh3::hand

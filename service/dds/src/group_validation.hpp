@@ -14,9 +14,9 @@
 #include <vector>
 
 #include "dh3/base/result.hpp"
-#include "dh3/dds/hand_directory.hpp"
-#include "dh3/dds/request_validation.hpp"
 #include "dh3_idl/dh3.h"
+#include "hand_directory.hpp"
+#include "request_validation.hpp"
 
 namespace dh3::dds {
 

@@ -8,9 +8,9 @@
 #include <string>
 
 #include "dh3/base/result.hpp"
-#include "dh3/dds/hand_directory.hpp"
 #include "dh3/hand/hand_types.hpp"
 #include "dh3_idl/dh3.h"
+#include "hand_directory.hpp"
 
 namespace dh3::dds {
 

@@ -9,8 +9,7 @@
 //                   Initialized; its deadline --> NotInitialized
 //   Motions         FingerMotion and RotationMotion exist only while a commanded
 //                   motion runs; its event goes out on the status read that ended it,
-//                   and EndOfMotion (EndOfRotation) says that where the fingers (the
-//                   rotation) stopped is still to be read
+//                   and where the axis stopped is read next (the driver's AxisWatch)
 //   Commands        ActiveJob: the one command being sent, with a step per frame for the
 //                   commands that take several (initialize, grasp, stop); InitWaiter and
 //                   MotionWaiter: commands whose frames are done and that wait for the
@@ -80,9 +79,8 @@ using Link = std::variant<Offline, Online>;
 /// A commanded finger motion, from its position write until its status ends it.
 struct FingerMotion {
   std::int32_t target = 0;
-  bool gripping = false;       ///< a grasp or a move to 0: ending without a catch is a miss
-  bool closing = false;        ///< towards a smaller position: a catch can end it
-  bool position_read = false;  ///< a position read was answered since the motion began
+  bool gripping = false;  ///< a grasp or a move to 0: ending without a catch is a miss
+  bool closing = false;   ///< towards a smaller position: a catch can end it
   /// A grip status 0 was read since the motion began: the hand took the
   /// command, so a 2 read after it is this motion's arrival, not a reading
   /// from before it, wherever the position was last read.
@@ -93,25 +91,6 @@ struct FingerMotion {
 struct RotationMotion {
   std::int32_t target = 0;
   bool moving_seen = false;  ///< as FingerMotion's, for the rotation status
-};
-
-/// A finger motion ended: its event went out with the position last read, and
-/// where the fingers stopped is read next (a status sample then says it, and a
-/// grasp or release waiting for the motion ends with it), unless a read during
-/// the motion found them at the target: an arrival stops there.
-struct EndOfMotion {
-  bool read_due = false;  ///< the confirming position read is still to be sent
-  /// A grip status 2 came before any 0 of this motion, while the position last
-  /// read was far from the target: the arrival, or a reading from before the motion. The position
-  /// read at once (read_due) tells which, instead of a position poll some frames later.
-  bool recheck_arrival = false;
-};
-
-/// The same for a rotation: where it stopped is read after its event, and a
-/// status 2 far from the target as last read is checked with a read at once.
-struct EndOfRotation {
-  bool read_due = false;
-  bool recheck_arrival = false;
 };
 
 // ---- commands --------------------------------------------------------------
@@ -125,10 +104,6 @@ using JobStep = std::variant<SingleFrame, InitializeStep, GraspStep, StopStep>;
 
 /// The step a command starts with.
 [[nodiscard]] JobStep first_step(CommandKind kind);
-/// Whether a command starts a finger motion, a rotation, or needs the hand initialized.
-[[nodiscard]] bool moves_fingers(const Command& command);
-[[nodiscard]] bool moves_rotation(const Command& command);
-[[nodiscard]] bool needs_initialization(const Command& command);
 
 /// The command being sent.
 struct ActiveJob {

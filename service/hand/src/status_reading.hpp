@@ -20,9 +20,9 @@
 #include <cstdint>
 #include <optional>
 
-#include "dh3/hand/hand_driver_states.hpp"
 #include "dh3/hand/hand_types.hpp"
 #include "dh3/protocol/registers.hpp"
+#include "hand_driver_states.hpp"
 
 namespace dh3::hand {
 
