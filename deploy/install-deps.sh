@@ -34,6 +34,7 @@ test_pkgs=(
   libgtest-dev libgmock-dev
   clang libclang-rt-14-dev   # libFuzzer targets (tests/fuzz)
   cyclonedds-dev cyclonedds-tools   # another DDS vendor's participant against dh3-service (tests/integration/vendor)
+  tshark   # tests/ros2: the ROS 2 topic and type names as announced on the wire
   iproute2 iputils-ping procps python3 python3-yaml openssl systemd
   python3-pytest   # the Python module's tests (client/python/tests, ctest label python)
   # tests/kernel: a real Linux kernel with CAN, vcan and vxcan as a process

@@ -1,0 +1,75 @@
+#!/usr/bin/env bash
+# The ROS 2 names as announced on the wire: tshark captures loopback while
+# dh3-service (a simulated hand), dh3-ros2 and a Cyclone DDS peer (which makes
+# dh3-ros2's participant announce its endpoints) run on a domain of their own,
+# then lists every topic and type name of the discovery data. Needs tshark and
+# the right to capture (root); skips and says why otherwise.
+#   test_tshark_names.sh DH3_SERVICE DH3_ROS2 CYCLONE_JOINT_STATES
+set -euo pipefail
+service_bin=$1 ros2_bin=$2 peer_bin=$3
+command -v tshark >/dev/null || { echo "SKIP: tshark is not installed"; exit 77; }
+((EUID == 0)) || { echo "SKIP: capturing on loopback needs root"; exit 77; }
+work=$(mktemp -d /tmp/dh3-ros2-tshark-XXXXXX)
+pids=()
+tshark_pid=
+cleanup() {
+  for pid in "${pids[@]}" $tshark_pid; do kill "$pid" 2>/dev/null || true; wait "$pid" 2>/dev/null || true; done
+  rm -rf "$work"
+}
+trap cleanup EXIT
+
+# A domain of its own, locked as tests/support/test_domain.hpp does.
+domain=
+for ((i = 0; i < 200; i++)); do
+  candidate=$((10 + ($$ + i) % 200))
+  exec 9>"/tmp/dh3-test-domain-$candidate.lock"
+  if flock -n 9; then domain=$candidate; break; fi
+  exec 9>&-
+done
+[[ -n $domain ]] || { echo "no free DDS domain"; exit 1; }
+# RTPS's ports of the domain: 7400 + 250 * domain and the 250 after.
+base=$((7400 + 250 * domain))
+tshark -i lo -f "udp portrange $base-$((base + 249))" -w "$work/capture.pcap" \
+  >"$work/tshark.log" 2>&1 9>&- &
+tshark_pid=$!
+for ((i = 0; i < 600; i++)); do
+  grep -q "Capturing on" "$work/tshark.log" && break
+  kill -0 "$tshark_pid" 2>/dev/null || { cat "$work/tshark.log"; echo "SKIP: tshark cannot capture on lo"; exit 77; }
+  sleep 0.1
+done
+
+"$service_bin" --domain "$domain" --name wire --bus sim:1 >"$work/service.log" 2>&1 9>&- &
+pids+=($!)
+"$ros2_bin" --domain "$domain" >"$work/ros2.log" 2>&1 9>&- &
+pids+=($!)
+export CYCLONEDDS_URI='<CycloneDDS><Domain><General><Interfaces><NetworkInterface name="lo"/></Interfaces></General></Domain></CycloneDDS>'
+"$peer_bin" "$domain" wire_bus0_1_finger_joint 60 >/dev/null 2>&1 9>&- ||
+  { echo "FAIL: the peer saw no joint state"; cat "$work/ros2.log"; exit 1; }
+for ((i = 0; i < 100; i++)); do  # until the action's endpoints are announced too
+  grep -q "serves wire/bus0/1" "$work/ros2.log" && break
+  sleep 0.1
+done
+sleep 1  # (the announcements of the endpoints just made, on their way)
+kill -INT "$tshark_pid"
+wait "$tshark_pid" 2>/dev/null || true
+tshark_pid=
+tshark -r "$work/capture.pcap" -Y rtps -T fields -e rtps.param.topicName -e rtps.param.typeName \
+  2>/dev/null | tr '\t' ' ' | grep -E '^r[tqr]/' | sort -u >"$work/names.txt" || true
+cat "$work/names.txt"
+action=wire_bus0_1/gripper_cmd/_action
+expected="rq/$action/cancel_goalRequest action_msgs::srv::dds_::CancelGoal_Request_
+rq/$action/get_resultRequest control_msgs::action::dds_::GripperCommand_GetResult_Request_
+rq/$action/send_goalRequest control_msgs::action::dds_::GripperCommand_SendGoal_Request_
+rr/$action/cancel_goalReply action_msgs::srv::dds_::CancelGoal_Response_
+rr/$action/get_resultReply control_msgs::action::dds_::GripperCommand_GetResult_Response_
+rr/$action/send_goalReply control_msgs::action::dds_::GripperCommand_SendGoal_Response_
+rt/joint_states sensor_msgs::msg::dds_::JointState_
+rt/$action/feedback control_msgs::action::dds_::GripperCommand_FeedbackMessage_
+rt/$action/status action_msgs::msg::dds_::GoalStatusArray_"
+missing=$(comm -23 <(sort <<<"$expected") "$work/names.txt")
+if [[ -n $missing ]]; then
+  echo "FAIL: not announced on the wire:"
+  echo "$missing"
+  exit 1
+fi
+echo "ok: every ROS 2 topic and type name as expected on the wire"
