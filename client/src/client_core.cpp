@@ -323,9 +323,12 @@ void ClientCore::apply_locked(const ServiceTracker::Outcome& outcome, Actions& o
       out.completions.push_back(std::move(ended));
     }
     group_calls_.lose(outcome.lost, outcome.why);
+    const auto now = std::chrono::system_clock::now().time_since_epoch();
+    const auto made_ns =
+        static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(now).count());
     for (const HandStatus& status : cache_.mark_lost(outcome.service)) {
       subscriptions_.post_status(status);
-      subscriptions_.post_event(StatusCache::offline_event(status, outcome.why));
+      subscriptions_.post_event(StatusCache::offline_event(status, outcome.why, made_ns));
     }
   }
   if (outcome.may_dispatch) dispatch_locked(outcome.service, out);

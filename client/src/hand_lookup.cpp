@@ -17,7 +17,7 @@ std::string listed_hands(const std::vector<const ServiceInfo*>& services) {
       }
     }
   }
-  return text.empty() ? "none" : text;
+  return text.empty() ? "no hands" : text;
 }
 
 }  // namespace
@@ -39,7 +39,12 @@ std::optional<std::string> hand_ruled_out(const HandSpec& spec,
       if (fits) return std::nullopt;
     }
   }
-  return "no hand matches '" + spec.text + "' (the services list: " + listed_hands(candidates) + ")";
+  const std::string listed = " (" + listed_hands(candidates) + " listed)";
+  if (spec.is_full()) {
+    return "service '" + *spec.service + "' has no hand " + *spec.bus + "/" +
+           std::to_string(*spec.can_id) + listed;
+  }
+  return "no hand matches '" + spec.text + "'" + listed;
 }
 
 }  // namespace dh3::detail

@@ -28,7 +28,8 @@ std::vector<HandStatus> StatusCache::mark_lost(const std::string& service) {
   return changed;
 }
 
-HandEvent StatusCache::offline_event(const HandStatus& status, const std::string& why) {
+HandEvent StatusCache::offline_event(const HandStatus& status, const std::string& why,
+                                     std::uint64_t made_ns) {
   HandEvent event;
   event.hand = status.address;
   event.name = status.name;
@@ -36,6 +37,7 @@ HandEvent StatusCache::offline_event(const HandStatus& status, const std::string
   event.position = status.position;
   event.target = status.target_position;
   event.message = why;
+  event.timestamp_ns = made_ns;
   event.from_client = true;
   return event;
 }

@@ -30,7 +30,8 @@ class StatusCache {
   /// Marks `service`'s online hands offline and lost; returns them as changed.
   std::vector<HandStatus> mark_lost(const std::string& service);
   /// The event a client reports for a hand whose service was lost (`why`).
-  [[nodiscard]] static HandEvent offline_event(const HandStatus& status, const std::string& why);
+  [[nodiscard]] static HandEvent offline_event(const HandStatus& status, const std::string& why,
+                                               std::uint64_t made_ns);
 
   [[nodiscard]] std::optional<HandStatus> find(const HandAddress& address) const;
   [[nodiscard]] bool has(const HandAddress& address) const;

@@ -175,6 +175,8 @@ struct HandEvent {
   std::int32_t target = 0;  ///< target in force
   std::int32_t value = 0;   ///< status value or force that explains it
   std::string message;
+  /// Wall time (ns since the Unix epoch) the service saw the change; for an
+  /// event the client made itself, when it made it.
   std::uint64_t timestamp_ns = 0;
   std::uint64_t event_seq = 0;  ///< per service; 0 for events the client made itself
   /// True for the OFFLINE events the client emits when a service disappears.

@@ -267,6 +267,7 @@ TEST(ClientTest, ServiceLeavingEndsPendingCallsAndTakesItsHandsOffline) {
   EXPECT_TRUE(log.wait_for([](const auto& events) {
     return !events.empty() && events.back().kind == EventKind::offline && events.back().from_client;
   }));
+  EXPECT_GT(log.events().back().timestamp_ns, 0U) << "the client's OFFLINE event says when";
   EXPECT_FALSE(client.service(service_name())->ready);
 
   // It comes back: the same Hand works again.

@@ -37,7 +37,7 @@ const std::vector<ServiceInfo> kCell{service("dh3", {bus("bus0", {{1, "left"}, {
 TEST(HandLookup, AHandTheNamedServiceDoesNotListIsRuledOutWithWhatItLists) {
   const auto why = hand_ruled_out(spec("dh3/bus0/9"), kCell);
   ASSERT_TRUE(why);
-  EXPECT_THAT(*why, HasSubstr("'dh3/bus0/9'"));
+  EXPECT_THAT(*why, HasSubstr("service 'dh3' has no hand bus0/9"));
   EXPECT_THAT(*why, HasSubstr("dh3/bus0/1 (left), dh3/bus0/2, dh3/bus1/4"));
 }
 

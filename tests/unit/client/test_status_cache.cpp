@@ -61,13 +61,15 @@ TEST(StatusCache, ALostServiceTakesOnlyItsOnlineHandsOfflineOnce) {
 TEST(StatusCache, TheOfflineEventSaysWhereTheHandWasAndWhy) {
   HandStatus status = status_of(kLeft, 3);
   status.target_position = 500;
-  const HandEvent event = StatusCache::offline_event(status, "service 'svc' left the domain");
+  const HandEvent event =
+      StatusCache::offline_event(status, "service 'svc' left the domain", 1'700'000'000'000'000'000);
   EXPECT_EQ(event.hand, kLeft);
   EXPECT_EQ(event.name, "left");
   EXPECT_EQ(event.kind, EventKind::offline);
   EXPECT_EQ(event.position, 30);
   EXPECT_EQ(event.target, 500);
   EXPECT_EQ(event.message, "service 'svc' left the domain");
+  EXPECT_EQ(event.timestamp_ns, 1'700'000'000'000'000'000U);  // when the client made it
   EXPECT_TRUE(event.from_client);
 }
 
