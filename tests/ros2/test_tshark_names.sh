@@ -45,17 +45,6 @@ pids+=($!)
 export CYCLONEDDS_URI='<CycloneDDS><Domain><General><Interfaces><NetworkInterface name="lo"/></Interfaces></General></Domain></CycloneDDS>'
 "$peer_bin" "$domain" wire_bus0_1_finger_joint 60 >/dev/null 2>&1 9>&- ||
   { echo "FAIL: the peer saw no joint state"; cat "$work/ros2.log"; exit 1; }
-for ((i = 0; i < 100; i++)); do  # until the action's endpoints are announced too
-  grep -q "serves wire/bus0/1" "$work/ros2.log" && break
-  sleep 0.1
-done
-sleep 1  # (the announcements of the endpoints just made, on their way)
-kill -INT "$tshark_pid"
-wait "$tshark_pid" 2>/dev/null || true
-tshark_pid=
-tshark -r "$work/capture.pcap" -Y rtps -T fields -e rtps.param.topicName -e rtps.param.typeName \
-  2>/dev/null | tr '\t' ' ' | grep -E '^r[tqr]/' | sort -u >"$work/names.txt" || true
-cat "$work/names.txt"
 action=wire_bus0_1/gripper_cmd/_action
 expected="rq/$action/cancel_goalRequest action_msgs::srv::dds_::CancelGoal_Request_
 rq/$action/get_resultRequest control_msgs::action::dds_::GripperCommand_GetResult_Request_
@@ -66,7 +55,25 @@ rr/$action/send_goalReply control_msgs::action::dds_::GripperCommand_SendGoal_Re
 rt/joint_states sensor_msgs::msg::dds_::JointState_
 rt/$action/feedback control_msgs::action::dds_::GripperCommand_FeedbackMessage_
 rt/$action/status action_msgs::msg::dds_::GoalStatusArray_"
-missing=$(comm -23 <(sort <<<"$expected") "$work/names.txt")
+# "topic type" lines from tshark's fields, where a packet that announces several
+# endpoints lists their topics, then their types, each joined by commas.
+pairs() {
+  awk -F'\t' '{ n = split($1, topics, ","); split($2, types, ",");
+                for (i = 1; i <= n; i++) print topics[i], types[i] }'
+}
+# The names announced so far, read from the capture as it grows, until every
+# expected one is there or 30 s passed.
+for ((i = 0; i < 60; i++)); do
+  tshark -r "$work/capture.pcap" -Y rtps -T fields -e rtps.param.topicName -e rtps.param.typeName \
+    2>/dev/null | pairs | grep -E '^r[tqr]/' | sort -u >"$work/names.txt" || true
+  missing=$(comm -23 <(sort <<<"$expected") "$work/names.txt")
+  [[ -z $missing ]] && break
+  sleep 0.5
+done
+kill -INT "$tshark_pid"
+wait "$tshark_pid" 2>/dev/null || true
+tshark_pid=
+cat "$work/names.txt"
 if [[ -n $missing ]]; then
   echo "FAIL: not announced on the wire:"
   echo "$missing"
