@@ -3,6 +3,7 @@
 
 #include "client_endpoints.hpp"
 
+#include "dh3/base/host_name.hpp"
 #include "dh3_qos.hpp"
 
 namespace dh3::detail {
@@ -11,7 +12,9 @@ namespace {
 
 contract::ParticipantOptions participant_options(const ClientOptions& options) {
   contract::ParticipantOptions participant_options;
-  participant_options.name = options.participant_name;
+  // Lease holders are shown by their participant's name (the service's
+  // participant_names.hpp): it says which program on which host.
+  participant_options.name = program_at_host(options.participant_name);
   participant_options.domain = options.domain;
   participant_options.interfaces = options.interfaces;
   participant_options.udp_only = options.udp_only;

@@ -65,8 +65,10 @@ using Timeout = std::chrono::milliseconds;
 struct ClientOptions {
   /// DDS domain id, 0-232.
   int domain = 0;
-  /// The DDS participant's name (seen by tools that list participants).
-  std::string participant_name = "dh3-client";
+  /// The program named in the DDS participant's name, "<program>@<host>": how
+  /// tools that list participants and a hand's lease holder show this client.
+  /// Empty: this process's program name. A name with an '@' is announced as it is.
+  std::string participant_name;
   /// A Fast DDS XML profiles file. When given, its participant profile (the one
   /// named by `xml_profile`, or the file's default profile) decides the
   /// participant's QoS and transports; `interfaces`, `udp_only` and

@@ -1,6 +1,7 @@
 """Every command against dh3-service on a simulated bus of three hands."""
 
 import concurrent.futures
+import socket
 
 import pytest
 
@@ -122,16 +123,17 @@ def test_asynchronous_forms_return_futures_of_replies(client, hand):
 
 
 def test_a_lease_holder_keeps_other_clients_out(client, hand):
-    with dh3.Client(domain=DOMAIN, default_timeout=DEADLINE) as other:
+    holder = "dh3-client@" + socket.gethostname()  # the fixture's participant, as shown
+    with dh3.Client(domain=DOMAIN, participant_name="other", default_timeout=DEADLINE) as other:
         other.wait_for_service(SERVICE, timeout=DEADLINE)
         theirs = other.hand(hand.address)
         lease = hand.acquire_lease(30.0)
         assert lease.ok, lease
         denied = theirs.move_to(10)
         assert denied.code == dh3.Code.DENIED
-        assert denied.lease_holder == client.client_id()
+        assert denied.lease_holder == holder
         assert hand.renew_lease(30.0).ok
-        assert hand.wait_until(lambda s: s.lease_holder == client.client_id(), timeout=DEADLINE)
+        assert hand.wait_until(lambda s: s.lease_holder == holder, timeout=DEADLINE)
         assert hand.move_to(30).ok
         assert hand.release_lease().ok
         allowed = theirs.move_to(10)

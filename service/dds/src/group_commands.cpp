@@ -54,7 +54,7 @@ struct GroupCommands::Pending {
   std::size_t remaining = 0;  ///< under mutex
 };
 
-void GroupCommands::handle(msg::GroupRequest& request, bool stopping) {
+void GroupCommands::handle(msg::GroupRequest& request, const Caller& caller, bool stopping) {
   const std::string& name = parts_.options.name;
   if (!request.service().empty() && request.service() != name) return;
   msg::GroupReply reply;
@@ -66,17 +66,18 @@ void GroupCommands::handle(msg::GroupRequest& request, bool stopping) {
     member.hand(hand);
     member.hand().service(name);
   }
-  spdlog::debug("group request {}#{}: {} to {} hands, value {}", request.client_id(),
-                request.request_seq(), command_name(request.command()), request.hands().size(),
-                request.value());
+  spdlog::debug("group request {}#{} of participant {}: {} to {} hands, value {}",
+                request.client_id(), request.request_seq(), caller.id,
+                command_name(request.command()), request.hands().size(), request.value());
   if (stopping) {
     refuse(reply, GroupRefusal{{}, Rejection{msg::CANCELLED, "the service is shutting down"}});
     return;
   }
   const std::string client_id = request.client_id();
-  auto valid = validate_group(
-      request, parts_.directory,
-      [&](std::uint16_t bus, std::uint8_t can_id) { return member_facts(bus, can_id, client_id); });
+  auto valid = validate_group(request, parts_.directory,
+                              [&](std::uint16_t bus, std::uint8_t can_id) {
+                                return member_facts(bus, can_id, caller, client_id);
+                              });
   if (!valid) {
     refuse(reply, valid.error());
     return;
@@ -88,7 +89,7 @@ void GroupCommands::handle(msg::GroupRequest& request, bool stopping) {
 }
 
 MemberFacts GroupCommands::member_facts(std::uint16_t bus, std::uint8_t can_id,
-                                        const std::string& client_id) const {
+                                        const Caller& caller, const std::string& client_id) const {
   MemberFacts facts;
   hand::BusScheduler& scheduler = *parts_.schedulers[bus];
   facts.link_up = scheduler.link_state() == bus::LinkState::up;
@@ -97,7 +98,9 @@ MemberFacts GroupCommands::member_facts(std::uint16_t bus, std::uint8_t can_id,
     facts.online = state.online;
     facts.initialized = state.initialized;
   }
-  facts.lease_blocker = parts_.leases.blocking_holder(HandKey{bus, can_id}, client_id);
+  facts.lease_blocker = parts_.leases.blocking_holder(HandKey{bus, can_id}, caller.id);
+  facts.client_id_names_blocker =
+      facts.lease_blocker && parts_.leases.held_by(HandKey{bus, can_id}, client_id);
   return facts;
 }
 

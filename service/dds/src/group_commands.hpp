@@ -42,8 +42,8 @@ class GroupCommands {
   GroupCommands(const GroupCommands&) = delete;
   GroupCommands& operator=(const GroupCommands&) = delete;
 
-  /// Answers the group request (`stopping`: CANCELLED, nothing sent).
-  void handle(msg::GroupRequest& request, bool stopping);
+  /// Answers the group request of `caller` (`stopping`: CANCELLED, nothing sent).
+  void handle(msg::GroupRequest& request, const Caller& caller, bool stopping);
 
  private:
   struct Pending;
@@ -52,7 +52,7 @@ class GroupCommands {
   void refuse(msg::GroupReply& reply, const GroupRefusal& refusal);
   void submit(const std::vector<ValidRequest>& members, msg::GroupReply reply, Duration timeout);
   [[nodiscard]] MemberFacts member_facts(std::uint16_t bus, std::uint8_t can_id,
-                                         const std::string& client_id) const;
+                                         const Caller& caller, const std::string& client_id) const;
 
   Parts parts_;
 };

@@ -35,8 +35,10 @@ std::optional<Rejection> check_facts(const ValidRequest& valid, const msg::HandA
                      who(hand) + " is not initialized; " + command_name(command) + " needs it"};
   }
   if (valid.needs_lease && facts.lease_blocker) {
-    return Rejection{msg::DENIED, who(hand) + " is leased by client '" + *facts.lease_blocker +
-                                      "'; only it may send " + command_name(command)};
+    return Rejection{msg::DENIED,
+                     lease_refusal(who(hand), *facts.lease_blocker,
+                                   "only it may send " + command_name(command),
+                                   facts.client_id_names_blocker)};
   }
   return std::nullopt;
 }

@@ -25,8 +25,10 @@ struct MemberFacts {
   bool link_up = false;
   bool online = false;
   bool initialized = false;
-  /// Another client holding the hand's lease; nullopt if free or the caller's.
+  /// Another client holding the hand's lease, as shown; nullopt if free or the caller's.
   std::optional<std::string> lease_blocker;
+  /// The request's client_id field names that holder (another participant's claim).
+  bool client_id_names_blocker = false;
 };
 using FactsOf = std::function<MemberFacts(std::uint16_t bus, std::uint8_t can_id)>;
 

@@ -20,18 +20,22 @@ const LeaseTable::Lease* LeaseTable::live_locked(HandKey hand, TimePoint now) co
   return &it->second;
 }
 
-LeaseAnswer LeaseTable::acquire(HandKey hand, std::string_view client, Duration ttl) {
+LeaseAnswer LeaseTable::acquire(HandKey hand, std::string_view client, Duration ttl,
+                                std::string_view shown_as) {
   const TimePoint now = clock_.now();
+  if (shown_as.empty()) shown_as = client;
   std::lock_guard lock(mutex_);
   if (const Lease* lease = live_locked(hand, now); lease != nullptr && lease->holder != client) {
-    return {LeaseOutcome::held_by_other, lease->holder, false};
+    return {LeaseOutcome::held_by_other, lease->shown, false};
   }
   auto [it, inserted] = leases_.try_emplace(hand);
-  const bool changed = inserted || it->second.holder != client || it->second.expires <= now;
+  const bool changed = inserted || it->second.holder != client ||
+                       it->second.shown != shown_as || it->second.expires <= now;
   it->second.holder.assign(client);
+  it->second.shown.assign(shown_as);
   it->second.expires = now + ttl;
   count_.store(leases_.size());
-  return {LeaseOutcome::granted, it->second.holder, changed};
+  return {LeaseOutcome::granted, it->second.shown, changed};
 }
 
 LeaseAnswer LeaseTable::renew(HandKey hand, std::string_view client, Duration ttl) {
@@ -41,9 +45,9 @@ LeaseAnswer LeaseTable::renew(HandKey hand, std::string_view client, Duration tt
   if (it == leases_.end() || it->second.expires <= now) {
     return {LeaseOutcome::not_held, {}, false};
   }
-  if (it->second.holder != client) return {LeaseOutcome::held_by_other, it->second.holder, false};
+  if (it->second.holder != client) return {LeaseOutcome::held_by_other, it->second.shown, false};
   it->second.expires = now + ttl;
-  return {LeaseOutcome::granted, it->second.holder, false};
+  return {LeaseOutcome::granted, it->second.shown, false};
 }
 
 LeaseAnswer LeaseTable::release(HandKey hand, std::string_view client) {
@@ -52,7 +56,7 @@ LeaseAnswer LeaseTable::release(HandKey hand, std::string_view client) {
   const auto it = leases_.find(hand);
   if (it == leases_.end()) return {LeaseOutcome::granted, {}, false};
   if (it->second.expires > now && it->second.holder != client) {
-    return {LeaseOutcome::held_by_other, it->second.holder, false};
+    return {LeaseOutcome::held_by_other, it->second.shown, false};
   }
   // An expired lease still in the table ends here; its end was not yet published.
   leases_.erase(it);
@@ -67,7 +71,7 @@ std::optional<std::string> LeaseTable::blocking_holder(HandKey hand,
   std::lock_guard lock(mutex_);
   const Lease* lease = live_locked(hand, now);
   if (lease == nullptr || lease->holder == client) return std::nullopt;
-  return lease->holder;
+  return lease->shown;
 }
 
 std::optional<std::string> LeaseTable::blocking_holder_on_bus(std::uint16_t bus,
@@ -77,7 +81,7 @@ std::optional<std::string> LeaseTable::blocking_holder_on_bus(std::uint16_t bus,
   std::lock_guard lock(mutex_);
   for (auto it = leases_.lower_bound(HandKey{bus, 0}); it != leases_.end() && it->first.bus == bus;
        ++it) {
-    if (it->second.expires > now && it->second.holder != client) return it->second.holder;
+    if (it->second.expires > now && it->second.holder != client) return it->second.shown;
   }
   return std::nullopt;
 }
@@ -87,7 +91,16 @@ std::string LeaseTable::holder(HandKey hand) const {
   const TimePoint now = clock_.now();
   std::lock_guard lock(mutex_);
   const Lease* lease = live_locked(hand, now);
-  return lease != nullptr ? lease->holder : std::string{};
+  return lease != nullptr ? lease->shown : std::string{};
+}
+
+bool LeaseTable::held_by(HandKey hand, std::string_view client) const {
+  if (count_.load(std::memory_order_relaxed) == 0) return false;
+  const std::string wanted = canonical_client_id(client);
+  const TimePoint now = clock_.now();
+  std::lock_guard lock(mutex_);
+  const Lease* lease = live_locked(hand, now);
+  return lease != nullptr && !wanted.empty() && canonical_client_id(lease->holder) == wanted;
 }
 
 std::vector<EndedLease> LeaseTable::expire() {
@@ -96,7 +109,7 @@ std::vector<EndedLease> LeaseTable::expire() {
   std::lock_guard lock(mutex_);
   for (auto it = leases_.begin(); it != leases_.end();) {
     if (it->second.expires <= now) {
-      ended.push_back({it->first, std::move(it->second.holder)});
+      ended.push_back({it->first, std::move(it->second.shown), std::move(it->second.holder)});
       it = leases_.erase(it);
     } else {
       ++it;
@@ -113,7 +126,7 @@ std::vector<EndedLease> LeaseTable::drop_client(std::string_view participant_id)
   std::lock_guard lock(mutex_);
   for (auto it = leases_.begin(); it != leases_.end();) {
     if (canonical_client_id(it->second.holder) == wanted) {
-      ended.push_back({it->first, std::move(it->second.holder)});
+      ended.push_back({it->first, std::move(it->second.shown), std::move(it->second.holder)});
       it = leases_.erase(it);
     } else {
       ++it;

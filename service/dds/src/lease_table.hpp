@@ -5,6 +5,11 @@
 // within its time to live, or when the holder's participant leaves the domain.
 // Without a lease, the last command wins.
 //
+// A client is its participant: the service names it by the id of the
+// participant that wrote the request (contract::client_id_for), never by a
+// field of the request. People see the holder under the name it is shown as
+// (its participant's announced name), which is no credential.
+//
 // Thread-safe: requests (DDS listener threads), the expiry timer and the
 // participant listener all use one table. Knows no DDS.
 
@@ -37,7 +42,8 @@ enum class LeaseOutcome : std::uint8_t {
 
 struct LeaseAnswer {
   LeaseOutcome outcome = LeaseOutcome::granted;
-  /// The holder after the call (empty if none); for held_by_other, who holds it.
+  /// The holder after the call, as shown (empty if none); for held_by_other,
+  /// who holds it.
   std::string holder;
   /// True if the holder changed (a status sample should say so).
   bool holder_changed = false;
@@ -46,21 +52,24 @@ struct LeaseAnswer {
 /// A lease that ended without its holder asking.
 struct EndedLease {
   HandKey hand;
-  std::string holder;
+  std::string holder;     ///< as shown
+  std::string holder_id;  ///< the client id
 };
 
 class LeaseTable {
  public:
   explicit LeaseTable(const Clock& clock) : clock_(clock) {}
 
-  /// Takes the lease, or extends it if `client` already holds it.
-  LeaseAnswer acquire(HandKey hand, std::string_view client, Duration ttl);
+  /// Takes the lease, or extends it if `client` already holds it. The holder is
+  /// shown as `shown_as` (the id itself when empty).
+  LeaseAnswer acquire(HandKey hand, std::string_view client, Duration ttl,
+                      std::string_view shown_as = {});
   /// Extends a lease `client` holds.
   LeaseAnswer renew(HandKey hand, std::string_view client, Duration ttl);
   /// Gives the lease up. Releasing a lease nobody holds is granted (nothing to do).
   LeaseAnswer release(HandKey hand, std::string_view client);
 
-  /// Who keeps `client` from commanding `hand`: the holder, or nullopt if the
+  /// Who keeps `client` from commanding `hand`: the holder as shown, or nullopt if the
   /// hand is free or `client` holds it. Cheap when no lease is held at all.
   [[nodiscard]] std::optional<std::string> blocking_holder(HandKey hand,
                                                            std::string_view client) const;
@@ -68,8 +77,10 @@ class LeaseTable {
   /// reaches whichever hand is there).
   [[nodiscard]] std::optional<std::string> blocking_holder_on_bus(std::uint16_t bus,
                                                                   std::string_view client) const;
-  /// The current holder of `hand`, empty if none (expired leases count as none).
+  /// The current holder of `hand` as shown, empty if none (expired leases count as none).
   [[nodiscard]] std::string holder(HandKey hand) const;
+  /// Whether `client` (compared as canonical_client_id) holds `hand`'s live lease.
+  [[nodiscard]] bool held_by(HandKey hand, std::string_view client) const;
 
   /// Ends leases whose time ran out at clock.now() and returns them.
   std::vector<EndedLease> expire();
@@ -82,7 +93,8 @@ class LeaseTable {
 
  private:
   struct Lease {
-    std::string holder;
+    std::string holder;  ///< the client id
+    std::string shown;   ///< how people see the holder
     TimePoint expires;
   };
   /// The live lease on `hand`, nullopt if none or it ran out (locked).

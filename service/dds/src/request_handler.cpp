@@ -24,14 +24,14 @@ msg::CommandReply make_reply(const ReplyHeader& header, msg::ResultCode code, st
   return reply;
 }
 
-void RequestHandler::handle(msg::CommandRequest& request, bool stopping) {
+void RequestHandler::handle(msg::CommandRequest& request, const Caller& caller, bool stopping) {
   const std::string& service = request.hand().service();
   if (!service.empty() && service != parts_.options.name) return;  // another service's
 
   if (spdlog::should_log(spdlog::level::debug)) {
-    spdlog::debug("request {}#{}: {} {}/{} value {}", request.client_id(), request.request_seq(),
-                  command_name(request.command()), request.hand().bus(), request.hand().can_id(),
-                  request.value());
+    spdlog::debug("request {}#{} of participant {}: {} {}/{} value {}", request.client_id(),
+                  request.request_seq(), caller.id, command_name(request.command()),
+                  request.hand().bus(), request.hand().can_id(), request.value());
   }
   if (stopping) {
     const ReplyHeader header{request.client_id(), request.request_seq(), request.hand(),
@@ -55,7 +55,7 @@ void RequestHandler::handle(msg::CommandRequest& request, bool stopping) {
   }
   switch (valid->action) {
     case RequestAction::hand_command:
-      submit_command(*valid, std::move(header));
+      submit_command(*valid, caller, std::move(header));
       break;
     case RequestAction::scan:
       start_scan(*valid, std::move(header));
@@ -63,22 +63,24 @@ void RequestHandler::handle(msg::CommandRequest& request, bool stopping) {
     case RequestAction::acquire_lease:
     case RequestAction::renew_lease:
     case RequestAction::release_lease:
-      handle_lease(*valid, header);
+      handle_lease(*valid, caller, header);
       break;
   }
 }
 
-void RequestHandler::submit_command(const ValidRequest& valid, ReplyHeader header) {
+void RequestHandler::submit_command(const ValidRequest& valid, const Caller& caller,
+                                    ReplyHeader header) {
   if (valid.needs_lease) {
-    const auto holder =
-        valid.can_id == 0
-            ? parts_.leases.blocking_holder_on_bus(valid.bus, header.client_id)
-            : parts_.leases.blocking_holder(HandKey{valid.bus, valid.can_id}, header.client_id);
+    const HandKey hand{valid.bus, valid.can_id};
+    const auto holder = valid.can_id == 0
+                            ? parts_.leases.blocking_holder_on_bus(valid.bus, caller.id)
+                            : parts_.leases.blocking_holder(hand, caller.id);
     if (holder) {
-      auto reply =
-          make_reply(header, msg::DENIED,
-                     hand_text(header.hand.bus(), valid.can_id) + " is leased by client '" +
-                         *holder + "'; only it may send " + command_name(header.command));
+      auto reply = make_reply(
+          header, msg::DENIED,
+          lease_refusal(hand_text(header.hand.bus(), valid.can_id), *holder,
+                        "only it may send " + command_name(header.command),
+                        parts_.leases.held_by(hand, header.client_id)));
       reply.lease_holder(*holder);
       if (valid.can_id != 0) parts_.statuses.attach_to(reply, valid.bus, valid.can_id);
       parts_.replies.write(reply);
@@ -142,18 +144,19 @@ void RequestHandler::finish_scan(const std::shared_ptr<PendingScan>& scan, msg::
   parts_.replies.write(reply);
 }
 
-void RequestHandler::handle_lease(const ValidRequest& valid, const ReplyHeader& header) {
+void RequestHandler::handle_lease(const ValidRequest& valid, const Caller& caller,
+                                  const ReplyHeader& header) {
   const HandKey hand{valid.bus, valid.can_id};
   LeaseAnswer answer;
   switch (valid.action) {
     case RequestAction::acquire_lease:
-      answer = parts_.leases.acquire(hand, header.client_id, valid.lease_ttl);
+      answer = parts_.leases.acquire(hand, caller.id, valid.lease_ttl, caller.shown_as);
       break;
     case RequestAction::renew_lease:
-      answer = parts_.leases.renew(hand, header.client_id, valid.lease_ttl);
+      answer = parts_.leases.renew(hand, caller.id, valid.lease_ttl);
       break;
     default:
-      answer = parts_.leases.release(hand, header.client_id);
+      answer = parts_.leases.release(hand, caller.id);
       break;
   }
   const std::string who = hand_text(header.hand.bus(), valid.can_id);
@@ -166,20 +169,20 @@ void RequestHandler::handle_lease(const ValidRequest& valid, const ReplyHeader& 
       break;
     case LeaseOutcome::held_by_other:
       reply = make_reply(header, msg::DENIED,
-                         who + " is leased by client '" + answer.holder + "'; " +
-                             command_name(header.command) + " refused");
+                         lease_refusal(who, answer.holder, command_name(header.command) + " refused",
+                                       parts_.leases.held_by(hand, header.client_id)));
       break;
     case LeaseOutcome::not_held:
       reply = make_reply(header, msg::DENIED,
-                         "client '" + header.client_id + "' holds no lease on " + who +
+                         "'" + caller.shown_as + "' holds no lease on " + who +
                              " (it expired or was released); use ACQUIRE_LEASE");
       break;
   }
   reply.lease_holder(answer.holder);
   if (answer.holder_changed) {
-    spdlog::info("{}: lease {} by '{}'", who,
+    spdlog::info("{}: lease {} by '{}' (participant {})", who,
                  valid.action == RequestAction::release_lease ? "released" : "taken",
-                 header.client_id);
+                 caller.shown_as, caller.id);
     parts_.statuses.hold_republished(hand, reply);
   } else {
     parts_.statuses.attach_to(reply, hand.bus, hand.can_id);

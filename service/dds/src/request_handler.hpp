@@ -25,6 +25,15 @@ namespace dh3::dds {
 class ExpiryTimer;
 class StatusPublisher;
 
+/// Who sent a request: the participant that wrote the sample (its id,
+/// contract::client_id_for of the sample's writer) and how people see it
+/// (participant_names.hpp). Leases are bound to the id; a request's own
+/// client_id field only addresses the reply.
+struct Caller {
+  std::string id;
+  std::string shown_as;
+};
+
 /// What a reply echoes from its request.
 struct ReplyHeader {
   std::string client_id;
@@ -55,9 +64,9 @@ class RequestHandler {
   RequestHandler(const RequestHandler&) = delete;
   RequestHandler& operator=(const RequestHandler&) = delete;
 
-  /// Answers the request (`stopping`: CANCELLED); `request` is reused by the
-  /// caller, its strings may be moved from.
-  void handle(msg::CommandRequest& request, bool stopping);
+  /// Answers the request of `caller` (`stopping`: CANCELLED); `request` is
+  /// reused by the caller, its strings may be moved from.
+  void handle(msg::CommandRequest& request, const Caller& caller, bool stopping);
   /// Answers every scan still pending CANCELLED (stop, after the buses stopped).
   void cancel_scans();
 
@@ -67,11 +76,11 @@ class RequestHandler {
     std::atomic<bool> answered{false};
   };
 
-  void submit_command(const ValidRequest& valid, ReplyHeader header);
+  void submit_command(const ValidRequest& valid, const Caller& caller, ReplyHeader header);
   void start_scan(const ValidRequest& valid, ReplyHeader header);
   void finish_scan(const std::shared_ptr<PendingScan>& scan, msg::ResultCode code,
                    const std::vector<std::uint8_t>& found, std::string message);
-  void handle_lease(const ValidRequest& valid, const ReplyHeader& header);
+  void handle_lease(const ValidRequest& valid, const Caller& caller, const ReplyHeader& header);
 
   Parts parts_;
   std::mutex scans_mutex_;

@@ -219,4 +219,15 @@ Result<ValidRequest, Rejection> validate_request(const msg::CommandRequest& requ
   return valid;
 }
 
+std::string lease_refusal(const std::string& hand, const std::string& holder,
+                          const std::string& refused, bool client_id_names_holder) {
+  std::string text = hand + " is leased by client '" + holder + "'; " + refused;
+  if (client_id_names_holder) {
+    text +=
+        ": the request's client_id names the holder, but the request came from another "
+        "participant, and a lease belongs to the participant that took it";
+  }
+  return text;
+}
+
 }  // namespace dh3::dds

@@ -45,4 +45,11 @@ struct Rejection {
                                                                const HandDirectory& directory,
                                                                bool allow_admin);
 
+/// Why a command is refused to a client that does not hold `hand`'s lease:
+/// who holds it and what was `refused`; `client_id_names_holder` when the
+/// request's client_id field named the holder (a lease belongs to the
+/// participant that took it, whatever a request says).
+[[nodiscard]] std::string lease_refusal(const std::string& hand, const std::string& holder,
+                                        const std::string& refused, bool client_id_names_holder);
+
 }  // namespace dh3::dds

@@ -219,7 +219,7 @@ void Service::Impl::on_requests(fdds::DataReader& reader) {
     if (!info.valid_data) continue;
     if (options_.test_seam_tracer)
       options_.test_seam_tracer(TracePoint::request_taken, request_.request_seq());
-    requests_.handle(request_, stopping_);
+    requests_.handle(request_, caller_of(info), stopping_);
   }
 }
 
@@ -227,8 +227,14 @@ void Service::Impl::on_group_requests(fdds::DataReader& reader) {
   std::lock_guard lock(dispatch_mutex_);
   fdds::SampleInfo info;
   while (reader.take_next_sample(&group_request_, &info) == ReturnCode_t::RETCODE_OK) {
-    if (info.valid_data) groups_.handle(group_request_, stopping_);
+    if (info.valid_data) groups_.handle(group_request_, caller_of(info), stopping_);
   }
+}
+
+Caller Service::Impl::caller_of(const fdds::SampleInfo& info) const {
+  std::string id = contract::client_id_for(info.publication_handle);
+  std::string shown = names_.shown_as(id);
+  return {std::move(id), std::move(shown)};
 }
 
 void Service::Impl::on_participant_left(const std::string& participant_id, bool dropped) {
@@ -237,18 +243,20 @@ void Service::Impl::on_participant_left(const std::string& participant_id, bool 
                  dropped_replies, participant_id);
   }
   for (const auto& ended : leases_.drop_client(participant_id)) {
-    spdlog::info("{}: lease of '{}' ended, its participant {} the domain",
+    spdlog::info("{}: lease of '{}' (participant {}) ended, its participant {} the domain",
                  hand_text(directory_.bus_name(ended.hand.bus), ended.hand.can_id), ended.holder,
-                 dropped ? "dropped out of" : "left");
+                 ended.holder_id, dropped ? "dropped out of" : "left");
     statuses_.republish(ended.hand);
   }
+  names_.forget(participant_id);
 }
 
 void Service::Impl::sweep_expired() {
   replies_.write_expired();
   for (const auto& ended : leases_.expire()) {
-    spdlog::info("{}: lease of '{}' expired",
-                 hand_text(directory_.bus_name(ended.hand.bus), ended.hand.can_id), ended.holder);
+    spdlog::info("{}: lease of '{}' (participant {}) expired",
+                 hand_text(directory_.bus_name(ended.hand.bus), ended.hand.can_id), ended.holder,
+                 ended.holder_id);
     statuses_.republish(ended.hand);
   }
 }

@@ -3,7 +3,8 @@
 // owns the participant and its endpoints, the buses' schedulers, and wires
 // the parts that do the work: StatusPublisher (statuses, events, service
 // info), ReplyChannel (replies and their gates), RequestHandler and
-// GroupCommands (requests), LeaseTable and the ExpiryTimer (leases).
+// GroupCommands (requests), LeaseTable and the ExpiryTimer (leases),
+// ParticipantNames (how lease holders are shown).
 //
 // Locks. dispatch_mutex_ (here) is outermost: one request or group request at
 // a time, and stop() takes it to know none is in flight. Under it a request
@@ -41,6 +42,7 @@
 #include "group_commands.hpp"
 #include "hand_directory.hpp"
 #include "lease_table.hpp"
+#include "participant_names.hpp"
 #include "reply_channel.hpp"
 #include "request_handler.hpp"
 #include "status_publisher.hpp"
@@ -120,6 +122,10 @@ class Service::Impl {
       const std::string participant_id = contract::client_id_for(info.info.m_guid.guidPrefix);
       spdlog::debug("participant {} '{}': {}", participant_id,
                     info.info.m_participantName.to_string(), status_name(info.status));
+      if (info.status == Status::DISCOVERED_PARTICIPANT ||
+          info.status == Status::CHANGED_QOS_PARTICIPANT) {
+        impl_.names_.discovered(info.info);
+      }
       if (info.status == Status::DISCOVERED_PARTICIPANT) {
         impl_.replies_.participant_joined(participant_id);
       } else if (info.status == Status::REMOVED_PARTICIPANT ||
@@ -150,6 +156,8 @@ class Service::Impl {
   // Requests (DDS listener threads), under dispatch_mutex_.
   void on_requests(fdds::DataReader& reader);
   void on_group_requests(fdds::DataReader& reader);
+  /// Who wrote a request sample: its participant, never the request's client_id.
+  [[nodiscard]] Caller caller_of(const fdds::SampleInfo& info) const;
   /// A client that leaves the domain loses its held replies and its leases at once.
   void on_participant_left(const std::string& participant_id, bool dropped);
   /// The timer's job: held replies past their limit, then expired leases.
@@ -168,6 +176,7 @@ class Service::Impl {
   const Clock& clock_;
   HandDirectory directory_;
   LeaseTable leases_;
+  ParticipantNames names_;
   Schedulers schedulers_;  ///< by bus index; fixed after init()
   std::vector<std::unique_ptr<BusObserver>> observers_;
   ReplyChannel replies_{clock_, options_.test_seam_tracer, [this] { timer_.wake(); }};

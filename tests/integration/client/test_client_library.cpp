@@ -14,6 +14,7 @@
 #include <thread>
 
 #include "client_fixture.hpp"
+#include "dh3/base/host_name.hpp"
 #include "dh3/registers.hpp"
 
 namespace dh3::test {
@@ -291,7 +292,9 @@ TEST_F(ClientLibraryTest, WhenAStateChangingReplyArrivesTheCachedStatusAlreadySh
 }
 
 TEST_F(ClientLibraryTest, ALeaseHolderKeepsOtherClientsOut) {
-  Client other(client_options());
+  ClientOptions other_options = client_options();
+  other_options.participant_name = "other-program";
+  Client other(other_options);
   ASSERT_TRUE(other.wait_for_service(test_service_name(), kClientDeadline));
   Hand mine = hand(2);
   Hand theirs = other.hand(hand_address(2));
@@ -300,7 +303,9 @@ TEST_F(ClientLibraryTest, ALeaseHolderKeepsOtherClientsOut) {
   ASSERT_TRUE(lease) << lease.message;
   const Reply denied = theirs.move_to(10);
   EXPECT_EQ(denied.code, Code::denied);
-  EXPECT_EQ(denied.lease_holder, client_.client_id());
+  // Shown as "<program>@<host>" (this test's program: no participant_name given).
+  EXPECT_EQ(denied.lease_holder, program_at_host(""));
+  EXPECT_NE(denied.lease_holder.find('@'), std::string::npos);
   EXPECT_TRUE(mine.move_to(30));
   ASSERT_TRUE(mine.release_lease());
   const Reply allowed = theirs.move_to(10);

@@ -4,15 +4,23 @@
  * the hand's firmware version (READ_REGISTER 0x1301) and waits for the reply.
  * With "lease" it instead takes the hand's control lease under its
  * participant's GUID prefix as client_id, as dh3's own clients do, and leaves
- * the domain once it holds it.
+ * the domain once it holds it. With "hold" it takes the lease, initializes the
+ * hand, moves it to 20 and stays until SECONDS end. With "forge ID" it plays
+ * an attacker who learnt the holder's client_id ID: MOVE 30 under that
+ * client_id must be answered DENIED, and a read sent after it must show the
+ * hand's target unchanged.
  *
- *   cyclone_client DOMAIN SERVICE CAN_ID SECONDS [lease]
+ *   cyclone_client DOMAIN SERVICE CAN_ID SECONDS [lease | hold | forge ID]
  *
- * Prints what it saw; exit 0 when the reply is OK, 2 no status, 3 the request
- * writer never matched the service, 4 no reply, 5 a reply other than OK. */
+ * Its participant is named "cyclone_client@<host>", as dh3's clients name
+ * theirs. Prints what it saw; exit 0 when the reply is OK (forge: DENIED and
+ * the hand not moved), 2 no status, 3 the request writer never matched the
+ * service, 4 no reply, 5 a reply other than OK (forge: other than DENIED),
+ * 6 (forge) the hand's target moved. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "dds/dds.h"
 #include "dh3.h"
@@ -57,8 +65,8 @@ static int saw_online_status(dds_entity_t reader, const char* service, uint16_t 
   return found;
 }
 
-/* 0 while none; otherwise 1 + the reply's code. */
-static int reply_code(dds_entity_t reader, uint64_t seq) {
+/* 0 while none; otherwise 1 + the reply's code. The reply must carry `id`. */
+static int reply_code(dds_entity_t reader, const char* id, uint64_t seq, int32_t* target) {
   void* samples[MAX_SAMPLES] = {NULL};
   dds_sample_info_t infos[MAX_SAMPLES];
   int code = 0;
@@ -66,37 +74,105 @@ static int reply_code(dds_entity_t reader, uint64_t seq) {
   for (dds_return_t i = 0; i < n; ++i) {
     const dh3_msg_CommandReply* reply = samples[i];
     if (!infos[i].valid_data) continue;
-    if (strcmp(reply->client_id, client_id) != 0 || reply->request_seq != seq) continue;
+    if (strcmp(reply->client_id, id) != 0 || reply->request_seq != seq) continue;
     printf("reply code %d value %d message '%s'\n", (int)reply->code, (int)reply->value,
            reply->message);
+    printf("lease_holder '%s' target_position %d\n", reply->status.lease_holder,
+           (int)reply->status.target_position);
+    if (target != NULL) *target = reply->status.target_position;
     code = 1 + (int)reply->code;
   }
   if (n > 0) dds_return_loan(reader, samples, n);
   return code;
 }
 
+/* Sends the request and waits for its reply: 1 + its code, 0 if none came in time. */
+static int call(dds_entity_t writer, dds_entity_t replies, dh3_msg_CommandRequest* request,
+                int32_t* target) {
+  if (dds_write(writer, request) < 0) return 0;
+  while (time_left()) {
+    const int code = reply_code(replies, request->client_id, request->request_seq, target);
+    if (code != 0) return code;
+    dds_sleepfor(DDS_MSECS(20));
+  }
+  return 0;
+}
+
+/* hold: the lease, then INITIALIZE and MOVE 20 as its holder; 0 when all were OK. */
+static int hold(dds_entity_t writer, dds_entity_t replies, dh3_msg_CommandRequest* request) {
+  static const dh3_msg_CommandType commands[] = {dh3_msg_ACQUIRE_LEASE, dh3_msg_INITIALIZE,
+                                                 dh3_msg_MOVE};
+  static const int32_t values[] = {600000, 0, 20};
+  for (int i = 0; i < 3; ++i) {
+    request->request_seq = (uint64_t)i + 1;
+    request->command = commands[i];
+    request->value = values[i];
+    const int code = call(writer, replies, request, NULL);
+    if (code == 0) return 4;
+    if (code - 1 != dh3_msg_OK) return 5;
+  }
+  printf("holding\n");
+  fflush(stdout);
+  while (time_left()) dds_sleepfor(DDS_MSECS(100));
+  return 0;
+}
+
+/* forge: MOVE 30 under the holder's client_id `id` must be DENIED; a read sent
+ * after it (same hand, same queue) must show the target still not 30. */
+static int forge(dds_entity_t writer, dds_entity_t replies, dh3_msg_CommandRequest* request,
+                 char* id) {
+  char* own = request->client_id;
+  request->client_id = id;
+  request->request_seq = 1;
+  request->command = dh3_msg_MOVE;
+  request->value = 30;
+  int code = call(writer, replies, request, NULL);
+  request->client_id = own;
+  if (code == 0) return 4;
+  if (code - 1 != dh3_msg_DENIED) return 5;
+  int32_t target = -1;
+  request->request_seq = 2;
+  request->command = dh3_msg_READ_REGISTER;
+  request->value = 0;
+  request->register_code = 0x0602;
+  code = call(writer, replies, request, &target);
+  if (code == 0) return 4;
+  if (code - 1 != dh3_msg_OK) return 5;
+  return target == 30 ? 6 : 0;
+}
+
 int main(int argc, char** argv) {
-  if (argc != 5 && !(argc == 6 && strcmp(argv[5], "lease") == 0)) {
-    fprintf(stderr, "usage: cyclone_client DOMAIN SERVICE CAN_ID SECONDS [lease]\n");
+  const int lease = argc == 6 && strcmp(argv[5], "lease") == 0;
+  const int holding = argc == 6 && strcmp(argv[5], "hold") == 0;
+  const int forging = argc == 7 && strcmp(argv[5], "forge") == 0;
+  if (argc != 5 && !lease && !holding && !forging) {
+    fprintf(stderr, "usage: cyclone_client DOMAIN SERVICE CAN_ID SECONDS [lease | hold | forge ID]\n");
     return 1;
   }
-  const int lease = argc == 6;
   const dds_domainid_t domain = (dds_domainid_t)atoi(argv[1]);
   const char* service = argv[2];
   const uint16_t can_id = (uint16_t)atoi(argv[3]);
   deadline = dds_time() + DDS_SECS(atoi(argv[4]));
 
-  dds_entity_t participant = dds_create_participant(domain, NULL, NULL);
+  char name[300] = "cyclone_client@";
+  gethostname(name + strlen(name), sizeof name - strlen(name) - 1);
+  dds_qos_t* participant_qos = dds_create_qos();
+  dds_qset_entity_name(participant_qos, name);
+  dds_entity_t participant = dds_create_participant(domain, participant_qos, NULL);
+  dds_delete_qos(participant_qos);
   if (participant < 0) {
     fprintf(stderr, "cannot create a participant: %s\n", dds_strretcode(-participant));
     return 1;
   }
-  if (lease) {
+  if (lease || holding) {
     /* The GUID prefix (its first 12 bytes) as 24 lowercase hex digits. */
     dds_guid_t guid;
     if (dds_get_guid(participant, &guid) < 0) return 1;
     for (int i = 0; i < 12; ++i) snprintf(client_id + 2 * i, 3, "%02x", guid.v[i]);
     printf("client_id %s\n", client_id);
+    fflush(stdout);
+  } else if (forging) {
+    strcpy(client_id, "cyclone-forger");
   }
   dds_entity_t status = reader_for(participant, &dh3_msg_HandStatus_desc, dh3_topics_HAND_STATUS,
                                    1, 1);
@@ -136,6 +212,14 @@ int main(int argc, char** argv) {
   request.hand.service = (char*)service;
   request.hand.bus = "bus0";
   request.hand.can_id = can_id;
+  if (holding) {
+    result = hold(requests, replies, &request);
+    goto done;
+  }
+  if (forging) {
+    result = forge(requests, replies, &request, argv[6]);
+    goto done;
+  }
   if (lease) {
     request.command = dh3_msg_ACQUIRE_LEASE;
     request.value = 600000; /* ms: longer than any test, so only leaving can end it */
@@ -143,17 +227,9 @@ int main(int argc, char** argv) {
     request.command = dh3_msg_READ_REGISTER;
     request.register_code = 0x1301;
   }
-  if (dds_write(requests, &request) < 0) goto done;
-
   result = 4;
-  while (time_left()) {
-    const int code = reply_code(replies, request.request_seq);
-    if (code != 0) {
-      result = code - 1 == dh3_msg_OK ? 0 : 5;
-      break;
-    }
-    dds_sleepfor(DDS_MSECS(20));
-  }
+  const int code = call(requests, replies, &request, NULL);
+  if (code != 0) result = code - 1 == dh3_msg_OK ? 0 : 5;
 done:
   dds_delete(participant);
   return result;

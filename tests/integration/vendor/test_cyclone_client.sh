@@ -6,6 +6,9 @@
 # GUID prefix is seen to leave the domain at once when it sends key hashes
 # (Cyclone's Internal/GenerateKeyhash), and otherwise drops out when its DDS
 # lease runs out: the service's log says which of the two ended the lease.
+# Last, a Cyclone participant that learnt the holder's client_id and writes it
+# into its own MOVE is DENIED and the hand does not move, and the published
+# holder is the holder's name, not that id.
 #
 #   test_cyclone_client.sh DH3_SERVICE CYCLONE_CLIENT
 set -euo pipefail
@@ -71,7 +74,7 @@ lease_ends_as() {
     { cat "$work/lease.log"; echo "FAIL: the Cyclone participant could not take the lease"; return 1; }
   id=$(sed -n 's/^client_id //p' "$work/lease.log")
   for ((i = 0; i < 300; i++)); do
-    if grep -q "lease of '$id' ended, its participant $expected the domain" "$work/service.log"; then
+    if grep -q "(participant $id) ended, its participant $expected the domain" "$work/service.log"; then
       echo "PASS: GenerateKeyhash $keyhash: the lease ended as its participant $expected the domain"
       return 0
     fi
@@ -83,3 +86,38 @@ lease_ends_as() {
 }
 lease_ends_as true left
 lease_ends_as false "dropped out of"
+
+# The holder stays (hold) while another Cyclone participant forges its client_id.
+"$client_bin" "$domain" vendor 1 120 hold >"$work/hold.log" 2>&1 9>&- &
+holder_pid=$!
+for ((i = 0; i < 600; i++)); do
+  grep -q "^holding" "$work/hold.log" && break
+  kill -0 "$holder_pid" 2>/dev/null || break
+  sleep 0.1
+done
+if ! grep -q "^holding" "$work/hold.log"; then
+  kill "$holder_pid" 2>/dev/null || true
+  cat "$work/hold.log"
+  echo "FAIL: the holding Cyclone participant could not take the lease and move the hand"
+  exit 1
+fi
+holder_id=$(sed -n 's/^client_id //p' "$work/hold.log")
+forge_status=0
+"$client_bin" "$domain" vendor 1 60 forge "$holder_id" >"$work/forge.log" 2>&1 9>&- || forge_status=$?
+kill "$holder_pid" 2>/dev/null || true
+wait "$holder_pid" 2>/dev/null || true
+cat "$work/forge.log"
+case $forge_status in
+  0) ;;
+  5) echo "FAIL: the forged MOVE was not answered DENIED"; exit 1 ;;
+  6) echo "FAIL: the hand took the forged MOVE's target"; exit 1 ;;
+  *) echo "FAIL: the forging participant ended with $forge_status"; cat "$work/service.log"; exit 1 ;;
+esac
+grep -q "a lease belongs to the participant that took it" "$work/forge.log" ||
+  { echo "FAIL: the DENIED reply does not say why"; exit 1; }
+holder_shown=$(sed -n "s/^lease_holder '\(.*\)' target_position.*/\1/p" "$work/forge.log" | tail -1)
+if [[ -z $holder_shown || $holder_shown == *"$holder_id"* ]]; then
+  echo "FAIL: the published lease holder is '$holder_shown', not a name without the holder's id"
+  exit 1
+fi
+echo "PASS: a forged client_id of the holder is DENIED, the hand's target stays, the holder is shown as '$holder_shown'"

@@ -56,6 +56,8 @@ TEST(GroupCommandsTest, OnlyCancelledMembersAreNamed) {
   EXPECT_EQ(reply.message(), "bus0/1: CANCELLED: shutting down");
 }
 
+const Caller kAlice{"alice", "alice"};
+
 class GroupCommandsRefusalTest : public ::testing::Test {
  protected:
   GroupCommandsRefusalTest() { directory_.add_bus("bus0", roster_); }
@@ -87,13 +89,13 @@ class GroupCommandsRefusalTest : public ::testing::Test {
 TEST_F(GroupCommandsRefusalTest, AnotherServicesGroupIsNotAnswered) {
   auto r = request(msg::MOVE);
   r.service("other");
-  groups_.handle(r, false);
+  groups_.handle(r, kAlice, false);
   EXPECT_TRUE(sink_.group_replies.empty());
 }
 
 TEST_F(GroupCommandsRefusalTest, WhileStoppingEveryHandIsCancelledAndNamed) {
   auto r = request(msg::MOVE);
-  groups_.handle(r, true);
+  groups_.handle(r, kAlice, true);
   ASSERT_EQ(sink_.group_replies.size(), 1u);
   const msg::GroupReply& reply = sink_.group_replies.front();
   EXPECT_EQ(reply.code(), msg::CANCELLED);
@@ -108,7 +110,7 @@ TEST_F(GroupCommandsRefusalTest, WhileStoppingEveryHandIsCancelledAndNamed) {
 
 TEST_F(GroupCommandsRefusalTest, CommandNotForGroupsIsRefusedAsAWhole) {
   auto r = request(msg::ACQUIRE_LEASE);
-  groups_.handle(r, false);
+  groups_.handle(r, kAlice, false);
   ASSERT_EQ(sink_.group_replies.size(), 1u);
   const msg::GroupReply& reply = sink_.group_replies.front();
   EXPECT_NE(reply.code(), msg::OK);

@@ -85,6 +85,18 @@ TEST_F(GroupValidationTest, EveryFailingHandIsNamedWithItsOwnReason) {
   EXPECT_THAT(members[2].why.message, HasSubstr("offline"));
 }
 
+TEST_F(GroupValidationTest, AClientIdNamingTheHolderIsToldALeaseIsTheParticipants) {
+  facts_[{0, 2}].lease_blocker = "dh3-web@cell-pc";
+  facts_[{0, 2}].client_id_names_blocker = true;
+  const auto result = check(group(msg::MOVE, 40, {hand("bus0", 1), hand("bus0", 2)}));
+  ASSERT_FALSE(result.ok());
+  ASSERT_EQ(result.error().members.size(), 1U);
+  const Rejection& why = result.error().members[0].why;
+  EXPECT_EQ(why.code, msg::DENIED);
+  EXPECT_THAT(why.message, HasSubstr("'dh3-web@cell-pc'"));
+  EXPECT_THAT(why.message, HasSubstr("a lease belongs to the participant that took it"));
+}
+
 TEST_F(GroupValidationTest, OneValueOutOfRangeRefusesTheGroup) {
   const auto result = check(group(msg::GRASP, 10, {hand("bus0", 1), hand("bus0", 2)}));
   ASSERT_FALSE(result.ok());

@@ -25,6 +25,27 @@ TEST_F(LeaseTableTest, FreeHandBlocksNobody) {
   EXPECT_FALSE(table_.next_expiry());
 }
 
+TEST_F(LeaseTableTest, HolderIsShownByItsNameAndKnownByItsId) {
+  const auto answer = table_.acquire(kHand, "0a1b", milliseconds(1000), "dh3ctl@cell-pc");
+  EXPECT_EQ(answer.holder, "dh3ctl@cell-pc");
+  EXPECT_EQ(table_.holder(kHand), "dh3ctl@cell-pc");
+  EXPECT_EQ(table_.blocking_holder(kHand, "dh3ctl@cell-pc"), "dh3ctl@cell-pc");  // a name is no id
+  EXPECT_FALSE(table_.blocking_holder(kHand, "0a1b"));
+  EXPECT_TRUE(table_.held_by(kHand, "0A.1B"));
+  EXPECT_FALSE(table_.held_by(kHand, "dh3ctl@cell-pc"));
+  EXPECT_FALSE(table_.held_by(kOtherHand, "0a1b"));
+  // Another participant announcing the same name is still another client.
+  const auto other = table_.acquire(kHand, "0c0d", milliseconds(1000), "dh3ctl@cell-pc");
+  EXPECT_EQ(other.outcome, LeaseOutcome::held_by_other);
+  EXPECT_EQ(table_.release(kHand, "0c0d").outcome, LeaseOutcome::held_by_other);
+  EXPECT_EQ(table_.renew(kHand, "0c0d", milliseconds(1000)).outcome,
+            LeaseOutcome::held_by_other);
+  const auto ended = table_.drop_client("0a1b");
+  ASSERT_EQ(ended.size(), 1U);
+  EXPECT_EQ(ended[0].holder, "dh3ctl@cell-pc");
+  EXPECT_EQ(ended[0].holder_id, "0a1b");
+}
+
 TEST_F(LeaseTableTest, HolderBlocksOthersButNotItself) {
   const auto answer = table_.acquire(kHand, "alice", milliseconds(1000));
   EXPECT_EQ(answer.outcome, LeaseOutcome::granted);

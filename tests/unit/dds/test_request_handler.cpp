@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <optional>
 
 #include "dh3/hand/hand_roster.hpp"
 #include "expiry_timer.hpp"
@@ -18,6 +19,7 @@ namespace dh3::dds {
 namespace {
 
 using ::testing::HasSubstr;
+using ::testing::Not;
 using namespace std::chrono_literals;
 
 constexpr HandKey kHand{0, 1};
@@ -46,10 +48,13 @@ class RequestHandlerTest : public ::testing::Test {
     r.value(value);
     return r;
   }
-  /// Handles the request and returns its one reply.
-  msg::CommandReply answer(msg::CommandRequest r, bool stopping = false) {
+  /// Handles the request, sent by `caller` (by default the participant its
+  /// client_id names, shown by that id), and returns its one reply.
+  msg::CommandReply answer(msg::CommandRequest r, bool stopping = false,
+                           std::optional<Caller> caller = std::nullopt) {
     const std::size_t before = sink_.replies.size();
-    handler_.handle(r, stopping);
+    if (!caller) caller = Caller{r.client_id(), r.client_id()};
+    handler_.handle(r, *caller, stopping);
     EXPECT_EQ(sink_.replies.size(), before + 1);
     return sink_.replies.empty() ? msg::CommandReply{} : sink_.replies.back();
   }
@@ -75,7 +80,7 @@ class RequestHandlerTest : public ::testing::Test {
 TEST_F(RequestHandlerTest, AnotherServicesRequestIsNotAnswered) {
   auto r = request(msg::ACQUIRE_LEASE, 2000);
   r.hand().service("other");
-  handler_.handle(r, false);
+  handler_.handle(r, Caller{"alice", "alice"}, false);
   EXPECT_TRUE(sink_.replies.empty());
   EXPECT_EQ(leases_.holder(kHand), "");
 }
@@ -130,6 +135,44 @@ TEST_F(RequestHandlerTest, RenewWithoutALeaseIsDeniedAndReleaseFreesTheHand) {
   EXPECT_EQ(release.code(), msg::OK);
   EXPECT_EQ(release.lease_holder(), "");
   EXPECT_EQ(leases_.holder(kHand), "");
+  EXPECT_EQ(status().lease_holder(), "");
+}
+
+// A participant's identity is the writer of its request, not the client_id
+// it writes: another participant naming the holder's id is still another.
+TEST_F(RequestHandlerTest, AClientIdNamingTheHolderFromAnotherParticipantIsDenied) {
+  const Caller holder{"0a1b2c", "dh3-web@cell-pc"};
+  const Caller forger{"9f8e7d", "cyclone_client@laptop"};
+  const auto taken = answer(request(msg::ACQUIRE_LEASE, 2000, holder.id), false, holder);
+  ASSERT_EQ(taken.code(), msg::OK);
+  for (const auto command : {msg::MOVE, msg::ACQUIRE_LEASE, msg::RENEW_LEASE, msg::RELEASE_LEASE}) {
+    const auto forged = answer(request(command, command == msg::MOVE ? 30 : 2000, "0A.1B.2C"),
+                               false, forger);
+    EXPECT_EQ(forged.code(), msg::DENIED) << command;
+    EXPECT_THAT(forged.message(), HasSubstr("is leased by client 'dh3-web@cell-pc'")) << command;
+    EXPECT_THAT(forged.message(), HasSubstr("a lease belongs to the participant that took it"))
+        << command;
+    EXPECT_EQ(forged.lease_holder(), "dh3-web@cell-pc") << command;
+    EXPECT_EQ(forged.client_id(), "0A.1B.2C") << command;  // still addressed as written
+  }
+  EXPECT_EQ(leases_.holder(kHand), "dh3-web@cell-pc");
+  EXPECT_TRUE(leases_.held_by(kHand, holder.id));
+}
+
+TEST_F(RequestHandlerTest, ThePublishedHolderIsTheParticipantsNameNeverItsId) {
+  const Caller alice{"0a1b2c", "dh3ctl@cell-pc"};
+  const auto reply = answer(request(msg::ACQUIRE_LEASE, 2000, "any string"), false, alice);
+  EXPECT_EQ(reply.code(), msg::OK);
+  EXPECT_EQ(reply.lease_holder(), "dh3ctl@cell-pc");
+  EXPECT_EQ(status().lease_holder(), "dh3ctl@cell-pc");
+  // The holder renews and releases whatever its requests' client_id says.
+  EXPECT_EQ(answer(request(msg::RENEW_LEASE, 2000, "another string"), false, alice).code(),
+            msg::OK);
+  const auto bob = answer(request(msg::MOVE, 30, "bob"));
+  EXPECT_THAT(bob.message(), HasSubstr("'dh3ctl@cell-pc'"));
+  EXPECT_THAT(bob.message(), Not(HasSubstr(alice.id)));
+  EXPECT_THAT(bob.message(), Not(HasSubstr("lease belongs")));  // it claimed nothing
+  EXPECT_EQ(answer(request(msg::RELEASE_LEASE, 0, "x"), false, alice).code(), msg::OK);
   EXPECT_EQ(status().lease_holder(), "");
 }
 

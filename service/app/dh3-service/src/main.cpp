@@ -18,6 +18,7 @@
 #include "dh3/app/config.hpp"
 #include "dh3/app/config_keys.hpp"
 #include "dh3/base/clock.hpp"
+#include "dh3/base/host_name.hpp"
 #include "dh3/dds/service.hpp"
 #include "dh3/metrics/metrics_exporter.hpp"
 
@@ -29,12 +30,6 @@ namespace {
 
 constexpr int kExitStartFailed = 1;
 constexpr int kExitConfigError = 2;
-
-std::string host_name() {
-  char name[256] = {};
-  if (gethostname(name, sizeof name - 1) != 0) return {};
-  return name;
-}
 
 void set_up_logging(const std::string& level) {
   auto logger = spdlog::stderr_color_mt("dh3-service");
@@ -165,7 +160,7 @@ int run_service(const dh3::app::ServiceConfig& config, const sigset_t& stop_sign
   options.allow_admin = config.allow_admin;
   options.status_refresh = config.status_refresh;
   options.version = DH3_VERSION;
-  options.host = host_name();
+  options.host = dh3::host_name();
   auto service = dh3::dds::Service::create(options, std::move(*buses), clock);
   if (!service) {
     spdlog::critical("{}", service.error());
