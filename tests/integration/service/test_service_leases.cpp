@@ -124,10 +124,12 @@ TEST_F(ServiceLeasesTest, ForgedClientIdOfTheHolderIsDeniedAndTheHandDoesNotMove
   ASSERT_EQ(code(*alice_, hand(1), msg::ACQUIRE_LEASE, 60000), msg::OK);
   ASSERT_EQ(code(*alice_, hand(1), msg::MOVE, 20), msg::OK);
   ASSERT_TRUE(bob_->wait_status(hand(1), [](const auto& s) { return s.target_position() == 20; }));
+  std::uint64_t seq = 1000;  // beyond alice's own numbers: her replies are not these
   for (const auto command : {msg::MOVE, msg::RENEW_LEASE, msg::RELEASE_LEASE, msg::ACQUIRE_LEASE}) {
     auto forged = bob_->request(hand(1), command, command == msg::MOVE ? 30 : 60000);
     forged.client_id(alice_->client_id());
-    const std::uint64_t seq = bob_->send(forged);
+    forged.request_seq(++seq);
+    bob_->send(forged, true);
     const auto reply = bob_->wait_reply(seq, kDdsDeadline, alice_->client_id());
     ASSERT_TRUE(reply) << command;
     EXPECT_EQ(reply->code(), msg::DENIED) << command;

@@ -123,7 +123,7 @@ static int forge(dds_entity_t writer, dds_entity_t replies, dh3_msg_CommandReque
                  char* id) {
   char* own = request->client_id;
   request->client_id = id;
-  request->request_seq = 1;
+  request->request_seq = 1000; /* not one of the holder's own, whose replies we read too */
   request->command = dh3_msg_MOVE;
   request->value = 30;
   int code = call(writer, replies, request, NULL);
@@ -131,7 +131,7 @@ static int forge(dds_entity_t writer, dds_entity_t replies, dh3_msg_CommandReque
   if (code == 0) return 4;
   if (code - 1 != dh3_msg_DENIED) return 5;
   int32_t target = -1;
-  request->request_seq = 2;
+  request->request_seq = 1001;
   request->command = dh3_msg_READ_REGISTER;
   request->value = 0;
   request->register_code = 0x0602;
