@@ -1,7 +1,6 @@
 #include "request_validation.hpp"
 
 #include <chrono>
-#include <cstdio>
 #include <optional>
 
 #include "conversions.hpp"
@@ -75,17 +74,6 @@ hand::Command to_hand_command(const msg::CommandRequest& request) {
   return command;
 }
 
-// The admin and ID-0 rules are the hand layer's (hand/command_validation.hpp),
-// asked of the command the request becomes; requests that are not hand
-// commands (scan, leases) are neither.
-bool is_admin(const msg::CommandRequest& request) {
-  return hand::is_admin_command(to_hand_command(request));
-}
-
-bool allows_id_zero(const msg::CommandRequest& request) {
-  return hand::may_address_id_zero(to_hand_command(request));
-}
-
 RequestAction action_of(msg::CommandType command) {
   switch (command) {
     case msg::SCAN:
@@ -100,10 +88,6 @@ RequestAction action_of(msg::CommandType command) {
       return RequestAction::hand_command;
   }
 }
-
-}  // namespace
-
-namespace {
 
 using Checked = Result<void, Rejection>;
 
@@ -135,43 +119,61 @@ Checked check_request_fields(const msg::CommandRequest& request) {
   return {};
 }
 
-/// The CAN ID, the value and the register are within the contract's limits.
-Checked check_request_values(const msg::CommandRequest& request) {
-  const msg::CommandType command = request.command();
+/// The CAN ID and the value are within the contract's limits.
+Checked check_request_ranges(const msg::CommandRequest& request) {
   const std::uint16_t can_id = request.hand().can_id();
-  const RequestAction action = action_of(command);
-  if (action != RequestAction::scan) {
-    if (can_id > limits::CAN_ID_MAX) {
-      return reject(msg::INVALID_ARGUMENT,
-                    "can_id " + std::to_string(can_id) + " is out of range (1-255)");
-    }
-    if (can_id == 0 && !allows_id_zero(request)) {
-      return reject(msg::INVALID_ARGUMENT,
-                    "can_id 0 addresses whichever hand is on the bus and is only for reading "
-                    "or setting the CAN ID; " +
-                        command_name(command) + " needs a hand's CAN ID (1-255)");
-    }
+  if (action_of(request.command()) != RequestAction::scan && can_id > limits::CAN_ID_MAX) {
+    return reject(msg::INVALID_ARGUMENT,
+                  "can_id " + std::to_string(can_id) + " is out of range (1-255)");
   }
   if (auto in_range = contract::check_value_range(request); !in_range) {
     return reject(msg::INVALID_ARGUMENT, std::move(in_range).error());
   }
-  if (command == msg::READ_REGISTER &&
-      !protocol::is_known(protocol::Register::from_code(request.register_code()))) {
-    char code[8];
-    std::snprintf(code, sizeof code, "0x%04X", static_cast<unsigned>(request.register_code()));
-    return reject(msg::INVALID_ARGUMENT,
-                  std::string("register ") + code + " is not in the DH-3 register map");
-  }
   return {};
 }
 
-/// The bus and the hand exist in this service, and an administrative command
-/// is allowed; the bus's index.
+/// What the request becomes, before the bus is looked up.
+ValidRequest translate(const msg::CommandRequest& request) {
+  ValidRequest valid;
+  valid.action = action_of(request.command());
+  valid.can_id = static_cast<std::uint8_t>(request.hand().can_id());
+  if (valid.action == RequestAction::hand_command) {
+    valid.command = to_hand_command(request);
+    valid.needs_lease = request.command() != msg::READ_REGISTER;
+  } else if (valid.action == RequestAction::acquire_lease ||
+             valid.action == RequestAction::renew_lease) {
+    valid.lease_ttl = std::chrono::milliseconds(request.value());
+  }
+  return valid;
+}
+
+Rejection id_zero_rejection(msg::CommandType command) {
+  return Rejection{msg::INVALID_ARGUMENT,
+                   "can_id 0 addresses whichever hand is on the bus and is only for reading or "
+                   "setting the CAN ID; " +
+                       command_name(command) + " needs a hand's CAN ID (1-255)"};
+}
+
+/// The hand layer's rules (hand/command_validation.hpp), asked once of the
+/// command the request becomes; nullopt if it passes. A scan is no command
+/// for a hand, and a lease is held on one hand, never on ID 0.
+std::optional<hand::ValidationFailure> hand_verdict(const ValidRequest& valid, bool allow_admin) {
+  if (valid.action == RequestAction::scan) return std::nullopt;
+  if (valid.action != RequestAction::hand_command) {
+    if (valid.can_id != 0) return std::nullopt;
+    hand::ValidationFailure lease_on_id_zero;
+    lease_on_id_zero.rule = hand::CommandRule::id_zero;
+    return lease_on_id_zero;
+  }
+  auto checked = hand::validate(valid.can_id, valid.command, allow_admin);
+  if (checked) return std::nullopt;
+  return std::move(checked).error();
+}
+
+/// The bus and the hand exist in this service; the bus's index.
 Result<std::uint16_t, Rejection> check_request_target(const msg::CommandRequest& request,
-                                                      const HandDirectory& directory,
-                                                      bool allow_admin) {
+                                                      const HandDirectory& directory) {
   const auto& address = request.hand();
-  const msg::CommandType command = request.command();
   const std::uint16_t can_id = address.can_id();
   const auto bus = directory.find_bus(address.bus());
   if (!bus) {
@@ -179,43 +181,44 @@ Result<std::uint16_t, Rejection> check_request_target(const msg::CommandRequest&
                                          address.bus() + "' (its buses: " + directory.bus_names() +
                                          ")");
   }
-  if (action_of(command) != RequestAction::scan && can_id != 0 &&
+  if (action_of(request.command()) != RequestAction::scan && can_id != 0 &&
       !directory.has_hand(*bus, static_cast<std::uint8_t>(can_id))) {
     return reject(msg::UNKNOWN_HAND, "no hand " + std::to_string(can_id) + " on bus '" +
                                          address.bus() + "' of service '" + address.service() +
                                          "'");
   }
-  if (is_admin(request) && !allow_admin) {
-    return reject(msg::DENIED, command_name(command) +
-                                   " is administrative (the hand must be rebooted after it) and "
-                                   "service '" +
-                                   address.service() +
-                                   "' does not allow it; start it with --allow-admin");
-  }
   return *bus;
+}
+
+Rejection admin_rejection(const msg::CommandRequest& request) {
+  return Rejection{msg::DENIED, command_name(request.command()) +
+                                    " is administrative (the hand must be rebooted after it) and "
+                                    "service '" +
+                                    request.hand().service() +
+                                    "' does not allow it; start it with --allow-admin"};
 }
 
 }  // namespace
 
 Result<ValidRequest, Rejection> validate_request(const msg::CommandRequest& request,
                                                  const HandDirectory& directory, bool allow_admin) {
+  // Down the layers once: this layer's fields, the contract's limits, the
+  // hand layer's rules for the command, then the bus and the hand it names;
+  // an administrative command is refused last, as DENIED, once all else holds.
   if (auto checked = check_request_fields(request); !checked) return fail(checked.error());
-  if (auto checked = check_request_values(request); !checked) return fail(checked.error());
-  const auto bus = check_request_target(request, directory, allow_admin);
-  if (!bus) return fail(bus.error());
-  const msg::CommandType command = request.command();
-  const RequestAction action = action_of(command);
-  const std::uint16_t can_id = request.hand().can_id();
-  ValidRequest valid;
-  valid.action = action;
-  valid.bus = *bus;
-  valid.can_id = static_cast<std::uint8_t>(can_id);
-  if (action == RequestAction::hand_command) {
-    valid.command = to_hand_command(request);
-    valid.needs_lease = command != msg::READ_REGISTER;
-  } else if (action == RequestAction::acquire_lease || action == RequestAction::renew_lease) {
-    valid.lease_ttl = std::chrono::milliseconds(request.value());
+  if (auto checked = check_request_ranges(request); !checked) return fail(checked.error());
+  ValidRequest valid = translate(request);
+  const auto refused = hand_verdict(valid, allow_admin);
+  if (refused && refused->rule == hand::CommandRule::id_zero) {
+    return fail(id_zero_rejection(request.command()));
   }
+  if (refused && refused->rule != hand::CommandRule::admin) {
+    return reject(msg::INVALID_ARGUMENT, refused->message);
+  }
+  const auto bus = check_request_target(request, directory);
+  if (!bus) return fail(bus.error());
+  if (refused) return fail(admin_rejection(request));
+  valid.bus = *bus;
   return valid;
 }
 

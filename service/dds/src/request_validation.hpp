@@ -38,9 +38,11 @@ struct Rejection {
 };
 
 /// Validates a request addressed to this service (the caller already ignored
-/// requests for other services). Checks, in order: the request's form and
-/// values (INVALID_ARGUMENT), the bus and hand (UNKNOWN_HAND), administrative
-/// commands (DENIED unless `allow_admin`). Leases are the caller's to check.
+/// requests for other services), in one pass down the layers: the request's
+/// form (this layer), its values within the contract's limits, the hand
+/// layer's rules for the command it becomes (all INVALID_ARGUMENT), the bus
+/// and hand (UNKNOWN_HAND), administrative commands (the hand layer's rule,
+/// DENIED unless `allow_admin`). Leases are the caller's to check.
 [[nodiscard]] Result<ValidRequest, Rejection> validate_request(const msg::CommandRequest& request,
                                                                const HandDirectory& directory,
                                                                bool allow_admin);

@@ -5,16 +5,16 @@
 namespace dh3::hand {
 namespace {
 
-Failure<ValidationFailure> invalid(std::string message) {
-  return fail(ValidationFailure{CommandError::invalid_argument, std::move(message)});
+Failure<ValidationFailure> invalid(CommandRule rule, std::string message) {
+  return fail(ValidationFailure{CommandError::invalid_argument, std::move(message), rule});
 }
 
 Result<void, ValidationFailure> check_value(protocol::Register reg, std::int32_t value,
                                             std::string_view what) {
   const auto range = protocol::write_range(reg);
   if (range && !range->contains(value)) {
-    return invalid(
-        fmt::format("{} {} is out of range (expected {}-{})", what, value, range->min, range->max));
+    return invalid(CommandRule::value_range, fmt::format("{} {} is out of range (expected {}-{})",
+                                                         what, value, range->min, range->max));
   }
   return {};
 }
@@ -39,10 +39,12 @@ Result<void, ValidationFailure> validate(std::uint8_t can_id, const Command& com
                                          bool allow_admin) {
   namespace reg = protocol::reg;
   if (command.timeout && *command.timeout <= Duration::zero()) {
-    return invalid("timeout must be positive");
+    return invalid(CommandRule::positive_timeout, "timeout must be positive");
   }
   if (can_id == 0 && !may_address_id_zero(command)) {
-    return invalid("CAN ID 0 addresses whichever hand is there: only reading or setting the CAN ID");
+    return invalid(
+        CommandRule::id_zero,
+        "CAN ID 0 addresses whichever hand is there: only reading or setting the CAN ID");
   }
   switch (command.kind) {
     case CommandKind::initialize:
@@ -63,6 +65,7 @@ Result<void, ValidationFailure> validate(std::uint8_t can_id, const Command& com
     case CommandKind::read_register:
       if (!protocol::is_known(command.reg)) {
         return invalid(
+            CommandRule::known_register,
             fmt::format("register 0x{:04X} is not in the DH-3 register map", command.reg.code()));
       }
       return {};
@@ -70,21 +73,24 @@ Result<void, ValidationFailure> validate(std::uint8_t can_id, const Command& com
       if (const auto written = protocol::check_write(command.reg, command.value); !written) {
         const auto range = protocol::write_range(command.reg);
         if (written.error() == protocol::RegisterError::out_of_range && range) {
-          return invalid(fmt::format("{} {} is out of range (expected {}-{})",
-                                     protocol::name(command.reg), command.value, range->min,
-                                     range->max));
+          return invalid(
+              CommandRule::value_range,
+              fmt::format("{} {} is out of range (expected {}-{})", protocol::name(command.reg),
+                          command.value, range->min, range->max));
         }
-        return invalid(fmt::format("cannot write register 0x{:04X}: {}", command.reg.code(),
+        return invalid(CommandRule::writable_register,
+                       fmt::format("cannot write register 0x{:04X}: {}", command.reg.code(),
                                    protocol::to_string(written.error())));
       }
       if (is_admin_command(command) && !allow_admin) {
-        return invalid(fmt::format("writing {} is administrative and not allowed on this bus",
+        return invalid(CommandRule::admin,
+                       fmt::format("writing {} is administrative and not allowed on this bus",
                                    protocol::name(command.reg)));
       }
       return {};
     }
   }
-  return invalid("unknown command");
+  return invalid(CommandRule::known_command, "unknown command");
 }
 
 bool moves_fingers(const Command& command) {

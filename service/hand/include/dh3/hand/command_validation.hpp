@@ -11,9 +11,24 @@
 
 namespace dh3::hand {
 
+/// The hand layer's rules for a command, in the order validate() applies them.
+enum class CommandRule : std::uint8_t {
+  positive_timeout,
+  id_zero,            ///< ID 0 only reads or sets the CAN ID (reading 10)
+  value_range,        ///< a value the register does not take (reading 12)
+  known_register,     ///< a read of a register the map does not have
+  writable_register,  ///< a write the register does not take
+  admin,              ///< CAN ID and baud-rate writes need `allow_admin` (reading 6)
+  known_command,
+};
+
 struct ValidationFailure {
   CommandError error = CommandError::invalid_argument;
   std::string message;  ///< what is wrong and what was expected
+  /// The rule it breaks, for a caller that says it in its own terms or
+  /// answers it at its own turn (the DDS side: ID 0 in the contract's field
+  /// names, administration as DENIED once the hand is known).
+  CommandRule rule = CommandRule::known_command;
 };
 
 /// Fine when the command may be queued for the hand with `can_id`.
