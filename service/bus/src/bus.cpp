@@ -24,6 +24,8 @@ std::string_view to_string(BusError error) {
       return "frame_invalid";
     case BusError::would_block:
       return "would_block";
+    case BusError::not_permitted:
+      return "not_permitted";
   }
   return "unknown";
 }

@@ -150,6 +150,7 @@ struct SimArguments {
   int store_delay_ms = 50;
   std::string log_level = "info";
   std::string replay_file;
+  bool shared = false;
 };
 
 void declare_options(CLI::App& app, SimArguments& args) {
@@ -199,6 +200,11 @@ void declare_options(CLI::App& app, SimArguments& args) {
       ->excludes("--hands")
       ->excludes("--object")
       ->excludes("--obstacle");
+  app.add_flag("--shared", args.shared,
+               "TCP: every client receives every frame, the other clients' requests and every "
+               "reply, as every node on a CAN bus does: a standby service watches the primary "
+               "through it")
+      ->excludes("--can");
   app.add_option("--log-level", args.log_level, "trace, debug, info, warn, error, critical, off")
       ->capture_default_str()
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}));
@@ -221,6 +227,7 @@ dh3::sim::TransferBoxServerOptions server_options(const SimArguments& args) {
     throw CLI::ValidationError("--listen", "bad port in " + args.listen);
   }
   options.port = static_cast<std::uint16_t>(port);
+  options.shared = args.shared;
 
   for (const std::uint8_t id : parse_hand_list(args.hand_list)) {
     SimHandOptions hand;

@@ -128,7 +128,8 @@ void TransferBoxServer::on_poll(std::span<const pollfd> fds) {
 
 void TransferBoxServer::send(std::uint64_t destination, const protocol::Message& message) {
   for (const std::unique_ptr<Client>& client : clients_) {
-    if (client->fd && (destination == kEveryPeer || destination == client->id)) {
+    if (client->fd && (options_.shared || destination == kEveryPeer ||
+                       destination == client->id)) {
       queue_for(*client, message);
     }
   }
@@ -201,9 +202,18 @@ void TransferBoxServer::read_client(Client& client) {
     const Duration read_at = options_.kernel_timestamps && read.stamp
                                  ? *read.stamp
                                  : host_.clock().now().time_since_epoch();
-    for (const protocol::Message& request : decoded_) host_.receive(request, client.id, read_at);
+    for (const protocol::Message& request : decoded_) {
+      if (options_.shared) share_request(client, request);
+      host_.receive(request, client.id, read_at);
+    }
     host_.serve_due(*this);
     if (!client.fd || static_cast<std::size_t>(read.got) < sizeof buffer) return;
+  }
+}
+
+void TransferBoxServer::share_request(const Client& sender, const protocol::Message& request) {
+  for (const std::unique_ptr<Client>& client : clients_) {
+    if (client->fd && client->id != sender.id) queue_for(*client, request);
   }
 }
 

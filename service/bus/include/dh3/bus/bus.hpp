@@ -39,6 +39,7 @@ enum class BusError : std::uint8_t {
   io_error,       ///< the OS refused a read or write on a live link
   frame_invalid,  ///< id over 0x7FF (or over 255 for a transfer box), length over 8
   would_block,    ///< the send buffer is full; try again after receive()
+  not_permitted,  ///< a standby's bus (StandbyBus): it sends nothing until promoted
 };
 
 [[nodiscard]] std::string_view to_string(BusError error);

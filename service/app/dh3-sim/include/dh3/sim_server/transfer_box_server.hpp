@@ -6,6 +6,10 @@
 //
 // Several clients may be connected: a reply goes to the connection that sent
 // the request, unsolicited frames (initialization finished) to every one.
+// Shared (--shared), it behaves as a CAN bus does: every client receives every
+// frame, the other clients' requests and every reply, so a standby service
+// watches the primary through it. Whether the vendor's box accepts a second
+// client at all is not known (docs/hot-standby.md).
 // Requests to an ID without a hand get no reply, as on a real bus.
 //
 // The hands, the control channel (see kControlHelp; `kick` is this transport's
@@ -40,6 +44,8 @@ struct TransferBoxServerOptions : SimHostOptions {
   /// A client that does not read its replies is disconnected when this much
   /// is waiting for it.
   std::size_t max_pending_bytes = 1U << 20;
+  /// Every client receives every frame: requests of the others and all replies.
+  bool shared = false;
 };
 
 enum class ServerError : std::uint8_t {
@@ -102,6 +108,8 @@ class TransferBoxServer final : private SimTransport {
   void read_client(Client& client);
   void write_client(Client& client);
   void queue_for(Client& client, const protocol::Message& message);
+  /// Shared: a client's request goes to every other client too.
+  void share_request(const Client& sender, const protocol::Message& request);
   void close_client(Client& client, std::string_view why);
   void kick_all();
 
