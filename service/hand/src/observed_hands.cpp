@@ -2,16 +2,38 @@
 
 #include <algorithm>
 
-#include "dh3/hand/status_reading.hpp"
+#include "hand_driver_states.hpp"
+#include "status_reading.hpp"
 
 namespace dh3::hand {
 namespace reg = protocol::reg;
 
+namespace {
+struct Pending {
+  protocol::Register reg;
+  TimePoint at;
+};
+}  // namespace
+
+struct ObservedHands::Hand {
+  bool known = false;
+  HandState state;
+  /// Requests waiting for their replies, one per register at most: the
+  /// active service's frame in flight, and an unsolicited 0x0802 beside it.
+  std::vector<Pending> pending;
+  std::deque<ObservedWrite> writes;
+  std::optional<FingerMotion> finger;
+  std::optional<RotationMotion> rotation;
+  bool hold_untouched = false;
+};
+
+ObservedHands::~ObservedHands() = default;
+
 ObservedHands::ObservedHands(const std::vector<HandConfig>& configured, Duration reply_window)
-    : reply_window_(reply_window) {
+    : reply_window_(reply_window), hands_(std::make_unique<std::array<Hand, 256>>()) {
   for (const HandConfig& config : configured) {
     if (config.can_id == 0) continue;
-    Hand& hand = hands_[config.can_id];
+    Hand& hand = (*hands_)[config.can_id];
     hand.known = true;
     hand.state.can_id = config.can_id;
     hand.state.name = config.name;
@@ -23,7 +45,7 @@ FrameRole ObservedHands::on_frame(const bus::CanFrame& frame, TimePoint now) {
   const auto id = static_cast<std::uint8_t>(frame.id);
   const auto message = protocol::decode_payload(id, std::span(frame.data.data(), frame.length));
   if (!message) return FrameRole::undecodable;
-  Hand& hand = hands_[id];
+  Hand& hand = (*hands_)[id];
   std::erase_if(hand.pending, [&](const Pending& p) { return now - p.at > reply_window_; });
   const auto pending = std::find_if(hand.pending.begin(), hand.pending.end(),
                                     [&](const Pending& p) { return p.reg == message->reg; });
@@ -102,7 +124,6 @@ void ObservedHands::on_read(Hand& hand, const protocol::Message& reply) {
     state.opening_force = reply.data;
   } else if (reply.reg == reg::kPosition) {
     state.position = reply.data;
-    if (hand.finger) hand.finger->position_read = true;
   } else if (reply.reg == reg::kRotation) {
     state.rotation = reply.data;
   } else if (reply.reg == reg::kGripStatus) {
@@ -139,28 +160,30 @@ void ObservedHands::on_rotation_status(Hand& hand, std::int32_t status) {
 
 std::vector<HandState> ObservedHands::states() const {
   std::vector<HandState> out;
-  for (const Hand& hand : hands_) {
+  for (const Hand& hand : *hands_) {
     if (hand.known) out.push_back(hand.state);
   }
   return out;
 }
 
 std::optional<HandState> ObservedHands::state(std::uint8_t can_id) const {
-  const Hand& hand = hands_[can_id];
+  const Hand& hand = (*hands_)[can_id];
   if (!hand.known) return std::nullopt;
   return hand.state;
 }
 
 const std::deque<ObservedWrite>& ObservedHands::writes(std::uint8_t can_id) const {
-  return hands_[can_id].writes;
+  return (*hands_)[can_id].writes;
 }
 
-std::optional<FingerMotion> ObservedHands::finger_motion(std::uint8_t can_id) const {
-  return hands_[can_id].finger;
+std::optional<std::int32_t> ObservedHands::finger_motion(std::uint8_t can_id) const {
+  const auto& motion = (*hands_)[can_id].finger;
+  return motion ? std::optional(motion->target) : std::nullopt;
 }
 
-std::optional<RotationMotion> ObservedHands::rotation_motion(std::uint8_t can_id) const {
-  return hands_[can_id].rotation;
+std::optional<std::int32_t> ObservedHands::rotation_motion(std::uint8_t can_id) const {
+  const auto& motion = (*hands_)[can_id].rotation;
+  return motion ? std::optional(motion->target) : std::nullopt;
 }
 
 }  // namespace dh3::hand

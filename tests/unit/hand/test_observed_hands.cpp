@@ -128,7 +128,7 @@ TEST(ObservedHands, FollowsAMotionInProgressAndItsEnd) {
   ASSERT_TRUE(ok(w.call(1, cmd(CommandKind::initialize))));
   ASSERT_TRUE(ok(w.call(1, move(10))));  // OK at the echo: the fingers still move
   ASSERT_TRUE(w.watcher.finger_motion(1).has_value());
-  EXPECT_EQ(w.watcher.finger_motion(1)->target, 10);
+  EXPECT_EQ(*w.watcher.finger_motion(1), 10);
   EXPECT_EQ(to_string(w.watcher.state(1)->grip), to_string(GripState::moving));
   w.run_for(2s);
   EXPECT_FALSE(w.watcher.finger_motion(1).has_value());

@@ -20,12 +20,12 @@
 #include <array>
 #include <cstdint>
 #include <deque>
+#include <memory>
 #include <optional>
 #include <vector>
 
 #include "dh3/base/clock.hpp"
 #include "dh3/bus/bus.hpp"
-#include "dh3/hand/hand_driver_states.hpp"
 #include "dh3/hand/hand_roster.hpp"
 #include "dh3/hand/hand_types.hpp"
 #include "dh3/protocol/codec.hpp"
@@ -51,6 +51,9 @@ class ObservedHands {
   /// `reply_window`: how long after a request its reply may come (the active
   /// service's reply timeout).
   ObservedHands(const std::vector<HandConfig>& configured, Duration reply_window);
+  ~ObservedHands();
+  ObservedHands(const ObservedHands&) = delete;
+  ObservedHands& operator=(const ObservedHands&) = delete;
 
   /// One frame seen on the bus at `now`.
   FrameRole on_frame(const bus::CanFrame& frame, TimePoint now);
@@ -60,30 +63,18 @@ class ObservedHands {
   [[nodiscard]] std::optional<HandState> state(std::uint8_t can_id) const;
   /// The writes seen to a hand, oldest first (the last kWritesKept).
   [[nodiscard]] const std::deque<ObservedWrite>& writes(std::uint8_t can_id) const;
-  /// The motions the active service started and no status has ended yet.
-  [[nodiscard]] std::optional<FingerMotion> finger_motion(std::uint8_t can_id) const;
-  [[nodiscard]] std::optional<RotationMotion> rotation_motion(std::uint8_t can_id) const;
+  /// The targets of the motions the active service started and no status
+  /// has ended yet.
+  [[nodiscard]] std::optional<std::int32_t> finger_motion(std::uint8_t can_id) const;
+  [[nodiscard]] std::optional<std::int32_t> rotation_motion(std::uint8_t can_id) const;
   /// Requests seen so far (the active service's frames).
   [[nodiscard]] std::uint64_t requests_seen() const { return requests_seen_; }
 
   static constexpr std::size_t kWritesKept = 16;
 
  private:
-  struct Pending {
-    protocol::Register reg;
-    TimePoint at;
-  };
-  struct Hand {
-    bool known = false;
-    HandState state;
-    /// Requests waiting for their replies, one per register at most: the
-    /// active service's frame in flight, and an unsolicited 0x0802 beside it.
-    std::vector<Pending> pending;
-    std::deque<ObservedWrite> writes;
-    std::optional<FingerMotion> finger;
-    std::optional<RotationMotion> rotation;
-    bool hold_untouched = false;
-  };
+  /// One hand's record (observed_hands.cpp: it holds the driver's motion types).
+  struct Hand;
 
   void on_request(Hand& hand, const protocol::Message& request, TimePoint now);
   /// `answered`: it pairs with a request seen before it.
@@ -94,7 +85,7 @@ class ObservedHands {
   void on_rotation_status(Hand& hand, std::int32_t status);
 
   Duration reply_window_;
-  std::array<Hand, 256> hands_{};
+  std::unique_ptr<std::array<Hand, 256>> hands_;
   std::uint64_t requests_seen_ = 0;
 };
 
