@@ -1,16 +1,11 @@
 #include "api_error.hpp"
 
-#include "output.hpp"
+#include "client_json.hpp"
 
 namespace dh3::web {
 
 std::string ApiError::json() const {
-  return ctl::JsonObject()
-      .add("type", "error")
-      .add("ok", false)
-      .add("code", code)
-      .add("message", message)
-      .str();
+  return json_text(Json{{"type", "error"}, {"ok", false}, {"code", code}, {"message", message}});
 }
 
 }  // namespace dh3::web

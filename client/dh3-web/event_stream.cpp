@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "output.hpp"
+#include "client_json.hpp"
 
 namespace dh3::web {
 
@@ -31,13 +31,13 @@ std::shared_ptr<EventStream::Reader> EventStream::open() {
   auto reader = std::make_shared<Reader>();
   std::vector<std::string> snapshot;
   for (const auto& info : client_.services()) {
-    snapshot.push_back(sse_message("service", ctl::to_json(info)));
+    snapshot.push_back(sse_message("service", json_text(Json(info))));
   }
   std::lock_guard lock(mutex_);
   // Under the lock, so no status between the snapshot and the registration
   // is lost; a status sent twice is harmless (update_seq orders them).
   for (const auto& status : client_.hands()) {
-    reader->push(status.address.to_string(), sse_message("status", ctl::to_json(status)),
+    reader->push(status.address.to_string(), sse_message("status", json_text(Json(status))),
                  options_.queue_limit);
   }
   for (auto& text : snapshot) reader->push({}, std::move(text), options_.queue_limit);
@@ -67,11 +67,11 @@ void EventStream::close() {
 }
 
 void EventStream::on_status(const HandStatus& status) {
-  broadcast(status.address.to_string(), sse_message("status", ctl::to_json(status)));
+  broadcast(status.address.to_string(), sse_message("status", json_text(Json(status))));
 }
 
 void EventStream::on_event(const HandEvent& event) {
-  std::string text = sse_message("event", ctl::to_json(event));
+  std::string text = sse_message("event", json_text(Json(event)));
   {
     std::lock_guard lock(mutex_);
     backlog_.push_back(text);

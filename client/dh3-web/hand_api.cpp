@@ -3,7 +3,7 @@
 #include <charconv>
 #include <vector>
 
-#include "output.hpp"
+#include "client_json.hpp"
 #include "web_command.hpp"
 
 namespace dh3::web {
@@ -24,8 +24,9 @@ std::vector<std::string> split_path(const std::string& path) {
 Result<HandAddress, ApiError> parse_address(const std::string& service, const std::string& bus,
                                             const std::string& id) {
   if (service.empty() || bus.empty()) {
-    return fail(invalid_argument("a hand is /api/hands/SERVICE/BUS/ID; the service and the "
-                                 "bus must not be empty"));
+    return fail(
+        invalid_argument("a hand is /api/hands/SERVICE/BUS/ID; the service and the "
+                         "bus must not be empty"));
   }
   unsigned value = 0;
   const auto* end = id.data() + id.size();
@@ -37,9 +38,9 @@ Result<HandAddress, ApiError> parse_address(const std::string& service, const st
 }
 
 ApiResponse method_not_allowed(const ApiRequest& request, const std::string& allow) {
-  ApiResponse response = error_response(
-      ApiError{405, "METHOD_NOT_ALLOWED",
-               request.method + " is not allowed on " + request.path + " (allowed: " + allow + ")"});
+  ApiResponse response = error_response(ApiError{
+      405, "METHOD_NOT_ALLOWED",
+      request.method + " is not allowed on " + request.path + " (allowed: " + allow + ")"});
   response.allow = allow;
   return response;
 }
@@ -122,7 +123,8 @@ ApiResponse HandApi::handle(const ApiRequest& request) {
   const bool get = request.method == "GET" || request.method == "HEAD";
   const std::size_t n = parts.size();
   // GET /api/stream is the server's own route; any other method ends here.
-  if (n == 2 && parts[0] == "api" && parts[1] == "stream") return method_not_allowed(request, "GET");
+  if (n == 2 && parts[0] == "api" && parts[1] == "stream")
+    return method_not_allowed(request, "GET");
   if (n == 2 && parts[1] == "openapi.json") {
     if (!get) return method_not_allowed(request, "GET");
     return json_response(openapi_);
@@ -154,20 +156,8 @@ ApiResponse HandApi::handle(const ApiRequest& request) {
 }
 
 ApiResponse HandApi::list_hands() const {
-  std::string services = "[";
-  for (const auto& info : client_.services()) {
-    if (services.size() > 1) services += ',';
-    services += ctl::to_json(info);
-  }
-  std::string hands = "[";
-  for (const auto& status : client_.hands()) {
-    if (hands.size() > 1) hands += ',';
-    hands += ctl::to_json(status);
-  }
-  return json_response(ctl::JsonObject()
-                           .add_raw("services", services + "]")
-                           .add_raw("hands", hands + "]")
-                           .str());
+  return json_response(
+      json_text(Json{{"services", client_.services()}, {"hands", client_.hands()}}));
 }
 
 ApiResponse HandApi::one_hand(const HandAddress& address) const {
@@ -177,7 +167,7 @@ ApiResponse HandApi::one_hand(const HandAddress& address) const {
                                    "no hand " + address.to_string() +
                                        " has been seen on the domain (GET /api/hands lists them)"});
   }
-  return json_response(ctl::to_json(*status));
+  return json_response(json_text(Json(*status)));
 }
 
 ApiResponse HandApi::command(const HandAddress& address, const std::string& name,
@@ -195,7 +185,7 @@ ApiResponse HandApi::command(const HandAddress& address, const std::string& name
   const Reply reply = run_web_command(hand, *parsed, command_timeout_);
   ApiResponse response;
   response.status = http_status(reply.code);
-  response.body = ctl::reply_json(parsed->name, address.to_string(), reply);
+  response.body = json_text(reply_json(parsed->name, address.to_string(), reply));
   return response;
 }
 
@@ -203,16 +193,14 @@ ApiResponse HandApi::health() const {
   const CommandTraffic traffic = client_.command_traffic();
   std::size_t ready = 0;
   for (const auto& info : client_.services()) ready += info.ready ? 1 : 0;
-  return json_response(ctl::JsonObject()
-                           .add("type", "health")
-                           .add("connected", client_.connected())
-                           .add("read_only", client_.read_only())
-                           .add("domain", static_cast<std::int64_t>(client_.domain()))
-                           .add("services_ready", static_cast<std::uint64_t>(ready))
-                           .add("hands", static_cast<std::uint64_t>(client_.hands().size()))
-                           .add("commands_enabled", access_.token.has_value())
-                           .add("requests_written", traffic.requests_written)
-                           .str());
+  return json_response(json_text(Json{{"type", "health"},
+                                      {"connected", client_.connected()},
+                                      {"read_only", client_.read_only()},
+                                      {"domain", client_.domain()},
+                                      {"services_ready", ready},
+                                      {"hands", client_.hands().size()},
+                                      {"commands_enabled", access_.token.has_value()},
+                                      {"requests_written", traffic.requests_written}}));
 }
 
 }  // namespace dh3::web

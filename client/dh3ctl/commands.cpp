@@ -15,9 +15,10 @@
 #include <thread>
 #include <vector>
 
+#include "client_json.hpp"
+#include "client_options_cli.hpp"
 #include "dh3/client.hpp"
 #include "dh3/registers.hpp"
-#include "client_options_cli.hpp"
 #include "output.hpp"
 
 #ifndef DH3_VERSION
@@ -50,9 +51,9 @@ struct Args {
   bool has_second = false;
   bool watch = false;
   bool yes = false;
-  int count = 0;  ///< events, status --watch: stop after this many lines (0: never)
-  std::string group_command;        ///< group: init, move, rotate, grasp, release, force
-  std::vector<std::string> hands;   ///< group: the hands
+  int count = 0;              ///< events, status --watch: stop after this many lines (0: never)
+  std::string group_command;  ///< group: init, move, rotate, grasp, release, force
+  std::vector<std::string> hands;           ///< group: the hands
   std::optional<std::int32_t> group_value;  ///< group: --value (--force, --position)
 };
 
@@ -66,7 +67,7 @@ struct Context {
       Reply reply;
       reply.code = code;
       reply.message = message;
-      out << reply_json(command, target, reply) << std::endl;
+      out << json_text(reply_json(command, target, reply)) << std::endl;
     }
     err << "dh3ctl: " << command;
     if (!target.empty()) err << " " << target;
@@ -79,7 +80,7 @@ struct Context {
              const std::string& text) {
     if (!reply.ok()) return fail(command, target, reply.code, reply.message);
     if (globals.json) {
-      out << reply_json(command, target, reply) << std::endl;
+      out << json_text(reply_json(command, target, reply)) << std::endl;
     } else {
       out << text << std::endl;
     }
@@ -132,8 +133,8 @@ int cmd_list(Context& c) {
   const auto services = c.client.services();
   const auto hands = c.client.hands();
   if (c.globals.json) {
-    for (const auto& service : services) c.out << to_json(service) << "\n";
-    for (const auto& hand : hands) c.out << to_json(hand) << "\n";
+    for (const auto& service : services) c.out << json_text(Json(service)) << "\n";
+    for (const auto& hand : hands) c.out << json_text(Json(hand)) << "\n";
     c.out << std::flush;
     return kExitOk;
   }
@@ -144,7 +145,7 @@ int cmd_list(Context& c) {
 
 void print_statuses(Context& c, const std::vector<HandStatus>& hands) {
   if (c.globals.json) {
-    for (const auto& hand : hands) c.out << to_json(hand) << "\n";
+    for (const auto& hand : hands) c.out << json_text(Json(hand)) << "\n";
   } else {
     c.out << status_table(hands);
   }
@@ -164,7 +165,7 @@ int watch_statuses(Context& c, std::optional<HandAddress> only, int count) {
         changed = true;
         // Not a terminal: a stream of lines, one per status sample.
         if (!redraw) {
-          c.out << (c.globals.json ? to_json(status) : status_line(status)) << std::endl;
+          c.out << (c.globals.json ? json_text(Json(status)) : status_line(status)) << std::endl;
         }
         cv.notify_all();
       },
@@ -241,7 +242,7 @@ int cmd_events(Context& c, const Args& a) {
         std::lock_guard lock(mutex);
         if (a.count > 0 && seen >= a.count) return;
         ++seen;
-        std::string line = c.globals.json ? to_json(event) : event_line(event);
+        std::string line = c.globals.json ? json_text(Json(event)) : event_line(event);
         if (!announced) {
           held.push_back(std::move(line));
           return;
@@ -407,22 +408,20 @@ int cmd_group(Context& c, const Args& a) {
     if (!hand) return kExitFailed;
     hands.push_back(hand->address());
   }
-  const GroupReply reply = c.client.group(parsed->first, hands, a.group_value.value_or(0), c.timeout());
+  const GroupReply reply =
+      c.client.group(parsed->first, hands, a.group_value.value_or(0), c.timeout());
   if (reply.hands.empty()) return c.fail(command, "", reply.code, reply.message);
   for (const GroupMemberReply& member : reply.hands) {
     const std::string target = member.hand.to_string();
-    Reply one;
-    one.code = member.code;
-    one.message = member.message;
-    one.value = member.value;
-    one.grasp = member.grasp;
     std::string text = target + ": " + std::string(to_string(member.code));
     if (member.grasp != GraspOutcome::none) {
       text = target + ": " + std::string(to_string(member.grasp)) + " at position " +
              std::to_string(member.value);
     }
     if (c.globals.json) {
-      c.out << reply_json(command, target, one) << std::endl;
+      Json line{{"type", "reply"}, {"command", command}};
+      line.update(Json(member));
+      c.out << json_text(line) << std::endl;
     } else {
       c.out << text << (member.ok() ? "" : ": " + member.message) << std::endl;
     }

@@ -9,7 +9,9 @@
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "api_error.hpp"
 #include "bearer_token.hpp"
+#include "client_json.hpp"
 #include "dh3/registers.hpp"
 #include "hand_api.hpp"
 #include "support/test_domain.hpp"
@@ -90,6 +92,77 @@ TEST(WebCommand, TheOpenApiDescriptionListsEveryCommand) {
   std::set<std::string> shapes;
   for (const auto& shape : command_shapes()) shapes.insert(std::string(shape.name));
   EXPECT_EQ(described, shapes);
+}
+
+/// The openapi.json description's copy of the schema `name`.
+const nlohmann::json& described_schema(const std::string& name) {
+  static const nlohmann::json doc = [] {
+    const WebAsset* asset = find_asset("/api/openapi.json");
+    return asset == nullptr ? nlohmann::json::object()
+                            : nlohmann::json::parse(asset->body, nullptr, false);
+  }();
+  static const nlohmann::json none = nlohmann::json::object();
+  const auto& schemas = doc["components"]["schemas"];
+  return schemas.contains(name) ? schemas[name] : none;
+}
+
+/// The schema a property's "$ref" (or its items' "$ref") names; null if none.
+const nlohmann::json* referenced(const nlohmann::json& property) {
+  const auto* ref = property.contains("$ref") ? &property["$ref"] : nullptr;
+  if (ref == nullptr && property.contains("items") && property["items"].contains("$ref")) {
+    ref = &property["items"]["$ref"];
+  }
+  if (ref == nullptr) return nullptr;
+  const std::string prefix = "#/components/schemas/";
+  return &described_schema(ref->get<std::string>().substr(prefix.size()));
+}
+
+/// Every member of `value` (the JSON a program prints) is a property of
+/// `schema` and the other way round, down the referenced schemas.
+void expect_same_fields(const nlohmann::json& schema, const nlohmann::json& value,
+                        const std::string& where) {
+  ASSERT_TRUE(value.is_object()) << where;
+  std::set<std::string> printed;
+  std::set<std::string> described;
+  for (const auto& [key, member] : value.items()) printed.insert(key);
+  for (const auto& [key, property] : schema["properties"].items()) described.insert(key);
+  EXPECT_EQ(printed, described) << where << ": printed (left) and openapi.json (right)";
+  for (const auto& [key, property] : schema["properties"].items()) {
+    const nlohmann::json* inner = referenced(property);
+    if (inner == nullptr || !value.contains(key)) continue;
+    const auto& member = value[key];
+    if (member.is_array()) {
+      for (const auto& element : member) expect_same_fields(*inner, element, where + "." + key);
+    } else {
+      expect_same_fields(*inner, member, where + "." + key);
+    }
+  }
+}
+
+void expect_described_as(const std::string& name, const Json& printed) {
+  ASSERT_TRUE(described_schema(name).contains("properties")) << name << " is not in openapi.json";
+  expect_same_fields(described_schema(name), nlohmann::json::parse(json_text(printed)), name);
+}
+
+TEST(OpenApi, DescribesEveryFieldOfWhatTheApiPrints) {
+  HandStatus status;
+  status.address = {"cell", "bus0", 1};
+  expect_described_as("Status", Json(status));
+  HandEvent event;
+  event.hand = status.address;
+  expect_described_as("Event", Json(event));
+  ServiceInfo info;
+  info.buses.push_back(BusInfo{"bus0", "sim:1", true, {{1, "left"}}});
+  expect_described_as("Service", Json(info));
+  expect_described_as("Hands", Json{{"services", std::vector<ServiceInfo>{info}},
+                                    {"hands", std::vector<HandStatus>{status}}});
+  // A reply with every field a command may add.
+  Reply reply;
+  reply.grasp = GraspOutcome::grasped;
+  reply.found_ids = {1};
+  reply.lease_holder = "someone";
+  expect_described_as("Reply", reply_json("grasp", "cell/bus0/1", reply));
+  expect_described_as("Error", Json::parse(ApiError{400, "INVALID_ARGUMENT", "because"}.json()));
 }
 
 TEST(BearerToken, AcceptsOnlyTheExactToken) {
@@ -206,6 +279,13 @@ TEST_F(HandApiTest, ViewingCanNeedTheTokenToo) {
   EXPECT_EQ(listed.status, 200);
   EXPECT_EQ(listed.body, R"({"services":[],"hands":[]})");
   EXPECT_FALSE(closed.authorize_view(std::string("Bearer ") + kToken).has_value());
+}
+
+TEST_F(HandApiTest, HealthAndTheHandListAreDescribed) {
+  auto a = api(true);
+  expect_described_as("Health",
+                      Json::parse(a.handle(ApiRequest{"GET", "/api/health", "", ""}).body));
+  expect_described_as("Hands", Json::parse(a.handle(ApiRequest{"GET", "/api/hands", "", ""}).body));
 }
 
 TEST(HttpStatus, SaysWhatAReplysCodeMeans) {

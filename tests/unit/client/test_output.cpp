@@ -1,9 +1,10 @@
-// What dh3ctl prints: JSON one object per line that scripts can parse, and
-// tables and lines people can read.
+// What dh3ctl prints: JSON one object per line that scripts can parse
+// (client_json.hpp, which dh3-web prints too), and tables and lines people can read.
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "client_json.hpp"
 #include "output.hpp"
 
 namespace dh3::ctl {
@@ -12,6 +13,14 @@ namespace {
 using ::testing::HasSubstr;
 using ::testing::Not;
 using ::testing::StartsWith;
+
+template <typename T>
+std::string to_json(const T& value) {
+  return json_text(Json(value));
+}
+std::string json_string(std::string_view text) {
+  return json_text(Json(text));
+}
 
 TEST(JsonTest, StringsAreEscaped) {
   EXPECT_EQ(json_string("plain"), "\"plain\"");
@@ -22,21 +31,22 @@ TEST(JsonTest, StringsAreEscaped) {
   EXPECT_EQ(json_string("Grüße"), "\"Grüße\"");  // UTF-8 passes through
 }
 
+TEST(JsonTest, TextThatIsNotUtf8IsPrintedNotRefused) {
+  EXPECT_EQ(json_string("bad \xff byte"), "\"bad \xEF\xBF\xBD byte\"");
+}
+
 TEST(JsonTest, ObjectKeepsMembersInOrder) {
-  JsonObject o;
-  o.add("s", "x")
-      .add("i", std::int32_t{-3})
-      .add("b", false)
-      .add("ids", std::vector<std::uint16_t>{1, 2});
-  EXPECT_EQ(o.str(), R"({"s":"x","i":-3,"b":false,"ids":[1,2]})");
-  EXPECT_EQ(JsonObject().str(), "{}");
+  const Json o{
+      {"s", "x"}, {"i", std::int32_t{-3}}, {"b", false}, {"ids", std::vector<std::uint16_t>{1, 2}}};
+  EXPECT_EQ(json_text(o), R"({"s":"x","i":-3,"b":false,"ids":[1,2]})");
+  EXPECT_EQ(json_text(Json::object()), "{}");
 }
 
 TEST(JsonTest, ReplyObjectSaysCodeMessageAndWhatTheCommandReturned) {
   Reply grasp;
   grasp.grasp = GraspOutcome::missed;
   grasp.value = 0;
-  EXPECT_EQ(reply_json("grasp", "cell/bus0/1", grasp),
+  EXPECT_EQ(json_text(reply_json("grasp", "cell/bus0/1", grasp)),
             R"({"type":"reply","command":"grasp","hand":"cell/bus0/1","ok":true,"code":"OK",)"
             R"("message":"","value":0,"grasp":"MISSED"})");
 
@@ -44,7 +54,7 @@ TEST(JsonTest, ReplyObjectSaysCodeMessageAndWhatTheCommandReturned) {
   denied.code = Code::denied;
   denied.message = "hand 1 is leased by client 'x'";
   denied.lease_holder = "x";
-  const std::string line = reply_json("move", "cell/bus0/1", denied);
+  const std::string line = json_text(reply_json("move", "cell/bus0/1", denied));
   EXPECT_THAT(line, HasSubstr(R"("ok":false,"code":"DENIED")"));
   EXPECT_THAT(line, HasSubstr(R"("message":"hand 1 is leased by client 'x'")"));
   EXPECT_THAT(line, HasSubstr(R"("lease_holder":"x")"));
@@ -52,7 +62,10 @@ TEST(JsonTest, ReplyObjectSaysCodeMessageAndWhatTheCommandReturned) {
 
   Reply scan;
   scan.found_ids = {1, 2, 3};
-  EXPECT_THAT(reply_json("scan", "cell/bus0", scan), HasSubstr(R"("found_ids":[1,2,3])"));
+  EXPECT_THAT(json_text(reply_json("scan", "cell/bus0", scan)),
+              HasSubstr(R"("found_ids":[1,2,3])"));
+  EXPECT_THAT(json_text(reply_json("scan", "cell/bus0", Reply{})), HasSubstr(R"("found_ids":[])"));
+  EXPECT_THAT(json_text(reply_json("move", "cell/bus0/1", Reply{})), Not(HasSubstr("found_ids")));
 }
 
 HandStatus sample_status() {
