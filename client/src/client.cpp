@@ -63,106 +63,10 @@ std::optional<HandStatus> Hand::wait_until(const std::function<bool(const HandSt
   return core_->wait_status(address_, pred, timeout);
 }
 
-std::future<Reply> Hand::initialize_async(Timeout timeout) {
-  return core_->call(address_, msg::INITIALIZE, 0, 0, timeout);
-}
-Reply Hand::initialize(Timeout timeout) {
-  return initialize_async(timeout).get();
-}
-
-std::future<Reply> Hand::move_to_async(std::int32_t position, Timeout timeout) {
-  return core_->call(address_, msg::MOVE, position, 0, timeout);
-}
-Reply Hand::move_to(std::int32_t position, Timeout timeout) {
-  return move_to_async(position, timeout).get();
-}
-
-std::future<Reply> Hand::rotate_to_async(std::int32_t percent, Timeout timeout) {
-  return core_->call(address_, msg::ROTATE, percent, 0, timeout);
-}
-Reply Hand::rotate_to(std::int32_t percent, Timeout timeout) {
-  return rotate_to_async(percent, timeout).get();
-}
-
-std::future<Reply> Hand::set_force_async(std::int32_t closing, std::optional<std::int32_t> opening,
-                                         Timeout timeout) {
-  auto promise = std::make_shared<std::promise<Reply>>();
-  auto future = promise->get_future();
-  // Both values are checked before anything is sent: a bad opening force
-  // must not leave the closing force changed.
-  if (opening) {
-    if (auto checked = ClientCore::check(address_, msg::SET_OPENING_FORCE, *opening); !checked) {
-      promise->set_value(std::move(checked).error());
-      return future;
-    }
-  }
-  auto core = core_;
-  const HandAddress address = address_;
-  core_->call(address_, msg::SET_CLOSING_FORCE, closing, 0, timeout,
-              [core, address, opening, timeout, promise](Reply reply) {
-                if (!reply.ok() || !opening) {
-                  promise->set_value(std::move(reply));
-                  return;
-                }
-                core->call(address, msg::SET_OPENING_FORCE, *opening, 0, timeout,
-                           [promise](Reply second) { promise->set_value(std::move(second)); });
-              });
-  return future;
-}
-Reply Hand::set_force(std::int32_t closing, std::optional<std::int32_t> opening, Timeout timeout) {
-  return set_force_async(closing, opening, timeout).get();
-}
-
-std::future<Reply> Hand::grasp_async(std::int32_t force, Timeout timeout) {
-  return core_->call(address_, msg::GRASP, force, 0, timeout);
-}
-Reply Hand::grasp(std::int32_t force, Timeout timeout) {
-  return grasp_async(force, timeout).get();
-}
-
-std::future<Reply> Hand::release_async(std::int32_t position, Timeout timeout) {
-  return core_->call(address_, msg::RELEASE, position, 0, timeout);
-}
-Reply Hand::release(std::int32_t position, Timeout timeout) {
-  return release_async(position, timeout).get();
-}
-
-std::future<Reply> Hand::stop_async(Timeout timeout) {
-  return core_->call(address_, msg::STOP, 0, 0, timeout);
-}
-Reply Hand::stop(Timeout timeout) {
-  return stop_async(timeout).get();
-}
-
-std::future<Reply> Hand::read_async(std::uint16_t register_code, Timeout timeout) {
-  return core_->call(address_, msg::READ_REGISTER, 0, register_code, timeout);
-}
-Reply Hand::read(std::uint16_t register_code, Timeout timeout) {
-  return read_async(register_code, timeout).get();
-}
-
-std::future<Reply> Hand::set_can_id_async(std::int32_t can_id, Timeout timeout) {
-  return core_->call(address_, msg::SET_CAN_ID, can_id, 0, timeout);
-}
-Reply Hand::set_can_id(std::int32_t can_id, Timeout timeout) {
-  return set_can_id_async(can_id, timeout).get();
-}
-
-std::future<Reply> Hand::set_baud_rate_async(std::int32_t index, Timeout timeout) {
-  return core_->call(address_, msg::SET_BAUD_RATE, index, 0, timeout);
-}
-Reply Hand::set_baud_rate(std::int32_t index, Timeout timeout) {
-  return set_baud_rate_async(index, timeout).get();
-}
-
-std::future<Reply> Hand::scan_bus_async(Timeout timeout) {
-  return core_->call(HandAddress{address_.service, address_.bus, 0}, msg::SCAN, 0, 0, timeout);
-}
-Reply Hand::scan_bus(Timeout timeout) {
-  return scan_bus_async(timeout).get();
-}
-
 namespace {
+
+using Done = ClientCore::Done;
+
 std::int32_t ttl_ms(std::chrono::milliseconds ttl) {
   // Out-of-range values are refused by the range check, not wrapped.
   const auto ms = ttl.count();
@@ -170,26 +74,97 @@ std::int32_t ttl_ms(std::chrono::milliseconds ttl) {
   if (ms < INT32_MIN) return INT32_MIN;
   return static_cast<std::int32_t>(ms);
 }
+
+/// A `done` that fulfils the future it comes with, on the thread that ends the call.
+template <typename R>
+std::pair<std::function<void(R)>, std::future<R>> promised() {
+  auto promise = std::make_shared<std::promise<R>>();
+  auto future = promise->get_future();
+  return {[promise](R reply) { promise->set_value(std::move(reply)); }, std::move(future)};
+}
+
+/// The closing force, then the opening force if given (both checked before
+/// anything is sent: a bad opening force must not leave the closing force changed).
+void start_set_force(const std::shared_ptr<ClientCore>& core, const HandAddress& address,
+                     std::int32_t closing, std::optional<std::int32_t> opening, Timeout timeout,
+                     Done done) {
+  if (opening) {
+    if (auto checked = ClientCore::check(address, msg::SET_OPENING_FORCE, *opening); !checked) {
+      done(std::move(checked).error());
+      return;
+    }
+  }
+  core->call(address, msg::SET_CLOSING_FORCE, closing, 0, timeout,
+             [core, address, opening, timeout, done = std::move(done)](Reply reply) mutable {
+               if (!reply.ok() || !opening) {
+                 done(std::move(reply));
+                 return;
+               }
+               core->call(address, msg::SET_OPENING_FORCE, *opening, 0, timeout, std::move(done));
+             });
+}
+
 }  // namespace
 
-std::future<Reply> Hand::acquire_lease_async(std::chrono::milliseconds ttl, Timeout timeout) {
-  return core_->call(address_, msg::ACQUIRE_LEASE, ttl_ms(ttl), 0, timeout);
-}
-Reply Hand::acquire_lease(std::chrono::milliseconds ttl, Timeout timeout) {
-  return acquire_lease_async(ttl, timeout).get();
-}
-std::future<Reply> Hand::renew_lease_async(std::chrono::milliseconds ttl, Timeout timeout) {
-  return core_->call(address_, msg::RENEW_LEASE, ttl_ms(ttl), 0, timeout);
-}
-Reply Hand::renew_lease(std::chrono::milliseconds ttl, Timeout timeout) {
-  return renew_lease_async(ttl, timeout).get();
-}
-std::future<Reply> Hand::release_lease_async(Timeout timeout) {
-  return core_->call(address_, msg::RELEASE_LEASE, 0, 0, timeout);
-}
-Reply Hand::release_lease(Timeout timeout) {
-  return release_lease_async(timeout).get();
-}
+// The commands, each once: its name, its parameters before the timeout and
+// their names (each followed by a comma), and how it starts with `timeout`
+// and `done` (ClientCore::Done). DH3_CALL_FORMS makes the three forms of each
+// from it: with a callback (run on the client's callback thread), with a
+// std::future, and blocking.
+#define DH3_HAND_COMMANDS(X)                                                                    \
+  X(initialize, (), (), core_->call(address_, msg::INITIALIZE, 0, 0, timeout, std::move(done))) \
+  X(move_to, (std::int32_t position, ), (position, ),                                           \
+    core_->call(address_, msg::MOVE, position, 0, timeout, std::move(done)))                    \
+  X(rotate_to, (std::int32_t percent, ), (percent, ),                                           \
+    core_->call(address_, msg::ROTATE, percent, 0, timeout, std::move(done)))                   \
+  X(set_force, (std::int32_t closing, std::optional<std::int32_t> opening, ),                   \
+    (closing, opening, ),                                                                       \
+    start_set_force(core_, address_, closing, opening, timeout, std::move(done)))               \
+  X(grasp, (std::int32_t force, ), (force, ),                                                   \
+    core_->call(address_, msg::GRASP, force, 0, timeout, std::move(done)))                      \
+  X(release, (std::int32_t position, ), (position, ),                                           \
+    core_->call(address_, msg::RELEASE, position, 0, timeout, std::move(done)))                 \
+  X(stop, (), (), core_->call(address_, msg::STOP, 0, 0, timeout, std::move(done)))             \
+  X(read, (std::uint16_t register_code, ), (register_code, ),                                   \
+    core_->call(address_, msg::READ_REGISTER, 0, register_code, timeout, std::move(done)))      \
+  X(set_can_id, (std::int32_t can_id, ), (can_id, ),                                            \
+    core_->call(address_, msg::SET_CAN_ID, can_id, 0, timeout, std::move(done)))                \
+  X(set_baud_rate, (std::int32_t index, ), (index, ),                                           \
+    core_->call(address_, msg::SET_BAUD_RATE, index, 0, timeout, std::move(done)))              \
+  X(scan_bus, (), (),                                                                           \
+    core_->call(HandAddress{address_.service, address_.bus, 0}, msg::SCAN, 0, 0, timeout,       \
+                std::move(done)))                                                               \
+  X(acquire_lease, (std::chrono::milliseconds ttl, ), (ttl, ),                                  \
+    core_->call(address_, msg::ACQUIRE_LEASE, ttl_ms(ttl), 0, timeout, std::move(done)))        \
+  X(renew_lease, (std::chrono::milliseconds ttl, ), (ttl, ),                                    \
+    core_->call(address_, msg::RENEW_LEASE, ttl_ms(ttl), 0, timeout, std::move(done)))          \
+  X(release_lease, (), (),                                                                      \
+    core_->call(address_, msg::RELEASE_LEASE, 0, 0, timeout, std::move(done)))
+
+#define DH3_CLIENT_COMMANDS(X)                                                      \
+  X(scan, (const std::string& service, const std::string& bus, ), (service, bus, ), \
+    core_->call(HandAddress{service, bus, 0}, msg::SCAN, 0, 0, timeout, std::move(done)))
+
+#define DH3_UNPARENTHESIZED(...) __VA_ARGS__
+#define DH3_CALL_FORMS(Class, name, params, args, start)                                         \
+  void Class::name##_async(DH3_UNPARENTHESIZED params ReplyCallback callback, Timeout timeout) { \
+    Done done = core_->on_callback_thread(std::move(callback));                                  \
+    start;                                                                                       \
+  }                                                                                              \
+  std::future<Reply> Class::name##_async(DH3_UNPARENTHESIZED params Timeout timeout) {           \
+    auto [done, future] = promised<Reply>();                                                     \
+    start;                                                                                       \
+    return std::move(future);                                                                    \
+  }                                                                                              \
+  Reply Class::name(DH3_UNPARENTHESIZED params Timeout timeout) {                                \
+    return name##_async(DH3_UNPARENTHESIZED args timeout).get();                                 \
+  }
+#define DH3_HAND_CALL_FORMS(name, params, args, start) \
+  DH3_CALL_FORMS(Hand, name, params, args, start)
+#define DH3_CLIENT_CALL_FORMS(name, params, args, start) \
+  DH3_CALL_FORMS(Client, name, params, args, start)
+
+DH3_HAND_COMMANDS(DH3_HAND_CALL_FORMS)
 
 Subscription Hand::subscribe(EventCallback callback) {
   return Subscription(core_->subscribe_events(std::move(callback), address_));
@@ -271,25 +246,21 @@ Found<Hand> Client::wait_for_hand(std::string_view spec, Timeout timeout) {
   return Hand(core_, *resolved);
 }
 
-std::future<Reply> Client::scan_async(const std::string& service, const std::string& bus,
-                                      Timeout timeout) {
-  return core_->call(HandAddress{service, bus, 0}, msg::SCAN, 0, 0, timeout);
-}
-Reply Client::scan(const std::string& service, const std::string& bus, Timeout timeout) {
-  return scan_async(service, bus, timeout).get();
-}
+DH3_CLIENT_COMMANDS(DH3_CLIENT_CALL_FORMS)
 
+void Client::group_async(GroupCommand command, std::vector<HandAddress> hands, std::int32_t value,
+                         GroupReplyCallback callback, Timeout timeout) {
+  core_->group_call(command, hands, value, timeout, core_->on_callback_thread(std::move(callback)));
+}
 std::future<GroupReply> Client::group_async(GroupCommand command, std::vector<HandAddress> hands,
-                                           std::int32_t value, Timeout timeout) {
-  // The call blocks while it waits; a thread of its own keeps the caller free.
-  return std::async(std::launch::async, [core = core_, command, hands = std::move(hands), value,
-                                         timeout] {
-    return core->group_call(command, hands, value, timeout);
-  });
+                                            std::int32_t value, Timeout timeout) {
+  auto [done, future] = promised<GroupReply>();
+  core_->group_call(command, hands, value, timeout, std::move(done));
+  return std::move(future);
 }
 GroupReply Client::group(GroupCommand command, const std::vector<HandAddress>& hands,
                          std::int32_t value, Timeout timeout) {
-  return core_->group_call(command, hands, value, timeout);
+  return group_async(command, hands, value, timeout).get();
 }
 
 Subscription Client::subscribe(EventCallback callback, std::optional<HandAddress> only) {

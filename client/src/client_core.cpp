@@ -4,6 +4,7 @@
 #include "client_core.hpp"
 
 #include <algorithm>
+#include <variant>
 
 #include "client_endpoints.hpp"
 #include "conversions.hpp"
@@ -86,8 +87,6 @@ void ClientCore::close() {
     closed_ = true;
     out.completions = calls_.end_all(make_reply(Code::not_connected, "the client was closed"));
   }
-  // No group call is filed once closed_ is set (group_call() files under mutex_).
-  group_calls_.close();
   io_wake_.notify_all();
   changed_.notify_all();
   // The io thread is the only writer: once it is gone no write can race the
@@ -131,39 +130,66 @@ void ClientCore::call(const HandAddress& hand, msg::CommandType command, std::in
     done(std::move(checked).error());
     return;
   }
+  PendingCalls::Call call;
+  call.hand = hand;
+  call.request = std::move(request);
+  call.timeout = effective(timeout);
+  call.done = std::move(done);
+  submit(std::move(call));
+}
+
+void ClientCore::group_call(GroupCommand command, const std::vector<HandAddress>& hands,
+                            std::int32_t value, Timeout timeout, GroupDone done) {
+  auto call = GroupCalls::make_call(command, hands, value, timeout, effective(timeout), done);
+  if (!call) return done(std::move(call).error());
+  if (!connected()) {
+    return done(GroupCalls::refused(Code::not_connected, "the client is not connected"));
+  }
+  if (!can_command_ || !can_group_) {
+    return done(GroupCalls::refused(Code::denied, "not permitted to publish group requests"));
+  }
+  submit(std::move(call).value());
+}
+
+void ClientCore::submit(PendingCalls::Call call) {
   std::uint64_t seq = 0;
   bool write_now = false;
   bool kick = false;
-  msg::CommandRequest to_send;
+  std::optional<PendingCalls::Outgoing> to_send;
   {
     std::unique_lock lock(mutex_);
     if (closed_) {
       lock.unlock();
-      done(make_reply(Code::not_connected, closed_message()));
+      call.done(make_reply(Code::not_connected, closed_message()));
       return;
     }
     if (!can_command_) {
       lock.unlock();
-      done(make_reply(Code::denied, denied_message_));
+      call.done(make_reply(Code::denied, denied_message_));
       return;
     }
     seq = calls_.next_seq();
-    request.client_id(client_id_);
-    request.request_seq(seq);
-    PendingCalls::Call call;
-    call.hand = hand;
-    call.request = std::move(request);
-    call.timeout = effective(timeout);
+    if (call.group) {
+      call.group->request.client_id(client_id_);
+      call.group->request.request_seq(seq);
+    } else {
+      call.request.client_id(client_id_);
+      call.request.request_seq(seq);
+    }
     call.deadline = Clock::now() + call.timeout;
-    call.done = std::move(done);
-    if (tracker_.ready(hand.service)) {
-      call.sent_to = tracker_.incarnation(hand.service);
+    const std::string& service = call.hand.service;
+    if (call.group ? tracker_.group_ready(service) : tracker_.ready(service)) {
+      call.sent_to = tracker_.incarnation(service);
       // Written here, without waking the io thread, unless that could let it
       // overtake a request written or queued before it.
       if (calls_.queue_empty() && calls_.writes_in_flight() == 0 && !t_on_dds_listener) {
         write_now = true;
         calls_.begin_write();
-        to_send = call.request;
+        if (call.group) {
+          to_send = PendingCalls::Outgoing(call.group->request);
+        } else {
+          to_send = PendingCalls::Outgoing(call.request);
+        }
       } else {
         calls_.queue(seq);
         kick = true;
@@ -174,7 +200,7 @@ void ClientCore::call(const HandAddress& hand, msg::CommandType command, std::in
     if (kick) io_kick_ = true;
   }
   if (kick) io_wake_.notify_all();
-  if (write_now) write_request(seq, to_send);
+  if (write_now) write_request(seq, *to_send);
 }
 
 std::future<Reply> ClientCore::call(const HandAddress& hand, msg::CommandType command,
@@ -187,8 +213,15 @@ std::future<Reply> ClientCore::call(const HandAddress& hand, msg::CommandType co
   return future;
 }
 
-void ClientCore::write_request(std::uint64_t seq, const msg::CommandRequest& request) {
-  const bool written = endpoints_->write(request);
+void ClientCore::write_request(std::uint64_t seq, const PendingCalls::Outgoing& request) {
+  const bool group = std::holds_alternative<msg::GroupRequest>(request);
+  bool written = false;
+  if (group) {
+    msg::GroupRequest sample = std::get<msg::GroupRequest>(request);
+    written = endpoints_->write(sample);
+  } else {
+    written = endpoints_->write(std::get<msg::CommandRequest>(request));
+  }
   Done failed;
   {
     std::lock_guard lock(mutex_);
@@ -200,7 +233,10 @@ void ClientCore::write_request(std::uint64_t seq, const msg::CommandRequest& req
     }
   }
   writes_done_.notify_all();
-  if (failed) failed(make_reply(Code::not_connected, "could not publish the request"));
+  if (failed) {
+    failed(make_reply(Code::not_connected, group ? "could not publish the group request"
+                                                 : "could not publish the request"));
+  }
 }
 
 void ClientCore::write_requests(std::unique_lock<std::mutex>& lock) {
@@ -224,15 +260,17 @@ void ClientCore::io_loop() {
 
     auto expiry = calls_.expire(Clock::now());
     if (!expiry.expired.empty()) {
-      std::vector<PendingCalls::Completion> ended;
+      std::vector<PendingCalls::Completion> singles;
+      std::vector<PendingCalls::Completion> groups;
       for (auto& call : expiry.expired) {
         Reply reply =
             PendingCalls::expired_reply(call, tracker_.alive(call.hand.service), options_.domain);
-        ended.emplace_back(std::move(call.done), std::move(reply));
+        (call.group ? groups : singles).emplace_back(std::move(call.done), std::move(reply));
       }
       lock.unlock();
-      tell_acknowledgment(ended);
-      for (auto& [done, reply] : ended) done(std::move(reply));
+      tell_acknowledgment(singles);
+      for (auto& [done, reply] : singles) done(std::move(reply));
+      for (auto& [done, reply] : groups) done(std::move(reply));
       lock.lock();
       continue;  // state may have changed while unlocked
     }
@@ -269,51 +307,6 @@ void ClientCore::run(Actions& actions) {
   if (actions.wake_io) io_wake_.notify_all();
 }
 
-GroupReply ClientCore::group_call(GroupCommand command, const std::vector<HandAddress>& hands,
-                                  std::int32_t value, Timeout timeout) {
-  const auto limit = effective(timeout);
-  auto request = GroupCalls::make_request(command, hands, value, timeout);
-  if (!request) return std::move(request).error();
-  if (!connected()) return GroupCalls::refused(Code::not_connected, "the client is not connected");
-  if (!can_command_ || !can_group_) {
-    return GroupCalls::refused(Code::denied, "not permitted to publish group requests");
-  }
-  const auto deadline = Clock::now() + limit;
-  const std::string service = request->service();
-  std::future<GroupReply> future;
-  std::uint64_t seq = 0;
-  {
-    std::unique_lock lock(mutex_);
-    if (!changed_.wait_until(lock, deadline,
-                             [&] { return closed_ || tracker_.group_ready(service); })) {
-      return GroupCalls::refused(
-          Code::no_service,
-          "service '" + service + "' with group commands not found in " + describe_duration(limit));
-    }
-    if (closed_) return GroupCalls::refused(Code::not_connected, "the client was closed");
-    seq = calls_.next_seq();
-    future = group_calls_.add(seq, tracker_.incarnation(service),
-                              "GROUP " + std::string(to_string(command)) + " of " +
-                                  std::to_string(hands.size()) + " hand(s)");
-    calls_.begin_write();
-  }
-  request->client_id(client_id_);
-  request->request_seq(seq);
-  const bool written = endpoints_->write(*request);
-  {
-    std::lock_guard lock(mutex_);
-    calls_.end_write();
-    if (written) requests_written_.fetch_add(1, std::memory_order_relaxed);
-  }
-  writes_done_.notify_all();
-  if (written && future.wait_until(deadline) == std::future_status::ready) return future.get();
-  // The reply may have come in between: it wins.
-  if (!group_calls_.forget(seq)) return future.get();
-  if (!written)
-    return GroupCalls::refused(Code::not_connected, "could not publish the group request");
-  return GroupCalls::refused(Code::no_reply, "no group reply within " + describe_duration(limit));
-}
-
 // ---------------------------------------------------------------------------
 // From the DDS listeners
 
@@ -322,7 +315,6 @@ void ClientCore::apply_locked(const ServiceTracker::Outcome& outcome, Actions& o
     for (auto& ended : calls_.end_sent_to(outcome.lost, outcome.why)) {
       out.completions.push_back(std::move(ended));
     }
-    group_calls_.lose(outcome.lost, outcome.why);
     const auto now = std::chrono::system_clock::now().time_since_epoch();
     const auto made_ns =
         static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(now).count());
@@ -337,7 +329,9 @@ void ClientCore::apply_locked(const ServiceTracker::Outcome& outcome, Actions& o
 
 void ClientCore::dispatch_locked(const std::string& service, Actions& out) {
   if (!tracker_.ready(service)) return;
-  if (calls_.assign(service, tracker_.incarnation(service))) out.wake_io = true;
+  if (calls_.assign(service, tracker_.incarnation(service), tracker_.group_ready(service))) {
+    out.wake_io = true;
+  }
   changed_.notify_all();
 }
 
@@ -438,7 +432,7 @@ void ClientCore::on_reply(const msg::CommandReply& reply) {
   {
     std::lock_guard lock(mutex_);
     const PendingCalls::Call* call = calls_.find(reply.request_seq());
-    if (call == nullptr || call->request.command() != reply.command()) return;
+    if (call == nullptr || call->group || call->request.command() != reply.command()) return;
     // The hand's status as the command left it, cached (and posted) before the
     // call ends; the same sample on the status topic is then not news.
     if (reply.status().update_seq() != 0 && !closed_ && !call->sent_to.empty() &&
@@ -457,10 +451,15 @@ void ClientCore::on_group_reply(const msg::GroupReply& reply) {
     foreign_replies_taken_.fetch_add(1, std::memory_order_relaxed);
     return;
   }
-  const auto promise = group_calls_.take(reply.request_seq());
-  if (promise == nullptr) return;
+  GroupDone done;
+  {
+    std::lock_guard lock(mutex_);
+    const PendingCalls::Call* call = calls_.find(reply.request_seq());
+    if (call == nullptr || !call->group) return;
+    done = std::move(calls_.take(reply.request_seq())->group->done);
+  }
   own_replies_.fetch_add(1, std::memory_order_relaxed);
-  promise->set_value(GroupCalls::reply_of(reply));
+  done(GroupCalls::reply_of(reply));
 }
 
 // ---------------------------------------------------------------------------

@@ -1,13 +1,13 @@
 #pragma once
 // What dh3::Client and dh3::Hand share: a coordinator over the classes that
 // know the services (ServiceTracker), the hands' statuses (StatusCache), the
-// calls under way (PendingCalls, GroupCalls), the user's callbacks
+// calls under way (PendingCalls, single and group alike), the user's callbacks
 // (Subscriptions) and the DDS wiring (ClientEndpoints).
 //
 // Threading: one state mutex, `mutex_`, guards closed_, io_kick_, tracker_,
 // cache_ and calls_ (a service's loss changes all three in one step, and the
-// waits look at several); Subscriptions and GroupCalls have their own mutexes,
-// always taken after it, and the Dispatcher's after those. No lock is held
+// waits look at several); Subscriptions has its own mutex, always taken after
+// it, and the Dispatcher's after that. No lock is held
 // while a call's `done` runs, a request is written or a user callback runs.
 //   - Fast DDS listener threads deliver samples, matches and participant
 //     changes (ClientEndpoints); they update the state and never write to DDS.
@@ -18,7 +18,9 @@
 //     writes it. close() waits for writes in progress before it deletes the
 //     DDS entities. The io thread also ends calls whose deadline passed; a call
 //     wakes it only when its deadline comes before the io thread's next wake.
-//   - One dispatcher thread (Subscriptions) runs user callbacks, in order.
+//   - One dispatcher thread (Subscriptions) runs user callbacks, in order:
+//     events, statuses and the completion callbacks of calls (a call's `done`
+//     posts them; the `done` of a std::future fulfils it where the call ends).
 //     User code never runs on a DDS thread, so a callback that makes a
 //     blocking call cannot hold up the very reply it waits for.
 //
@@ -71,6 +73,7 @@ class ClientEndpoints;
 class ClientCore : public std::enable_shared_from_this<ClientCore> {
  public:
   using Done = PendingCalls::Done;
+  using GroupDone = PendingCalls::GroupDone;
 
   explicit ClientCore(ClientOptions options);
   /// With the readers and writers made by `endpoints` (endpoint_creator.hpp).
@@ -104,9 +107,22 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   [[nodiscard]] static Result<void, Reply> check(const HandAddress& hand, msg::CommandType command,
                                                  std::int32_t value);
 
-  /// A group command; blocks until its reply or deadline.
-  GroupReply group_call(GroupCommand command, const std::vector<HandAddress>& hands,
-                        std::int32_t value, Timeout timeout);
+  /// Sends a group command; `done` runs exactly once, as call()'s does.
+  void group_call(GroupCommand command, const std::vector<HandAddress>& hands, std::int32_t value,
+                  Timeout timeout, GroupDone done);
+
+  /// A `done` that runs `callback` on the callback thread (after the
+  /// callbacks posted before it), or at once where the call ends once the
+  /// client is closed.
+  template <typename R>
+  std::function<void(R)> on_callback_thread(std::function<void(R)> callback) {
+    return [this, callback = std::move(callback)](R reply) mutable {
+      subscriptions_.post_completion(
+          [callback = std::move(callback), reply = std::move(reply)]() mutable {
+            callback(std::move(reply));
+          });
+    };
+  }
 
   [[nodiscard]] std::vector<ServiceInfo> services() const;
   [[nodiscard]] std::optional<ServiceInfo> service(std::string_view name) const;
@@ -158,12 +174,16 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   void io_loop();
   /// Writes the queued requests, unlocking `lock` around each write.
   void write_requests(std::unique_lock<std::mutex>& lock);
+  /// Files a call made by call() or group_call() (its request without
+  /// client_id and request_seq yet) and writes its request now if it may.
+  void submit(PendingCalls::Call call);
   /// Writes one pending request (`mutex_` not held; counted in flight); ends
   /// the call if the write fails.
-  void write_request(std::uint64_t seq, const msg::CommandRequest& request);
-  /// Says in each NO_REPLY among `expired` whether the services' request
-  /// readers acknowledged every request written, so a caller knows whether
-  /// the service may have run it (`mutex_` not held: it asks the writer).
+  void write_request(std::uint64_t seq, const PendingCalls::Outgoing& request);
+  /// Says in each NO_REPLY among `expired` (single calls) whether the
+  /// services' request readers acknowledged every request written, so a
+  /// caller knows whether the service may have run it (`mutex_` not held: it
+  /// asks the writer).
   void tell_acknowledgment(std::vector<PendingCalls::Completion>& expired) const;
   void run(Actions& actions);
 
@@ -201,7 +221,6 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   PendingCalls calls_;
 
   Subscriptions subscriptions_;  ///< own mutex, after mutex_
-  GroupCalls group_calls_;       ///< own mutex, after mutex_
 
   std::atomic<std::uint64_t> requests_written_{0};
   std::atomic<std::uint64_t> own_replies_{0};

@@ -2,6 +2,8 @@
 
 #include "dispatcher.hpp"
 
+#include <algorithm>
+
 namespace dh3::detail {
 
 Dispatcher::Dispatcher() : state_(std::make_shared<State>()) {
@@ -9,11 +11,12 @@ Dispatcher::Dispatcher() : state_(std::make_shared<State>()) {
     std::unique_lock lock(state->mutex);
     for (;;) {
       state->wake.wait(lock, [&] { return state->stop || !state->tasks.empty(); });
-      if (state->stop) return;
+      if (state->tasks.empty()) return;  // stopped, and nothing left that must run
       auto task = std::move(state->tasks.front());
       state->tasks.pop_front();
+      if (state->stop && !task.must_run) continue;
       lock.unlock();
-      task();
+      task.run();
       lock.lock();
     }
   });
@@ -25,19 +28,33 @@ Dispatcher::~Dispatcher() {
 }
 
 void Dispatcher::post(std::function<void()> task) {
+  push(std::move(task), false);
+}
+
+void Dispatcher::post_must_run(std::function<void()> task) {
+  push(std::move(task), true);
+}
+
+void Dispatcher::push(std::function<void()> task, bool must_run) {
   {
     std::lock_guard lock(state_->mutex);
-    if (state_->stop) return;
-    state_->tasks.push_back(std::move(task));
+    if (!state_->stop) {
+      state_->tasks.push_back(State::Task{std::move(task), must_run});
+      state_->wake.notify_one();
+      return;
+    }
   }
-  state_->wake.notify_one();
+  if (must_run) task();
 }
 
 void Dispatcher::stop() {
   {
     std::lock_guard lock(state_->mutex);
     state_->stop = true;
-    state_->tasks.clear();
+    auto& tasks = state_->tasks;
+    tasks.erase(std::remove_if(tasks.begin(), tasks.end(),
+                               [](const State::Task& task) { return !task.must_run; }),
+                tasks.end());
   }
   state_->wake.notify_all();
   if (!thread_.joinable()) return;

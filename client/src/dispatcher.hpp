@@ -1,6 +1,6 @@
 #pragma once
-// The thread that runs user callbacks (events, statuses) in order, so user
-// code never runs on a DDS thread.
+// The thread that runs user callbacks (events, statuses, calls' completions)
+// in order, so user code never runs on a DDS thread.
 
 #include <condition_variable>
 #include <deque>
@@ -20,9 +20,13 @@ class Dispatcher {
   Dispatcher(const Dispatcher&) = delete;
   Dispatcher& operator=(const Dispatcher&) = delete;
 
+  /// A task that stop() may drop (an event or status: news nobody waits for).
   void post(std::function<void()> task);
-  /// Drops what is queued and ends the thread (joined, or detached when
-  /// called from a task).
+  /// A task that runs whatever happens (a call's completion): queued, it runs
+  /// before the thread ends; posted once stopped, it runs at once, here.
+  void post_must_run(std::function<void()> task);
+  /// Drops the droppable tasks queued, runs the others, and ends the thread
+  /// (joined, or detached when called from a task).
   void stop();
   [[nodiscard]] bool on_dispatcher_thread() const;
 
@@ -30,10 +34,16 @@ class Dispatcher {
   struct State {
     std::mutex mutex;
     std::condition_variable wake;
-    std::deque<std::function<void()>> tasks;
+    struct Task {
+      std::function<void()> run;
+      bool must_run = false;
+    };
+    std::deque<Task> tasks;
     bool stop = false;
   };
   std::shared_ptr<State> state_;
+  void push(std::function<void()> task, bool must_run);
+
   std::thread thread_;
   std::thread::id thread_id_;
 };

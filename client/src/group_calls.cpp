@@ -1,4 +1,4 @@
-// GroupCalls: group requests made, and the group calls waiting for a reply.
+// GroupCalls: group requests made, and group replies read.
 
 #include "group_calls.hpp"
 
@@ -44,10 +44,10 @@ Result<msg::GroupRequest, GroupReply> GroupCalls::make_request(
   // The service bounds each member's command by it (a single call's timeout
   // stays with the client), so refuse here what the service would.
   if (timeout.count() > static_cast<Timeout::rep>(limits::REQUEST_TIMEOUT_MAX_MS)) {
-    return fail(refused(Code::invalid_argument,
-                        "a group's timeout is at most " +
-                            std::to_string(limits::REQUEST_TIMEOUT_MAX_MS) + " ms, not " +
-                            std::to_string(timeout.count()) + " ms"));
+    return fail(refused(Code::invalid_argument, "a group's timeout is at most " +
+                                                    std::to_string(limits::REQUEST_TIMEOUT_MAX_MS) +
+                                                    " ms, not " + std::to_string(timeout.count()) +
+                                                    " ms"));
   }
   msg::GroupRequest request;
   request.service(hands.front().service);
@@ -88,57 +88,23 @@ GroupReply GroupCalls::reply_of(const msg::GroupReply& reply) {
   return out;
 }
 
-std::future<GroupReply> GroupCalls::add(std::uint64_t seq, std::string sent_to, std::string what) {
-  auto promise = std::make_shared<std::promise<GroupReply>>();
-  auto future = promise->get_future();
-  std::lock_guard lock(mutex_);
-  pending_[seq] = Pending{std::move(promise), std::move(sent_to), std::move(what)};
-  return future;
-}
-
-std::shared_ptr<std::promise<GroupReply>> GroupCalls::take(std::uint64_t seq) {
-  std::lock_guard lock(mutex_);
-  const auto it = pending_.find(seq);
-  if (it == pending_.end()) return nullptr;
-  auto promise = std::move(it->second.promise);
-  pending_.erase(it);
-  return promise;
-}
-
-bool GroupCalls::forget(std::uint64_t seq) {
-  std::lock_guard lock(mutex_);
-  return pending_.erase(seq) > 0;
-}
-
-void GroupCalls::lose(const std::string& lost, const std::string& why) {
-  std::vector<Pending> ended;
-  {
-    std::lock_guard lock(mutex_);
-    for (auto it = pending_.begin(); it != pending_.end();) {
-      if (!lost.empty() && it->second.sent_to == lost) {
-        ended.push_back(std::move(it->second));
-        it = pending_.erase(it);
-      } else {
-        ++it;
-      }
-    }
-  }
-  for (auto& call : ended) {
-    call.promise->set_value(refused(
-        Code::service_lost,
-        why + " while " + call.what + " was pending; it may or may not have run"));
-  }
-}
-
-void GroupCalls::close() {
-  std::map<std::uint64_t, Pending> ended;
-  {
-    std::lock_guard lock(mutex_);
-    ended.swap(pending_);
-  }
-  for (auto& [seq, call] : ended) {
-    call.promise->set_value(refused(Code::not_connected, "the client was closed"));
-  }
+Result<PendingCalls::Call, GroupReply> GroupCalls::make_call(GroupCommand command,
+                                                             const std::vector<HandAddress>& hands,
+                                                             std::int32_t value, Timeout timeout,
+                                                             std::chrono::milliseconds limit,
+                                                             PendingCalls::GroupDone done) {
+  auto request = make_request(command, hands, value, timeout);
+  if (!request) return fail(std::move(request).error());
+  PendingCalls::Call call;
+  call.hand.service = request->service();
+  call.timeout = limit;
+  // Every end but the reply: the client's own code and message.
+  call.done = [done](Reply reply) { done(refused(reply.code, std::move(reply.message))); };
+  call.group = PendingCalls::Group{std::move(request).value(),
+                                   "GROUP " + std::string(to_string(command)) + " of " +
+                                       std::to_string(hands.size()) + " hand(s)",
+                                   std::move(done)};
+  return call;
 }
 
 }  // namespace dh3::detail

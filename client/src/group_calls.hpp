@@ -1,18 +1,12 @@
 #pragma once
-// Group calls (dh3/group.hpp): one GroupRequest on its own topic, one
-// GroupReply. Simpler than single calls (pending_calls.hpp) on purpose: the
-// calling thread writes the request itself and waits for the reply; one that
-// does not come by the deadline ends it NO_REPLY, and the loss of the service
-// instance it was sent to ends it SERVICE_LOST at once, as for single calls.
-//
-// Thread-safe: its own mutex is taken last (ClientCore may hold its state mutex)
-// and a reply reaches its waiting caller (a promise) after it is released.
+// Group calls (dh3/group.hpp): the GroupRequest a call writes on its own
+// topic, and the GroupReply it ends with. The calls themselves wait in
+// PendingCalls beside single calls (pending_calls.hpp): written once the
+// service's group endpoints matched, ended NO_REPLY at their deadline and
+// SERVICE_LOST when the service instance they were sent to is lost.
 
+#include <chrono>
 #include <cstdint>
-#include <future>
-#include <map>
-#include <memory>
-#include <mutex>
 #include <string>
 #include <vector>
 
@@ -20,6 +14,7 @@
 #include "dh3/client.hpp"
 #include "dh3/group.hpp"
 #include "dh3_idl/dh3.h"
+#include "pending_calls.hpp"
 
 namespace dh3::detail {
 
@@ -35,27 +30,12 @@ class GroupCalls {
 
   [[nodiscard]] static GroupReply reply_of(const msg::GroupReply& reply);
 
-  /// Files a call under `seq`, sent to the service instance `sent_to` (its
-  /// participant's prefix) as `what` ("GROUP MOVE of 2 hands"); its reply,
-  /// lose() or close() fulfils the future.
-  std::future<GroupReply> add(std::uint64_t seq, std::string sent_to, std::string what);
-  /// The promise of the call `seq`, no longer filed; nullptr if none waits.
-  std::shared_ptr<std::promise<GroupReply>> take(std::uint64_t seq);
-  /// Drops a call that gave up; false if its reply came first (the future has it).
-  bool forget(std::uint64_t seq);
-  /// Ends the calls sent to the instance `lost` SERVICE_LOST, saying `why`.
-  void lose(const std::string& lost, const std::string& why);
-  /// Ends every call NOT_CONNECTED.
-  void close();
-
- private:
-  struct Pending {
-    std::shared_ptr<std::promise<GroupReply>> promise;
-    std::string sent_to;
-    std::string what;
-  };
-  std::mutex mutex_;  ///< guards pending_
-  std::map<std::uint64_t, Pending> pending_;
+  /// The call PendingCalls files (without deadline, client_id and
+  /// request_seq), bounded by `limit`; `done` takes its reply or, adapted,
+  /// any other end. Or make_request()'s refusal (`done` not called).
+  [[nodiscard]] static Result<PendingCalls::Call, GroupReply> make_call(
+      GroupCommand command, const std::vector<HandAddress>& hands, std::int32_t value,
+      Timeout timeout, std::chrono::milliseconds limit, PendingCalls::GroupDone done);
 };
 
 }  // namespace dh3::detail

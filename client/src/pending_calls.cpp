@@ -28,10 +28,16 @@ std::optional<PendingCalls::Call> PendingCalls::take(std::uint64_t seq) {
   return call;
 }
 
-bool PendingCalls::assign(const std::string& service, const std::string& incarnation) {
+std::string PendingCalls::Call::what() const {
+  if (group) return group->what;
+  return command_name(request.command()) + " for " + hand.to_string();
+}
+
+bool PendingCalls::assign(const std::string& service, const std::string& incarnation,
+                          bool group_ready) {
   bool any = false;
   for (auto& [seq, call] : calls_) {
-    if (call.sent_to.empty() && call.hand.service == service) {
+    if (call.sent_to.empty() && call.hand.service == service && (group_ready || !call.group)) {
       call.sent_to = incarnation;
       to_write_.push_back(seq);
       any = true;
@@ -40,12 +46,14 @@ bool PendingCalls::assign(const std::string& service, const std::string& incarna
   return any;
 }
 
-std::optional<std::pair<std::uint64_t, msg::CommandRequest>> PendingCalls::next_to_write() {
+std::optional<std::pair<std::uint64_t, PendingCalls::Outgoing>> PendingCalls::next_to_write() {
   while (!to_write_.empty()) {
     const std::uint64_t seq = to_write_.front();
     to_write_.pop_front();
     if (const auto it = calls_.find(seq); it != calls_.end()) {
-      return std::make_pair(seq, it->second.request);
+      const Call& call = it->second;
+      if (call.group) return std::make_pair(seq, Outgoing(call.group->request));
+      return std::make_pair(seq, Outgoing(call.request));
     }
   }
   return std::nullopt;
@@ -59,9 +67,8 @@ std::vector<PendingCalls::Completion> PendingCalls::end_sent_to(const std::strin
     if (it->second.sent_to == incarnation) {
       ended.emplace_back(
           std::move(it->second.done),
-          make_reply(Code::service_lost,
-                     why + " while " + command_name(it->second.request.command()) + " for " +
-                         it->second.hand.to_string() + " was pending; it may or may not have run"));
+          make_reply(Code::service_lost, why + " while " + it->second.what() +
+                                             " was pending; it may or may not have run"));
       it = calls_.erase(it);
     } else {
       ++it;
@@ -94,7 +101,15 @@ PendingCalls::Expiry PendingCalls::expire(Clock::time_point now) {
 
 Reply PendingCalls::expired_reply(const Call& call, bool service_alive, int domain) {
   const auto& service = call.hand.service;
-  const std::string what = command_name(call.request.command()) + " for " + call.hand.to_string();
+  if (call.group) {
+    if (!call.sent_to.empty()) {
+      return make_reply(Code::no_reply, "no group reply within " + describe_duration(call.timeout));
+    }
+    return make_reply(Code::no_service, "service '" + service +
+                                            "' with group commands not found in " +
+                                            describe_duration(call.timeout));
+  }
+  const std::string what = call.what();
   const std::string within = " within " + describe_duration(call.timeout);
   if (!call.sent_to.empty()) {
     return make_reply(Code::no_reply,

@@ -1,7 +1,9 @@
 #pragma once
-// The calls between call() and their end: by request_seq, each with its
-// deadline and the incarnation its request was written to; the queue of
-// requests for the io thread; the io thread's next wake.
+// The calls between call() or group_call() and their end: by request_seq,
+// each with its deadline and the incarnation its request was written to; the
+// queue of requests for the io thread; the io thread's next wake. Single and
+// group calls (dh3/group.hpp) take the same path; a group call's request goes
+// on the group topic, and only once its service's group endpoints matched.
 //
 // Not thread-safe: ClientCore keeps it under its state mutex (a service's loss
 // ends its calls with its statuses). Knows no DDS, nor the clock: told the time.
@@ -14,9 +16,11 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "dh3/address.hpp"
+#include "dh3/group.hpp"
 #include "dh3/types.hpp"
 #include "dh3_idl/dh3.h"
 
@@ -26,16 +30,32 @@ class PendingCalls {
  public:
   using Clock = std::chrono::steady_clock;
   using Done = std::function<void(Reply)>;
+  using GroupDone = std::function<void(GroupReply)>;
   /// A call's end, to run once no lock is held.
   using Completion = std::pair<Done, Reply>;
+  /// A request as it is written: on the command topic or the group topic.
+  using Outgoing = std::variant<msg::CommandRequest, msg::GroupRequest>;
+
+  /// A group call's own part.
+  struct Group {
+    msg::GroupRequest request;
+    std::string what;  ///< "GROUP MOVE of 2 hand(s)"
+    GroupDone done;    ///< takes its reply; every other end goes through Call::done
+  };
 
   struct Call {
-    HandAddress hand;
-    msg::CommandRequest request;
+    HandAddress hand;             ///< a group call's: its service only
+    msg::CommandRequest request;  ///< a single call's
+    std::optional<Group> group;   ///< set for a group call
     Clock::time_point deadline;
     std::chrono::milliseconds timeout{};
+    /// Ends the call with the client's own code (and a single call with its
+    /// reply); a group call's adapts the Reply to a GroupReply.
     Done done;
     std::string sent_to;  ///< the incarnation it was written to; empty: not yet written
+
+    /// "MOVE for cell/bus0/1", "GROUP MOVE of 2 hand(s)".
+    [[nodiscard]] std::string what() const;
   };
   /// The calls whose deadline passed, and the next deadline (max if none).
   struct Expiry {
@@ -52,15 +72,16 @@ class PendingCalls {
   std::optional<Call> take(std::uint64_t seq);
 
   /// The calls for `service` not yet written go to `incarnation`, queued for
-  /// the io thread. True if any was.
-  bool assign(const std::string& service, const std::string& incarnation);
+  /// the io thread; group calls only when `group_ready` (its group endpoints
+  /// matched). True if any was.
+  bool assign(const std::string& service, const std::string& incarnation, bool group_ready = false);
   /// Queues a call already assigned for the io thread.
   void queue(std::uint64_t seq) { to_write_.push_back(seq); }
   [[nodiscard]] bool queue_empty() const { return to_write_.empty(); }
   /// The next queued request of a call still pending; calls ended meanwhile
   /// are skipped (never sent, so a command the caller was told failed does not
   /// run after all).
-  std::optional<std::pair<std::uint64_t, msg::CommandRequest>> next_to_write();
+  std::optional<std::pair<std::uint64_t, Outgoing>> next_to_write();
 
   /// Ends the calls written to `incarnation` SERVICE_LOST, saying `why`.
   std::vector<Completion> end_sent_to(const std::string& incarnation, const std::string& why);

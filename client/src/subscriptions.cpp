@@ -50,6 +50,10 @@ void Subscriptions::post_event(const HandEvent& event) {
   });
 }
 
+void Subscriptions::post_completion(std::function<void()> callback) {
+  dispatcher_.post_must_run([callback = std::move(callback)] { run_guarded(callback); });
+}
+
 void Subscriptions::add_events(const std::shared_ptr<SubscriptionState>& state) {
   std::lock_guard lock(mutex_);
   event_subs_.push_back(state);

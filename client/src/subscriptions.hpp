@@ -1,11 +1,12 @@
 #pragma once
 // The user's event and status callbacks, and the one dispatcher thread that
-// runs them in the order the samples were posted.
+// runs them, and the completion callbacks of calls, in the order posted.
 //
 // Thread-safe, with its own mutex, taken after ClientCore's state mutex (posts
 // come under it, so they keep the cache's order) and never calling out under it.
 
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -35,6 +36,9 @@ class Subscriptions {
   void post_status(const HandStatus& status);
   /// Posts `event` to the event subscriptions of its hand.
   void post_event(const HandEvent& event);
+  /// Posts a call's completion callback; it runs even if stop() comes first
+  /// (at once, on this thread, once stopped).
+  void post_completion(std::function<void()> callback);
 
   /// Adds an event subscription (`state->on_event` set).
   void add_events(const std::shared_ptr<SubscriptionState>& state);
@@ -47,7 +51,8 @@ class Subscriptions {
   void remove(const std::shared_ptr<SubscriptionState>& state);
 
   [[nodiscard]] bool on_dispatcher_thread() const { return dispatcher_.on_dispatcher_thread(); }
-  /// Drops the callbacks queued and ends the dispatcher thread.
+  /// Drops the event and status callbacks queued, runs the completions
+  /// queued, and ends the dispatcher thread.
   void stop() { dispatcher_.stop(); }
 
  private:

@@ -9,16 +9,27 @@
 //   if (auto r = hand->initialize(); !r) std::cerr << dh3::to_string(r.code) << ": " << r.message;
 //   auto grasp = hand->grasp(40);           // grasp.grasp == GraspOutcome::grasped or missed
 //   auto later = hand->move_to_async(100);  // std::future<Reply>
+//   auto done = [](dh3::Reply r) { std::cout << dh3::to_string(r.code) << "\n"; };
+//   hand->release_async(100, done);         // done(reply) on the client's callback thread
 //
-// Every command has a blocking form and an asynchronous one (a std::future).
-// Each has a timeout (zero: the client's default_timeout) and always ends: with
+// Every command has three forms: blocking, returning a std::future, and
+// taking a completion callback (NAME_async(..., callback, timeout)). Each has
+// a timeout (zero: the client's default_timeout) and always ends, once: with
 // the service's reply, or with the client's own code (NO_SERVICE, NO_REPLY,
 // SERVICE_LOST, NOT_CONNECTED) and a message. Nothing in the data path throws.
+// No form starts a thread: every call waits for its reply on the client's own.
 //
 // Threads: a Client and its Hands may be used from any number of threads at
-// once. Event and status callbacks run on one thread of the client, in the
-// order samples arrived; they may call into the client (even blocking calls,
-// which only delay later callbacks).
+// once. Event, status and completion callbacks run on one thread of the
+// client, one at a time, in the order the client took what they report (the
+// status a reply carries comes before that call's completion); they may call
+// into the client (even blocking calls, which only delay later callbacks). A
+// callback that throws is ignored. A std::future is fulfilled on whichever
+// internal thread ended the call, so waiting for one inside a callback is
+// fine. Closing the client ends its pending calls NOT_CONNECTED and runs their
+// callbacks before close returns (after, when it is called from a callback);
+// a call made on a closed client runs its callback at once, on the calling
+// thread.
 //
 // When the reply to a command that changed the hand's state (a force, a
 // position reached, a lease) arrives, this client's cached status of that hand
@@ -61,6 +72,9 @@ struct SubscriptionState;
 
 /// Zero: use the client's default_timeout.
 using Timeout = std::chrono::milliseconds;
+/// A call's completion callback: called once, with the reply (see "Threads" above).
+using ReplyCallback = std::function<void(Reply)>;
+using GroupReplyCallback = std::function<void(GroupReply)>;
 
 struct ClientOptions {
   /// DDS domain id, 0-232.
@@ -160,41 +174,55 @@ class DH3_CLIENT_API Hand {
 
   /// Initializes the hand; the reply comes once initialization finished.
   std::future<Reply> initialize_async(Timeout timeout = Timeout::zero());
+  void initialize_async(ReplyCallback done, Timeout timeout = Timeout::zero());
   Reply initialize(Timeout timeout = Timeout::zero());
   /// Moves the fingers to `position` percent (0 closed - 100 open).
   std::future<Reply> move_to_async(std::int32_t position, Timeout timeout = Timeout::zero());
+  void move_to_async(std::int32_t position, ReplyCallback done, Timeout timeout = Timeout::zero());
   Reply move_to(std::int32_t position, Timeout timeout = Timeout::zero());
   /// Rotates to `percent` of 90 degrees.
   std::future<Reply> rotate_to_async(std::int32_t percent, Timeout timeout = Timeout::zero());
+  void rotate_to_async(std::int32_t percent, ReplyCallback done, Timeout timeout = Timeout::zero());
   Reply rotate_to(std::int32_t percent, Timeout timeout = Timeout::zero());
   /// Sets the closing (gripping) force and, when given, the opening force, in
   /// percent (20-100). With both, the first failure is the reply.
   std::future<Reply> set_force_async(std::int32_t closing, std::optional<std::int32_t> opening,
                                      Timeout timeout = Timeout::zero());
+  void set_force_async(std::int32_t closing, std::optional<std::int32_t> opening,
+                       ReplyCallback done, Timeout timeout = Timeout::zero());
   Reply set_force(std::int32_t closing, std::optional<std::int32_t> opening = std::nullopt,
                   Timeout timeout = Timeout::zero());
   /// Closes with `force` percent: reply.grasp is GRASPED (stopped on an
   /// object) or MISSED (closed on nothing); reply.value the final position.
   std::future<Reply> grasp_async(std::int32_t force, Timeout timeout = Timeout::zero());
+  void grasp_async(std::int32_t force, ReplyCallback done, Timeout timeout = Timeout::zero());
   Reply grasp(std::int32_t force, Timeout timeout = Timeout::zero());
   /// Opens to `position`; the reply comes once arrived.
   std::future<Reply> release_async(std::int32_t position, Timeout timeout = Timeout::zero());
+  void release_async(std::int32_t position, ReplyCallback done, Timeout timeout = Timeout::zero());
   Reply release(std::int32_t position, Timeout timeout = Timeout::zero());
   /// Holds the current position; pending motion ends CANCELLED.
   std::future<Reply> stop_async(Timeout timeout = Timeout::zero());
+  void stop_async(ReplyCallback done, Timeout timeout = Timeout::zero());
   Reply stop(Timeout timeout = Timeout::zero());
   /// Reads a register (dh3::reg::position, ...); reply.value is what was read.
   std::future<Reply> read_async(std::uint16_t register_code, Timeout timeout = Timeout::zero());
+  void read_async(std::uint16_t register_code, ReplyCallback done,
+                  Timeout timeout = Timeout::zero());
   Reply read(std::uint16_t register_code, Timeout timeout = Timeout::zero());
   /// Administrative (the service must allow it; the hand needs a reboot after).
   std::future<Reply> set_can_id_async(std::int32_t can_id, Timeout timeout = Timeout::zero());
+  void set_can_id_async(std::int32_t can_id, ReplyCallback done, Timeout timeout = Timeout::zero());
   Reply set_can_id(std::int32_t can_id, Timeout timeout = Timeout::zero());
   /// Administrative: baud rate index 0 (500 kbps) - 5 (100 kbps).
   std::future<Reply> set_baud_rate_async(std::int32_t index, Timeout timeout = Timeout::zero());
+  void set_baud_rate_async(std::int32_t index, ReplyCallback done,
+                           Timeout timeout = Timeout::zero());
   Reply set_baud_rate(std::int32_t index, Timeout timeout = Timeout::zero());
 
   /// Probes this hand's whole bus for hands now; reply.found_ids lists them.
   std::future<Reply> scan_bus_async(Timeout timeout = Timeout::zero());
+  void scan_bus_async(ReplyCallback done, Timeout timeout = Timeout::zero());
   Reply scan_bus(Timeout timeout = Timeout::zero());
 
   /// Leases: while this client holds one, other clients' motion and write
@@ -202,11 +230,16 @@ class DH3_CLIENT_API Hand {
   /// when this client leaves the domain.
   std::future<Reply> acquire_lease_async(std::chrono::milliseconds ttl,
                                          Timeout timeout = Timeout::zero());
+  void acquire_lease_async(std::chrono::milliseconds ttl, ReplyCallback done,
+                           Timeout timeout = Timeout::zero());
   Reply acquire_lease(std::chrono::milliseconds ttl, Timeout timeout = Timeout::zero());
   std::future<Reply> renew_lease_async(std::chrono::milliseconds ttl,
                                        Timeout timeout = Timeout::zero());
+  void renew_lease_async(std::chrono::milliseconds ttl, ReplyCallback done,
+                         Timeout timeout = Timeout::zero());
   Reply renew_lease(std::chrono::milliseconds ttl, Timeout timeout = Timeout::zero());
   std::future<Reply> release_lease_async(Timeout timeout = Timeout::zero());
+  void release_lease_async(ReplyCallback done, Timeout timeout = Timeout::zero());
   Reply release_lease(Timeout timeout = Timeout::zero());
 
   /// Calls `callback` for each event of this hand from now on.
@@ -298,6 +331,8 @@ class DH3_CLIENT_API Client {
   /// Probes a bus for hands now; reply.found_ids lists those that answered.
   std::future<Reply> scan_async(const std::string& service, const std::string& bus,
                                 Timeout timeout = Timeout::zero());
+  void scan_async(const std::string& service, const std::string& bus, ReplyCallback done,
+                  Timeout timeout = Timeout::zero());
   Reply scan(const std::string& service, const std::string& bus, Timeout timeout = Timeout::zero());
 
   /// One command for several hands of one service, together and all or none
@@ -307,6 +342,8 @@ class DH3_CLIENT_API Client {
   /// `timeout` bounds the whole call (and each hand's command on the service).
   std::future<GroupReply> group_async(GroupCommand command, std::vector<HandAddress> hands,
                                       std::int32_t value = 0, Timeout timeout = Timeout::zero());
+  void group_async(GroupCommand command, std::vector<HandAddress> hands, std::int32_t value,
+                   GroupReplyCallback done, Timeout timeout = Timeout::zero());
   GroupReply group(GroupCommand command, const std::vector<HandAddress>& hands,
                    std::int32_t value = 0, Timeout timeout = Timeout::zero());
 

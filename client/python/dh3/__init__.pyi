@@ -404,6 +404,8 @@ class Client:
     def group(self, command: GroupCommand, hands: List[HandAddress], value: int = 0,
               timeout: Optional[float] = None) -> GroupReply:
         """One command to several hands of one service, together and all or none."""
+    def group_async(self, command: GroupCommand, hands: List[HandAddress], value: int = 0,
+                    timeout: Optional[float] = None) -> Future[GroupReply]: ...
     def subscribe(self, callback: Callable[[HandEvent], None],
                   only: Optional[HandAddress] = None) -> Subscription: ...
     def subscribe_status(self, callback: Callable[[HandStatus], None],

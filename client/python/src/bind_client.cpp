@@ -186,7 +186,9 @@ void def_calls(py::class_<PyClient>& cls) {
           "scan_async",
           [](PyClient& c, const std::string& service, const std::string& bus, OptionalSeconds t) {
             auto client = c.client();
-            return async_call([&] { return client->scan_async(service, bus, to_timeout(t)); });
+            return async_call<dh3::Reply>([&](dh3::ReplyCallback done) {
+              client->scan_async(service, bus, std::move(done), to_timeout(t));
+            });
           },
           "service"_a, "bus"_a, timeout_arg)
       .def(
@@ -207,6 +209,17 @@ void def_calls(py::class_<PyClient>& cls) {
           "fails its check (offline, not initialized, leased by another client, value out of "
           "range) nothing is sent and each failing hand says why. Returns one GroupReply once "
           "every hand's command ended.")
+      .def(
+          "group_async",
+          [](PyClient& c, dh3::GroupCommand command, std::vector<dh3::HandAddress> hands,
+             std::int32_t value, OptionalSeconds t) {
+            auto client = c.client();
+            return async_call<dh3::GroupReply>([&](dh3::GroupReplyCallback done) {
+              client->group_async(command, std::move(hands), value, std::move(done), to_timeout(t));
+            });
+          },
+          "command"_a, "hands"_a, "value"_a = 0, timeout_arg,
+          "group() without waiting: a concurrent.futures.Future of the GroupReply.")
       .def("subscribe",
            python_subscribe<dh3::HandEvent>(&dh3::Client::subscribe, "dh3: event callback"),
            "callback"_a, "only"_a = py::none(),

@@ -2,13 +2,12 @@
 
 #include <condition_variable>
 #include <mutex>
-#include <thread>
 
 namespace dh3::python {
 
 namespace {
 
-// Threads completing Futures are counted so that interpreter exit (dh3's
+// Futures not yet complete are counted so that interpreter exit (dh3's
 // atexit hook) can wait for them after closing the clients.
 std::mutex g_in_flight_mutex;
 std::condition_variable g_in_flight_done;
@@ -16,16 +15,15 @@ int g_in_flight = 0;
 
 }  // namespace
 
-py::object to_python_future(std::future<dh3::Reply> reply) {
+template <typename R>
+std::pair<py::object, std::function<void(R)>> python_future() {
   py::object future = py::module_::import("concurrent.futures").attr("Future")();
   future.attr("set_running_or_notify_cancel")();
-  auto target = share(future);
   {
     std::lock_guard lock(g_in_flight_mutex);
     ++g_in_flight;
   }
-  std::thread([reply = std::move(reply), target = std::move(target)]() mutable {
-    dh3::Reply result = reply.get();
+  auto complete = [target = share(future)](R result) mutable {
     if (Py_IsInitialized()) {
       py::gil_scoped_acquire gil;
       try {
@@ -38,9 +36,13 @@ py::object to_python_future(std::future<dh3::Reply> reply) {
     std::lock_guard lock(g_in_flight_mutex);
     --g_in_flight;
     g_in_flight_done.notify_all();
-  }).detach();
-  return future;
+  };
+  return {std::move(future), std::move(complete)};
 }
+
+template std::pair<py::object, std::function<void(dh3::Reply)>> python_future<dh3::Reply>();
+template std::pair<py::object, std::function<void(dh3::GroupReply)>>
+python_future<dh3::GroupReply>();
 
 void wait_for_futures(Milliseconds timeout) {
   py::gil_scoped_release released;

@@ -1,41 +1,55 @@
 #pragma once
 // Calls into the client from Python: blocking ones that wait in slices,
-// asynchronous ones that return a concurrent.futures.Future, and callbacks
-// from the client's thread back into Python (see support.hpp for the GIL).
+// asynchronous ones that return a concurrent.futures.Future completed by the
+// client's completion callback, and callbacks from the client's thread back
+// into Python (see support.hpp for the GIL).
 
 #include <functional>
 #include <future>
 #include <utility>
 
 #include "dh3/client.hpp"
+#include "dh3/group.hpp"
 #include "support.hpp"
 
 namespace dh3::python {
 
-/// A concurrent.futures.Future completed with the Reply of `reply` by a thread
-/// of its own.
-py::object to_python_future(std::future<dh3::Reply> reply);
+/// A concurrent.futures.Future, and the completion callback that sets its
+/// result: on the client's callback thread, taking the GIL there (no thread of
+/// its own). `R`: dh3::Reply or dh3::GroupReply.
+template <typename R>
+std::pair<py::object, std::function<void(R)>> python_future();
 
-/// Waits (with the GIL released) until every thread completing a Future ended,
-/// or `timeout` passed.
+/// Waits (with the GIL released) until every Future made by python_future()
+/// is complete, or `timeout` passed.
 void wait_for_futures(Milliseconds timeout);
 
 /// Starts a call with the GIL released.
 template <typename Start>
-std::future<dh3::Reply> start_call(Start&& start) {
+auto start_call(Start&& start) {
   py::gil_scoped_release released;
   return start();
 }
 
+/// A blocking call: `start` returns the call's std::future, which the client
+/// fulfils where the call ends, so waiting for it works on the client's
+/// callback thread too (a Python callback may make blocking calls).
 template <typename Start>
-dh3::Reply blocking_call(Start&& start) {
+auto blocking_call(Start&& start) {
   auto future = start_call(std::forward<Start>(start));
   return wait_interruptibly(future);
 }
 
-template <typename Start>
+/// An asynchronous call: `start(callback)` starts it with the completion
+/// callback; returns the Future that callback completes.
+template <typename R, typename Start>
 py::object async_call(Start&& start) {
-  return to_python_future(start_call(std::forward<Start>(start)));
+  auto [future, callback] = python_future<R>();
+  start_call([&] {
+    start(std::move(callback));
+    return 0;
+  });
+  return future;
 }
 
 /// `callback` as the client calls it: on the client's thread, which takes the

@@ -128,3 +128,34 @@ def test_future_callbacks_run_when_the_reply_comes(client):
     future.add_done_callback(lambda f: done.add(f.result()))
     assert done.wait(lambda items: len(items) == 1)
     assert done.items[0].ok, done.items[0]
+
+
+def test_futures_complete_on_the_clients_callback_thread(client):
+    """A Future is completed on the thread that runs the event and status
+    callbacks, after those before it; its done callbacks run there and may make
+    blocking calls."""
+    two = client.wait_for_hand(spec(2), timeout=DEADLINE)
+    release = threading.Event()
+    statuses = Log()
+    done = Log()
+
+    def on_status(status):
+        statuses.add(status)
+        release.wait(DEADLINE)  # holds the callback thread until the test is ready
+
+    with client.subscribe_status(on_status, only=two.address):
+        assert statuses.wait(lambda items: len(items) >= 1)
+        futures = [two.read_async(dh3.reg.position) for _ in range(3)]
+        futures.append(client.group_async(dh3.GroupCommand.INITIALIZE, [two.address]))
+        # Whatever came back waits behind the status callback that holds the
+        # thread: no thread of its own completes a Future.
+        assert not any(f.done() for f in futures)
+        futures[0].add_done_callback(
+            lambda f: done.add((f.result().code, two.read(dh3.reg.position).code)))
+        release.set()
+        group = futures[-1].result(timeout=DEADLINE)
+        assert group.ok, group.message
+        assert all(f.result(timeout=DEADLINE).ok for f in futures[:-1])
+        assert done.wait(lambda items: len(items) == 1)
+    assert done.items[0] == (dh3.Code.OK, dh3.Code.OK)
+    assert done.threads == statuses.threads

@@ -5,6 +5,11 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <condition_variable>
+#include <mutex>
+#include <optional>
+#include <thread>
+
 #include "client_fixture.hpp"
 
 namespace dh3::test {
@@ -34,7 +39,9 @@ class ClientGroupTest : public ::testing::Test {
   }
 
   static HandAddress box(std::uint16_t id) { return {test_service_name(), "box", id}; }
-  static std::string box_spec(std::uint16_t id) { return test_service_name() + "/box/" + std::to_string(id); }
+  static std::string box_spec(std::uint16_t id) {
+    return test_service_name() + "/box/" + std::to_string(id);
+  }
 
   std::vector<std::string> frames_since(std::size_t before) {
     auto frames = frames_as_hex(proxy_.sent());
@@ -77,6 +84,33 @@ TEST_F(ClientGroupTest, GraspGroupClosesTheHandsBackToBackAndRepliesOnceForAll) 
   // Each hand's status shows its own outcome, as after a single grasp.
   EXPECT_TRUE(client_.hand(box(1)).wait_until(
       [](const HandStatus& s) { return s.grip == GripState::caught; }, kClientDeadline));
+}
+
+TEST_F(ClientGroupTest, AGroupsCompletionCallbackGetsItsOneReplyOnTheCallbackThread) {
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::optional<GroupReply> ended;
+  std::thread::id status_thread;
+  std::thread::id completion_thread;
+  Subscription statuses = client_.subscribe_status([&](const HandStatus&) {
+    std::lock_guard lock(mutex);
+    status_thread = std::this_thread::get_id();
+  });
+  client_.group_async(GroupCommand::initialize, {box(1), box(2)}, 0, [&](GroupReply reply) {
+    // A blocking call from inside the callback: its reply is not held up.
+    const GroupReply again = client_.group(GroupCommand::move, {box(1), box(2)}, 30);
+    std::lock_guard lock(mutex);
+    completion_thread = std::this_thread::get_id();
+    ended = std::move(reply);
+    ended->message += again.ok() ? "" : "; the blocking move failed: " + again.message;
+    changed.notify_all();
+  });
+  std::unique_lock lock(mutex);
+  ASSERT_TRUE(changed.wait_for(lock, kClientDeadline, [&] { return ended.has_value(); }));
+  EXPECT_TRUE(ended->ok()) << ended->message;
+  EXPECT_EQ(ended->hands.size(), 2U);
+  EXPECT_EQ(completion_thread, status_thread);
+  EXPECT_NE(completion_thread, std::this_thread::get_id());
 }
 
 TEST_F(ClientGroupTest, GroupWithAHandLeasedByAnotherClientSendsNothing) {

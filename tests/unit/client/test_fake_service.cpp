@@ -1,7 +1,8 @@
 // libdh3client against a fake service on the wire (fake_service.hpp): late
 // joiners, correlation (other clients' replies never resolve our calls),
 // calls made before the service appears, the service leaving and coming back,
-// events and safe unsubscription, threads, closing the client.
+// events and safe unsubscription, threads, closing the client, completion
+// callbacks.
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -13,18 +14,22 @@
 #include <future>
 #include <memory>
 #include <mutex>
+#include <stdexcept>
+#include <string>
 #include <thread>
 #include <vector>
 
 #include "dh3/client.hpp"
 #include "dh3/registers.hpp"
 #include "fake_service.hpp"
+#include "heard.hpp"
 #include "support/test_domain.hpp"
 
 namespace dh3 {
 namespace {
 
 using test::FakeService;
+using test::Heard;
 using test::reply_to;
 using ::testing::HasSubstr;
 
@@ -465,6 +470,75 @@ TEST(ClientTest, BadSetUpIsReportedNotThrown) {
   ClientOptions bad_server = options();
   bad_server.discovery_servers = {"10.0.0.1:port"};
   EXPECT_THAT(Client(bad_server).error(), HasSubstr("discovery server '10.0.0.1:port'"));
+}
+
+// ---------------------------------------------------------------------------
+// The callback form of the commands: each callback runs once, on the client's
+// callback thread after the status its reply carried, may call the client
+// (blocking calls too), and runs even when the call ends without a reply.
+
+TEST(CompletionCallbackTest, RunsOnTheCallbackThreadAfterTheStatusItsReplyCarried) {
+  FakeService fake(test_domain(), service_name());
+  fake.set_handler([&](const msg::CommandRequest& r) {
+    auto reply = reply_to(r);
+    if (r.command() == msg::MOVE) reply.status(fake.make_status(1, true, r.value()));
+    return std::vector{reply};
+  });
+  Client client(options());
+  auto hand = client.wait_for_hand(hand_address(1).to_string(), kDeadline);
+  ASSERT_TRUE(hand) << hand.message();
+  Heard log;
+  Subscription statuses = client.subscribe_status([&](const HandStatus& s) {
+    if (s.position == 60) log.add("status 60");
+  });
+  Hand target = *hand;
+  hand->move_to_async(60, [&](Reply reply) {
+    // A blocking call from the callback: its reply is not held up by it.
+    const Reply read = target.read(reg::position);
+    log.add("move " + std::string(to_string(reply.code)) + ", then read " +
+            std::string(to_string(read.code)));
+  });
+  const auto seen = log.wait_for(2);
+  ASSERT_GE(seen.size(), 2U);
+  EXPECT_EQ(seen[0], "status 60");
+  EXPECT_EQ(seen[1], "move OK, then read OK");
+  EXPECT_EQ(log.threads()[0], log.threads()[1]);
+  EXPECT_NE(log.threads()[1], std::this_thread::get_id());
+}
+
+TEST(CompletionCallbackTest, ARefusedCallAndAClosedClientStillCallBackOnce) {
+  FakeService fake(test_domain(), service_name());
+  fake.set_handler([](const msg::CommandRequest&) { return std::vector<msg::CommandReply>{}; });
+  auto client = std::make_unique<Client>(options());
+  auto hand = client->wait_for_hand(hand_address(1).to_string(), kDeadline);
+  ASSERT_TRUE(hand) << hand.message();
+  Hand orphan = *hand;
+  Heard log;
+  orphan.move_to_async(250, [&](Reply r) { log.add(std::string(to_string(r.code))); });
+  ASSERT_EQ(log.wait_for(1).size(), 1U);
+  EXPECT_EQ(log.items()[0], "INVALID_ARGUMENT");
+
+  orphan.release_async(100, [&](Reply r) { log.add(std::string(to_string(r.code))); });
+  ASSERT_EQ(fake.wait_requests(1, kDeadline).size(), 1U);
+  client.reset();  // its pending call's callback has run when this returns
+  EXPECT_EQ(log.items().size(), 2U);
+  EXPECT_EQ(log.items().back(), "NOT_CONNECTED");
+  orphan.stop_async([&](Reply r) { log.add(std::string(to_string(r.code))); });
+  ASSERT_EQ(log.items().size(), 3U);  // at once, on this thread
+  EXPECT_EQ(log.items().back(), "NOT_CONNECTED");
+  EXPECT_EQ(log.threads().back(), std::this_thread::get_id());
+}
+
+TEST(CompletionCallbackTest, ACallbackThatThrowsDoesNotStopTheNextOne) {
+  FakeService fake(test_domain(), service_name());
+  Client client(options());
+  auto hand = client.wait_for_hand(hand_address(1).to_string(), kDeadline);
+  ASSERT_TRUE(hand) << hand.message();
+  Heard log;
+  hand->stop_async([](const Reply&) { throw std::runtime_error("the user's own"); });
+  hand->stop_async([&](Reply r) { log.add(std::string(to_string(r.code))); });
+  ASSERT_EQ(log.wait_for(1).size(), 1U);
+  EXPECT_EQ(log.items()[0], "OK");
 }
 
 }  // namespace

@@ -1,11 +1,13 @@
-// GroupCalls without DDS: what a group request may name, and how a reply, a
-// caller giving up and close() settle a call once.
+// GroupCalls without DDS: what a group request may name, and how a group
+// call filed in PendingCalls ends once: by its reply, its deadline, close()
+// or the loss of the service instance it was sent to.
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <chrono>
-#include <future>
+#include <variant>
+#include <vector>
 
 #include "group_calls.hpp"
 
@@ -47,48 +49,96 @@ TEST(GroupCalls, ATimeoutOverTheContractsMaximumIsRefusedBeforeAnythingIsSent) {
   EXPECT_EQ(over.error().message, "a group's timeout is at most 60000 ms, not 60001 ms");
 }
 
+using Clock = PendingCalls::Clock;
+
+/// A group call of `hands` hands of "cell" whose ends land in `ended`.
+PendingCalls::Call group_call(GroupCommand command, std::uint16_t hands,
+                              std::vector<GroupReply>* ended) {
+  std::vector<HandAddress> addresses;
+  for (std::uint16_t id = 1; id <= hands; ++id) addresses.push_back({"cell", "can0", id});
+  auto call = GroupCalls::make_call(command, addresses, 50, Timeout(0), Timeout(500),
+                                    [ended](GroupReply reply) { ended->push_back(reply); });
+  EXPECT_TRUE(call);
+  call->deadline = Clock::time_point{} + std::chrono::milliseconds(500);
+  return std::move(call).value();
+}
+
+void run(std::vector<PendingCalls::Completion> completions) {
+  for (auto& [done, reply] : completions) done(std::move(reply));
+}
+
 TEST(GroupCalls, AReplyIsTakenOnceAndACallerWhoGaveUpLosesNothingThatCame) {
-  GroupCalls calls;
-  auto future = calls.add(7, "aa", "GROUP MOVE of 2 hand(s)");
-  EXPECT_EQ(calls.take(8), nullptr);
-  auto promise = calls.take(7);
-  ASSERT_NE(promise, nullptr);
-  EXPECT_EQ(calls.take(7), nullptr);
+  PendingCalls calls;
+  std::vector<GroupReply> ended;
+  calls.add(7, group_call(GroupCommand::move, 2, &ended));
+  EXPECT_FALSE(calls.take(8));
+  auto call = calls.take(7);
+  ASSERT_TRUE(call && call->group);
+  EXPECT_FALSE(calls.take(7));
   msg::GroupReply reply;
   reply.code(msg::OK);
   reply.message("done");
-  promise->set_value(GroupCalls::reply_of(reply));
-  // The reply came before the caller gave up: forget() says so, the future has it.
-  EXPECT_FALSE(calls.forget(7));
-  EXPECT_EQ(future.get().message, "done");
-  auto given_up = calls.add(9, "aa", "GROUP MOVE of 2 hand(s)");
-  EXPECT_TRUE(calls.forget(9));
+  call->group->done(GroupCalls::reply_of(reply));
+  // The reply came before the deadline: the deadline ends nothing more.
+  EXPECT_TRUE(calls.expire(Clock::time_point::max()).expired.empty());
+  ASSERT_EQ(ended.size(), 1U);
+  EXPECT_EQ(ended[0].message, "done");
+  calls.add(9, group_call(GroupCommand::move, 2, &ended));
+  auto given_up = calls.expire(Clock::time_point::max());
+  ASSERT_EQ(given_up.expired.size(), 1U);
+  const Reply expired = PendingCalls::expired_reply(given_up.expired[0], true, 0);
+  EXPECT_EQ(expired.code, Code::no_service);
+  EXPECT_EQ(expired.message, "service 'cell' with group commands not found in 500 ms");
+  given_up.expired[0].sent_to = "aa";
+  EXPECT_EQ(PendingCalls::expired_reply(given_up.expired[0], true, 0).message,
+            "no group reply within 500 ms");
 }
 
 TEST(GroupCalls, CloseEndsEveryWaitingCallNotConnected) {
-  GroupCalls calls;
-  auto first = calls.add(1, "aa", "GROUP MOVE of 2 hand(s)");
-  auto second = calls.add(2, "aa", "GROUP MOVE of 2 hand(s)");
-  calls.close();
-  EXPECT_EQ(first.get().code, Code::not_connected);
-  EXPECT_EQ(second.get().code, Code::not_connected);
-  EXPECT_EQ(calls.take(1), nullptr);
+  PendingCalls calls;
+  std::vector<GroupReply> ended;
+  calls.add(1, group_call(GroupCommand::move, 2, &ended));
+  calls.add(2, group_call(GroupCommand::move, 2, &ended));
+  Reply closed;
+  closed.code = Code::not_connected;
+  run(calls.end_all(closed));
+  ASSERT_EQ(ended.size(), 2U);
+  EXPECT_EQ(ended[0].code, Code::not_connected);
+  EXPECT_EQ(ended[1].code, Code::not_connected);
+  EXPECT_FALSE(calls.take(1));
 }
 
 TEST(GroupCalls, LosingAServiceInstanceEndsOnlyTheCallsSentToItServiceLost) {
-  GroupCalls calls;
-  auto to_old = calls.add(1, "aa", "GROUP GRASP of 3 hand(s)");
-  auto to_other = calls.add(2, "bb", "GROUP MOVE of 2 hand(s)");
-  calls.lose("", "nobody");  // no instance known: nothing ends
-  calls.lose("aa", "service 'cell' restarted");
-  ASSERT_EQ(to_old.wait_for(std::chrono::seconds(0)), std::future_status::ready);
-  const GroupReply lost = to_old.get();
+  PendingCalls calls;
+  std::vector<GroupReply> to_old;
+  std::vector<GroupReply> to_other;
+  calls.add(1, group_call(GroupCommand::grasp, 3, &to_old));
+  calls.find(1)->sent_to = "aa";
+  calls.add(2, group_call(GroupCommand::move, 2, &to_other));
+  calls.find(2)->sent_to = "bb";
+  EXPECT_TRUE(calls.end_sent_to("", "nobody").empty());  // no instance known: nothing ends
+  run(calls.end_sent_to("aa", "service 'cell' restarted"));
+  ASSERT_EQ(to_old.size(), 1U);
+  const GroupReply lost = to_old[0];
   EXPECT_EQ(lost.code, Code::service_lost);
   EXPECT_EQ(lost.message,
             "service 'cell' restarted while GROUP GRASP of 3 hand(s) was pending; it may or may "
             "not have run");
-  EXPECT_EQ(to_other.wait_for(std::chrono::seconds(0)), std::future_status::timeout);
-  EXPECT_NE(calls.take(2), nullptr);
+  EXPECT_TRUE(to_other.empty());
+  EXPECT_TRUE(calls.take(2));
+}
+
+TEST(GroupCalls, WaitForTheirServicesGroupEndpointsWhereSingleCallsDoNot) {
+  PendingCalls calls;
+  std::vector<GroupReply> ended;
+  calls.add(1, group_call(GroupCommand::move, 2, &ended));
+  EXPECT_FALSE(calls.assign("cell", "aa", false));
+  EXPECT_TRUE(calls.find(1)->sent_to.empty());
+  EXPECT_TRUE(calls.assign("cell", "aa", true));
+  const auto next = calls.next_to_write();
+  ASSERT_TRUE(next);
+  EXPECT_EQ(next->first, 1U);
+  EXPECT_TRUE(std::holds_alternative<msg::GroupRequest>(next->second));
 }
 
 }  // namespace

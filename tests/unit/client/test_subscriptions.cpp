@@ -14,44 +14,16 @@
 #include <thread>
 #include <vector>
 
+#include "heard.hpp"
 #include "subscriptions.hpp"
 
 namespace dh3::detail {
 namespace {
 
-/// A failure guard only: the test waits for what it expects, never for a time.
-constexpr std::chrono::seconds kGuard{20};
-
 const HandAddress kLeft{"svc", "can0", 1};
 const HandAddress kRight{"svc", "can0", 2};
 
-/// What one subscriber heard, from the dispatcher thread.
-class Heard {
- public:
-  void add(std::string what) {
-    {
-      std::lock_guard lock(mutex_);
-      items_.push_back(std::move(what));
-      threads_.push_back(std::this_thread::get_id());
-    }
-    changed_.notify_all();
-  }
-  std::vector<std::string> wait_for(std::size_t count) {
-    std::unique_lock lock(mutex_);
-    changed_.wait_for(lock, kGuard, [&] { return items_.size() >= count; });
-    return items_;
-  }
-  std::vector<std::thread::id> threads() {
-    std::lock_guard lock(mutex_);
-    return threads_;
-  }
-
- private:
-  std::mutex mutex_;
-  std::condition_variable changed_;
-  std::vector<std::string> items_;
-  std::vector<std::thread::id> threads_;
-};
+using test::Heard;
 
 HandStatus status_of(const HandAddress& address, std::uint64_t update_seq) {
   HandStatus status;
