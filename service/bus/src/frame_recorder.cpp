@@ -12,7 +12,7 @@ namespace {
 
 /// Frames the writer formats between two looks at the stop flag.
 constexpr std::size_t kBatch = 4096;
-/// Drops and write errors are logged at most this often (with their totals).
+/// Drops are logged at most this often (with their totals).
 constexpr Duration kReportInterval = std::chrono::seconds(10);
 
 bool due(const std::optional<TimePoint>& last, TimePoint now) {
@@ -64,6 +64,7 @@ RecorderFigures FrameRecorder::figures() const {
   out.bytes_written = bytes_written_.load(std::memory_order_relaxed);
   out.files_opened = files_opened_.load(std::memory_order_relaxed);
   out.write_errors = write_errors_.load(std::memory_order_relaxed);
+  out.stopped = stopped_.load(std::memory_order_relaxed);
   return out;
 }
 
@@ -82,42 +83,69 @@ void FrameRecorder::run() {
 }
 
 void FrameRecorder::drain() {
+  const TimePoint now = SteadyClock::now();
+  // Stopped, the writer tries again only now and then: each try may open a file.
+  const bool writing = !stopped_.load(std::memory_order_relaxed) ||
+                       now - last_attempt_ >= options_.retry_interval;
+  std::optional<std::string> failure;
+  bool wrote = false;
   for (;;) {
     batch_.clear();
     if (queue_.pop(batch_, kBatch) == 0) break;
     std::size_t written = 0;
-    std::string failure;
-    for (const LoggedFrame& frame : batch_) {
-      const std::string line = format_log_line(frame, device_);
-      if (auto done = file_.write(line); !done) {
-        failure = done.error();
-        break;
-      }
-      ++written;
-      bytes_written_.fetch_add(line.size(), std::memory_order_relaxed);
+    if (writing && !failure) {
+      written = write_batch(failure);
+      wrote = true;
     }
-    frames_recorded_.fetch_add(written, std::memory_order_relaxed);
-    if (written < batch_.size()) {
-      // The rest of the batch is lost with the file; the next batch tries a new one.
-      frames_unwritten_.fetch_add(batch_.size() - written, std::memory_order_relaxed);
-      write_errors_.fetch_add(1, std::memory_order_relaxed);
-      const TimePoint now = SteadyClock::now();
-      if (due(last_error_report_, now)) {
-        spdlog::error("bus {}: flight recorder: {}; {} frames lost", device_, failure,
-                      batch_.size() - written);
-        last_error_report_ = now;
-      }
-    }
+    frames_unwritten_.fetch_add(batch_.size() - written, std::memory_order_relaxed);
   }
-  if (auto flushed = file_.flush(); !flushed) {
-    write_errors_.fetch_add(1, std::memory_order_relaxed);
-    const TimePoint now = SteadyClock::now();
-    if (due(last_error_report_, now)) {
-      spdlog::error("bus {}: flight recorder: {}", device_, flushed.error());
-      last_error_report_ = now;
-    }
+  if (writing && !failure) {
+    if (auto flushed = file_.flush(); !flushed) failure = flushed.error();
   }
+  // A stopped recorder resumes only on a write that succeeded, not on an idle bus.
+  if (failure || (wrote && writing)) settle(failure, now);
   files_opened_.store(file_.files_opened(), std::memory_order_relaxed);
+}
+
+std::size_t FrameRecorder::write_batch(std::optional<std::string>& failure) {
+  std::size_t written = 0;
+  for (const LoggedFrame& frame : batch_) {
+    const std::string line = format_log_line(frame, device_);
+    if (auto done = file_.write(line); !done) {
+      failure = done.error();
+      break;
+    }
+    ++written;
+    unflushed_bytes_ += line.size();
+  }
+  unflushed_frames_ += written;
+  return written;
+}
+
+void FrameRecorder::settle(const std::optional<std::string>& failure, TimePoint now) {
+  if (failure) {
+    // The file was cut back to its last flush: what was written since is lost.
+    frames_unwritten_.fetch_add(unflushed_frames_, std::memory_order_relaxed);
+    write_errors_.fetch_add(1, std::memory_order_relaxed);
+    last_attempt_ = now;
+    if (!stopped_.exchange(true)) {
+      spdlog::error(
+          "bus {}: flight recorder stopped: {}; frames go unrecorded and no recording is "
+          "deleted until a write succeeds again (tried every {} ms)",
+          device_, *failure,
+          std::chrono::duration_cast<std::chrono::milliseconds>(options_.retry_interval).count());
+    }
+  } else {
+    frames_recorded_.fetch_add(unflushed_frames_, std::memory_order_relaxed);
+    bytes_written_.fetch_add(unflushed_bytes_, std::memory_order_relaxed);
+    if (stopped_.exchange(false)) {
+      spdlog::info("bus {}: flight recorder records again, into {} ({} frames went unrecorded "
+                   "in all)",
+                   device_, file_.current().string(), figures().frames_dropped);
+    }
+  }
+  unflushed_frames_ = 0;
+  unflushed_bytes_ = 0;
 }
 
 void FrameRecorder::report_drops(TimePoint now, bool force) {

@@ -1,6 +1,8 @@
 #include "dh3/bus/rotating_log_file.hpp"
 
 #include <fmt/format.h>
+#include <stdio_ext.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -63,9 +65,29 @@ Result<void, std::string> RotatingLogFile::open_next() {
   file_.reset(std::fopen(current_.c_str(), "wx"));
   if (!file_) return fail("cannot create " + current_.string() + ": " + std::strerror(errno));
   bytes_in_file_ = 0;
+  bytes_flushed_ = 0;
+  prune_due_ = true;
   ++files_opened_;
-  delete_oldest();
   return {};
+}
+
+Failure<std::string> RotatingLogFile::abandon_current(const std::string& what) {
+  const std::string reason = std::strerror(errno);
+  // What stdio still buffers would be written again at the close; the file
+  // keeps the whole lines the last flush handed over, and a file with none
+  // is ours and empty, no recording.
+  __fpurge(file_.get());
+  std::error_code ignored;
+  if (bytes_flushed_ == 0) {
+    std::filesystem::remove(current_, ignored);
+  } else {
+    // Should the cut fail, the file ends in part of a line, which readers of
+    // candump logs skip; the lines before it stay.
+    [[maybe_unused]] const int cut =
+        ::ftruncate(::fileno(file_.get()), static_cast<off_t>(bytes_flushed_));
+  }
+  file_.reset();
+  return fail(what + " " + current_.string() + ": " + reason);
 }
 
 void RotatingLogFile::delete_oldest() {
@@ -78,23 +100,28 @@ void RotatingLogFile::delete_oldest() {
 
 Result<void, std::string> RotatingLogFile::write(std::string_view line) {
   const bool full = bytes_in_file_ > 0 && bytes_in_file_ + line.size() > options_.max_file_bytes;
+  if (file_ && full) {
+    if (auto flushed = flush(); !flushed) return flushed;
+  }
   if (!file_ || full) {
     if (auto opened = open_next(); !opened) return opened;
   }
   if (std::fwrite(line.data(), 1, line.size(), file_.get()) != line.size()) {
-    const std::string reason = std::strerror(errno);
-    file_.reset();  // the next write starts a fresh file
-    return fail("cannot write " + current_.string() + ": " + reason);
+    return abandon_current("cannot write");
   }
   bytes_in_file_ += line.size();
   return {};
 }
 
 Result<void, std::string> RotatingLogFile::flush() {
-  if (!file_ || std::fflush(file_.get()) == 0) return {};
-  const std::string reason = std::strerror(errno);
-  file_.reset();
-  return fail("cannot write " + current_.string() + ": " + reason);
+  if (!file_) return {};
+  if (std::fflush(file_.get()) != 0) return abandon_current("cannot write");
+  bytes_flushed_ = bytes_in_file_;
+  if (prune_due_ && bytes_flushed_ > 0) {
+    prune_due_ = false;
+    delete_oldest();
+  }
+  return {};
 }
 
 }  // namespace dh3::bus

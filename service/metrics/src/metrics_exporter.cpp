@@ -221,6 +221,11 @@ struct RecorderFamilies {
   MetricFamily errors =
       family("dh3_recorder_write_errors_total",
              "Times a recording file could not be opened or written", MetricType::Counter);
+  MetricFamily stopped =
+      family("dh3_recorder_stopped",
+             "1 while a write error (a full disk) keeps the flight recorder from recording; it "
+             "deletes no recording meanwhile and records again once a write succeeds",
+             MetricType::Gauge);
 
   void add(const std::string& bus, const bus::BusDiagnostics& seen) {
     if (!seen.recorder) return;
@@ -230,9 +235,10 @@ struct RecorderFamilies {
     add_counter(bytes, bus_label, seen.recorder->bytes_written);
     add_counter(files, bus_label, seen.recorder->files_opened);
     add_counter(errors, bus_label, seen.recorder->write_errors);
+    add_gauge(stopped, bus_label, seen.recorder->stopped ? 1.0 : 0.0);
   }
   void take(std::vector<MetricFamily>& out) {
-    take_filled({&frames, &dropped, &bytes, &files, &errors}, out);
+    take_filled({&frames, &dropped, &bytes, &files, &errors, &stopped}, out);
   }
 };
 

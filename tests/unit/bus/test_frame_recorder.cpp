@@ -3,11 +3,15 @@
 // lines, and RecordingBus taking every frame a backend sends and receives.
 
 #include <gtest/gtest.h>
+#include <sys/mount.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
 #include <thread>
 #include <vector>
@@ -204,6 +208,114 @@ TEST(FrameRecorder, ADirectoryThatCannotBeMadeStopsTheStart) {
   const auto recorder = FrameRecorder::start("bus0", RecorderOptions{"/proc/dh3-no-such-dir"});
   ASSERT_FALSE(recorder);
   EXPECT_NE(recorder.error().find("/proc/dh3-no-such-dir"), std::string::npos);
+}
+
+/// A tmpfs of a few KiB mounted on a fresh directory, unmounted at the end.
+class SmallTmpfs {
+ public:
+  explicit SmallTmpfs(const std::string& size) {
+    const std::string options = "size=" + size;
+    if (::mount("tmpfs", dir_.path().c_str(), "tmpfs", 0, options.c_str()) == 0) {
+      mounted_ = true;
+    } else {
+      refused_ = std::strerror(errno);
+    }
+  }
+  ~SmallTmpfs() {
+    if (mounted_) ::umount2(dir_.path().c_str(), MNT_DETACH);
+  }
+  SmallTmpfs(const SmallTmpfs&) = delete;
+  SmallTmpfs& operator=(const SmallTmpfs&) = delete;
+  [[nodiscard]] bool mounted() const { return mounted_; }
+  [[nodiscard]] const std::string& refused() const { return refused_; }
+  [[nodiscard]] const fs::path& path() const { return dir_.path(); }
+
+ private:
+  TempDir dir_;
+  bool mounted_ = false;
+  std::string refused_;
+};
+
+/// Every recording file with its size, by name.
+std::map<fs::path, std::uintmax_t> recordings(const fs::path& dir) {
+  std::map<fs::path, std::uintmax_t> out;
+  for (const fs::path& file : RotatingLogFile({dir, "bus0", 1, 1}).files()) {
+    out[file.filename()] = fs::file_size(file);
+  }
+  return out;
+}
+
+/// Records numbered frames, a few at a time, until `done` (false after 30 s).
+template <typename Done>
+bool record_until(FrameRecorder& recorder, std::uint32_t& n, Done done) {
+  const auto deadline = SteadyClock::now() + std::chrono::seconds(30);
+  while (!done()) {
+    if (SteadyClock::now() > deadline) return false;
+    for (int i = 0; i < 20; ++i, ++n) {
+      recorder.record(FrameDirection::sent, CanFrame{n & 0x7FF, 8, {}}, WallTime{});
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));  // a bus's pace, not a wait
+  }
+  return true;
+}
+
+TEST(FrameRecorder, AFullDiskStopsRecordingKeepsEveryRecordingAndResumesWhenSpaceReturns) {
+  SmallTmpfs disk("64k");
+  if (!disk.mounted()) {
+    GTEST_SKIP() << "cannot mount a 64 KiB tmpfs (" << disk.refused()
+                 << "): the test needs root or CAP_SYS_ADMIN";
+  }
+  // The filler leaves room for about three and a half 8 KiB recordings.
+  const fs::path filler = disk.path() / "filler";
+  std::ofstream(filler) << std::string(36 * 1024, 'x');
+  RecorderOptions options{disk.path()};
+  options.max_file_bytes = 8 * 1024;
+  options.max_files = 6;
+  options.drain_interval = std::chrono::milliseconds(5);
+  // Long enough that the files are listed before the first try again (which
+  // may hold a file of its own for a moment).
+  options.retry_interval = std::chrono::milliseconds(200);
+  auto started = FrameRecorder::start("bus0", options);
+  ASSERT_TRUE(started) << started.error();
+  FrameRecorder& recorder = **started;
+  std::uint32_t n = 0;
+
+  ASSERT_TRUE(record_until(recorder, n, [&] { return recorder.figures().stopped; }));
+  const auto kept = recordings(disk.path());
+  ASSERT_GE(kept.size(), 3u);
+  for (const auto& [name, size] : kept) {
+    EXPECT_GT(size, 0u) << name;
+    const auto lines = lines_of(disk.path() / name);
+    ASSERT_FALSE(lines.empty()) << name;
+    EXPECT_EQ(lines.back().back(), 'T') << name << " ends in part of a line";
+  }
+  // Each try to write again fails on the full disk; none may cost a recording
+  // (more tries than max_files would have pushed every one of them out).
+  const std::uint64_t errors = recorder.figures().write_errors;
+  ASSERT_TRUE(record_until(recorder, n, [&] {
+    return recorder.figures().write_errors >= errors + options.max_files + 2;
+  }));
+  EXPECT_TRUE(recorder.figures().stopped);
+  const auto while_full = recordings(disk.path());
+  for (const auto& [name, size] : kept) {
+    ASSERT_TRUE(while_full.count(name)) << name << " was deleted";
+    EXPECT_EQ(while_full.at(name), size) << name;
+  }
+  EXPECT_LE(while_full.size(), kept.size() + 1) << "the tries left files behind";
+
+  fs::remove(filler);  // space returns
+  const std::uint64_t recorded = recorder.figures().frames_recorded;
+  ASSERT_TRUE(record_until(recorder, n, [&] {
+    const auto figures = recorder.figures();
+    return !figures.stopped && figures.frames_recorded > recorded;
+  }));
+  started->reset();
+  const auto after = recordings(disk.path());
+  for (const auto& [name, size] : kept) {
+    ASSERT_TRUE(after.count(name)) << name << " was deleted";
+    EXPECT_EQ(after.at(name), size) << name;
+  }
+  EXPECT_GT(after.size(), kept.size());  // recording went on in a new file
 }
 
 /// A backend that sends into a list and receives what the test queued, with

@@ -74,6 +74,8 @@ struct RecorderFigures {
   std::uint64_t bytes_written = 0;
   std::uint64_t files_opened = 0;  ///< the first file and each rotation
   std::uint64_t write_errors = 0;  ///< files that could not be opened or written
+  /// Recording stopped by a write error (a full disk) until a write succeeds.
+  bool stopped = false;
 };
 
 /// What a backend sees beneath the frames it delivers, counted since it was

@@ -4,13 +4,17 @@
 // rotating files (rotating_log_file.hpp). The bus loop only pushes into a
 // bounded lock-free queue (frame_queue.hpp); a writer thread of its own formats
 // and writes. When the writer falls behind (a slow disk), frames are dropped,
-// counted (figures()) and said in the log, never waited for.
+// counted (figures()) and said in the log, never waited for. When a file
+// cannot be written (a full disk), recording stops: said once in the log and
+// in figures().stopped, frames counted as dropped, no recording deleted; the
+// writer tries again every retry_interval and says when it records again.
 
 #include <atomic>
 #include <condition_variable>
 #include <filesystem>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -32,6 +36,8 @@ struct RecorderOptions {
   std::size_t queue_capacity = 1 << 16;
   /// How often the writer drains the queue and flushes the file.
   Duration drain_interval = std::chrono::milliseconds(50);
+  /// How often a recorder stopped by a write error tries to write again.
+  Duration retry_interval = std::chrono::seconds(1);
 
   friend bool operator==(const RecorderOptions&, const RecorderOptions&) = default;
 };
@@ -61,6 +67,11 @@ class FrameRecorder {
   void run();
   /// Writes what the queue holds; the writer thread only.
   void drain();
+  /// Writes batch_ into the file; how many frames went in, `failure` set if not all.
+  std::size_t write_batch(std::optional<std::string>& failure);
+  /// After a drain that wrote: counts what the flush made safe or what the
+  /// failure lost, and stops or resumes recording.
+  void settle(const std::optional<std::string>& failure, TimePoint now);
   void report_drops(TimePoint now, bool force);
 
   std::string device_;
@@ -73,9 +84,13 @@ class FrameRecorder {
   std::atomic<std::uint64_t> bytes_written_{0};
   std::atomic<std::uint64_t> files_opened_{0};
   std::atomic<std::uint64_t> write_errors_{0};
+  std::atomic<bool> stopped_{false};  ///< by a write error, until a write succeeds
+  // Written into the file since its last flush: recorded once a flush succeeds.
+  std::uint64_t unflushed_frames_ = 0;
+  std::uint64_t unflushed_bytes_ = 0;
+  TimePoint last_attempt_{};  ///< while stopped_: the last try to write
   std::uint64_t drops_reported_ = 0;
   std::optional<TimePoint> last_drop_report_;
-  std::optional<TimePoint> last_error_report_;
   std::mutex mutex_;
   std::condition_variable wake_;
   bool stopping_ = false;

@@ -23,7 +23,7 @@
 //   dh3_bus_frames_ignored_total          frames no DH-3 hand sends that got through
 // and for buses with a flight recorder only:
 //   dh3_recorder_frames_total, dh3_recorder_dropped_total, dh3_recorder_bytes_total,
-//   dh3_recorder_files_total, dh3_recorder_write_errors_total
+//   dh3_recorder_files_total, dh3_recorder_write_errors_total, dh3_recorder_stopped
 
 #include <functional>
 #include <memory>
