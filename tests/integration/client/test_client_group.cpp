@@ -11,11 +11,13 @@
 #include <thread>
 
 #include "client_fixture.hpp"
+#include "dh3/base/host_name.hpp"
 
 namespace dh3::test {
 namespace {
 
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 /// A frame's CAN ID, as frames_as_hex() spells it.
 std::string id_of(const std::string& frame) {
@@ -115,7 +117,9 @@ TEST_F(ClientGroupTest, AGroupsCompletionCallbackGetsItsOneReplyOnTheCallbackThr
 
 TEST_F(ClientGroupTest, GroupWithAHandLeasedByAnotherClientSendsNothing) {
   ASSERT_TRUE(client_.group(GroupCommand::initialize, {box(1), box(2)}).ok());
-  Client other(client_options());
+  ClientOptions other_options = client_options();
+  other_options.participant_name = "other-program";
+  Client other(other_options);
   ASSERT_TRUE(other.wait_for_hand(box_spec(2), kClientDeadline));
   ASSERT_TRUE(other.hand(box(2)).acquire_lease(std::chrono::seconds(60)).ok());
 
@@ -126,7 +130,9 @@ TEST_F(ClientGroupTest, GroupWithAHandLeasedByAnotherClientSendsNothing) {
   ASSERT_EQ(move.hands.size(), 2U);
   EXPECT_EQ(move.hands[0].code, Code::cancelled);
   EXPECT_EQ(move.hands[1].code, Code::denied);
-  EXPECT_THAT(move.hands[1].message, HasSubstr(other.client_id()));
+  // The holder by the name it announced, never by its id.
+  EXPECT_THAT(move.hands[1].message, HasSubstr("'" + program_at_host("other-program") + "'"));
+  EXPECT_THAT(move.hands[1].message, Not(HasSubstr(other.client_id())));
   EXPECT_THAT(move.message, HasSubstr("nothing sent"));
   // The service polls meanwhile; no position write to either hand went out.
   for (const auto& frame : frames_since(before)) {
