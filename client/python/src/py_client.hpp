@@ -60,12 +60,17 @@ class PyClient {
       const auto slice = std::clamp(left, Milliseconds(1), kSlice);
       auto current = client();
       std::optional<dh3::Found<T>> found;
+      const auto asked = Clock::now();
       {
         py::gil_scoped_release released;
         found.emplace(lookup(*current, slice));
         current.reset();
       }
-      if (*found || found->code() == dh3::Code::invalid_argument) return std::move(*found);
+      // A lookup that ends before its slice has its answer: found, or refused
+      // for good (a bad spec, a hand the service's own list rules out).
+      if (*found || found->code() == dh3::Code::invalid_argument || Clock::now() - asked < slice) {
+        return std::move(*found);
+      }
       if (left <= kSlice) {
         // The message names the last slice's wait; the caller waited `whole`.
         return {found->code(), widen_duration(found->message(), slice, whole)};
