@@ -109,11 +109,17 @@ TEST_F(FailoverTest, AKilledServiceIsSeenBeforeTheParticipantLease) {
   expect_death_seen(pending);
 }
 
-TEST_F(FailoverTest, AFrozenServiceIsSeenBeforeTheParticipantLease) {
+TEST_F(FailoverTest, AFrozenServiceIsSeenAndServesAgainWhenItContinues) {
   auto pending = command_in_flight();
-  service_->process().process().send_signal(SIGSTOP);
+  Process& process = service_->process().process();
+  process.send_signal(SIGSTOP);
   expect_death_seen(pending);
   EXPECT_FALSE(client_.service(test_service_name())->ready);
+  process.send_signal(SIGCONT);
+  // It asserts again: the same service, its hand online with its next status.
+  EXPECT_TRUE(hand_->wait_until([](const HandStatus& s) { return s.online; }, kClientDeadline));
+  const Reply read = hand_->read(reg::position);
+  EXPECT_TRUE(read) << read.message;
 }
 
 TEST_F(FailoverTest, DhctlEventsReportsAKilledServiceOffline) {
