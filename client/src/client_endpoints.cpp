@@ -134,7 +134,7 @@ void ClientEndpoints::create_watch_endpoints(const EndpointCreator& creator,
   owner_reader_ = creator.create_reader(
       ClientEndpoint::owner_reader, subscriber, topics.owner,
       contract::reader_qos(TopicRole::service_owner), &reader_listener_,
-      data_and_matches() << fdds::StatusMask::liveliness_changed());
+      fdds::StatusMask::data_available() << fdds::StatusMask::liveliness_changed());
 }
 
 Result<void, std::string> ClientEndpoints::create_participant(const ClientOptions& options) {

@@ -144,8 +144,6 @@ class ClientEndpoints {
         core_.on_matched(Endpoint::group_reply_writer, prefix, matched);
       } else if (topic == topics::HAND_EVENT) {
         core_.on_matched(Endpoint::event_writer, prefix, matched);
-      } else if (topic == topics::SERVICE_OWNER) {
-        core_.on_matched(Endpoint::owner_writer, prefix, matched);
       }
     }
 

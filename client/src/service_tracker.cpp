@@ -51,18 +51,12 @@ bool ServiceTracker::believed(const std::string& prefix, std::string_view servic
 void ServiceTracker::take_claim(const contract::OwnerClaim& claim, Outcome& out) {
   owners_.claim(claim);
   follow_owner(claim.service, out);
-  out.service = claim.service;
-  out.may_dispatch = true;  // its calls may go out, if this made it ready
 }
 
 ServiceTracker::Outcome ServiceTracker::owner_alive(const std::string& prefix, bool alive) {
   Outcome out;
   owners_.set_alive(prefix, alive);
-  if (const auto claim = owners_.claim_of(prefix)) {
-    follow_owner(claim->service, out);
-    out.service = claim->service;
-    out.may_dispatch = true;  // its calls may go out, if this made it ready
-  }
+  if (const auto claim = owners_.claim_of(prefix)) follow_owner(claim->service, out);
   return out;
 }
 
@@ -97,7 +91,6 @@ ServiceTracker::Outcome ServiceTracker::participant_left(const std::string& pref
   request_readers_.erase(prefix);
   reply_writers_.erase(prefix);
   event_writers_.erase(prefix);
-  owner_writers_.erase(prefix);
   const auto it = participants_.find(prefix);
   if (it == participants_.end() || !it->second.alive) return out;
   it->second.alive = false;
@@ -163,8 +156,6 @@ std::multiset<std::string>& ServiceTracker::set_of(Endpoint endpoint) {
       return group_request_readers_;
     case Endpoint::group_reply_writer:
       return group_reply_writers_;
-    case Endpoint::owner_writer:
-      return owner_writers_;
   }
   return event_writers_;
 }
@@ -186,7 +177,6 @@ bool ServiceTracker::ready(const std::string& service) const {
   const auto it = services_.find(service);
   if (it == services_.end() || !it->second.alive || it->second.incarnation.empty()) return false;
   const auto& prefix = it->second.incarnation;
-  if (owner_writers_.count(prefix) > 0 && !owners_.alive(prefix)) return false;
   // Read-only: nothing to send, so ready means its events reach us.
   if (!can_command_) return event_writers_.count(prefix) > 0;
   return request_readers_.count(prefix) > 0 && reply_writers_.count(prefix) > 0 &&

@@ -37,8 +37,7 @@ class ServiceTracker {
     reply_writer,
     event_writer,
     group_request_reader,
-    group_reply_writer,
-    owner_writer
+    group_reply_writer
   };
   /// What a change means for the calls and hands of `service`, in this order:
   /// the incarnation `lost` (if not empty) is gone for `why`, then the calls
@@ -129,9 +128,6 @@ class ServiceTracker {
   std::multiset<std::string> event_writers_;    ///< prefixes of matched event writers
   std::multiset<std::string> group_request_readers_;
   std::multiset<std::string> group_reply_writers_;
-  /// A participant whose owner writer matched ours is ready only once it is
-  /// alive: otherwise a death just after we became ready would go unseen.
-  std::multiset<std::string> owner_writers_;
 };
 
 }  // namespace dh3::detail
