@@ -253,8 +253,7 @@ class Participant {
         {topics_.request, dh3::topics::COMMAND_REQUEST},
         {topics_.reply, dh3::topics::COMMAND_REPLY},
         {topics_.group_request, dh3::topics::GROUP_REQUEST},
-        {topics_.group_reply, dh3::topics::GROUP_REPLY},
-        {topics_.owner, dh3::topics::SERVICE_OWNER}};
+        {topics_.group_reply, dh3::topics::GROUP_REPLY}};
     for (const auto& [topic, name] : topics) {
       if (topic == nullptr) return fail("cannot create the topic " + name);
     }

@@ -8,8 +8,6 @@
 #include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 
-#include "dh3_ownership.hpp"
-
 namespace dh3::contract {
 
 enum class TopicRole {
@@ -18,7 +16,6 @@ enum class TopicRole {
   hand_event,    ///< a stream; only live subscribers get events
   request,       ///< commands from clients
   reply,         ///< answers from services
-  service_owner, ///< who serves a cell name, kept alive by liveliness (dh3_ownership.hpp)
 };
 
 /// History depth for the streams (events, requests, replies).
@@ -31,11 +28,6 @@ inline Qos qos_for(TopicRole role) {
   qos.reliability().kind = dds::RELIABLE_RELIABILITY_QOS;
   qos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
   switch (role) {
-    case TopicRole::service_owner:
-      qos.liveliness().kind = dds::MANUAL_BY_TOPIC_LIVELINESS_QOS;
-      qos.liveliness().lease_duration = eprosima::fastrtps::Duration_t(
-          0, static_cast<std::uint32_t>(std::chrono::nanoseconds(kOwnerLease).count()));
-      [[fallthrough]];
     case TopicRole::hand_status:
     case TopicRole::service_info:
       qos.durability().kind = dds::TRANSIENT_LOCAL_DURABILITY_QOS;
@@ -91,18 +83,8 @@ inline eprosima::fastdds::dds::DataWriterQos writer_qos(TopicRole role) {
   return qos;
 }
 
-/// The most hands a status reader keeps (64 services of 256 hands): what any
-/// participant, a spoofer too, can make a reader hold is bounded.
-inline constexpr std::int32_t kMaxStatusKeys = 16384;
-
 inline eprosima::fastdds::dds::DataReaderQos reader_qos(TopicRole role) {
-  auto qos = qos_for<eprosima::fastdds::dds::DataReaderQos>(role);
-  if (role == TopicRole::hand_status) {
-    qos.resource_limits().max_instances = kMaxStatusKeys;
-    qos.resource_limits().max_samples_per_instance = 1;
-    qos.resource_limits().max_samples = kMaxStatusKeys;
-  }
-  return qos;
+  return qos_for<eprosima::fastdds::dds::DataReaderQos>(role);
 }
 
 }  // namespace dh3::contract

@@ -35,7 +35,7 @@ class TypeSupport final : public Generated {
   }
 };
 
-/// The contract's eight topics on one participant, each with its type
+/// The contract's seven topics on one participant, each with its type
 /// registered through TypeSupport. A member is nullptr where Fast DDS refused.
 struct Topics {
   eprosima::fastdds::dds::Topic* status = nullptr;
@@ -45,12 +45,10 @@ struct Topics {
   eprosima::fastdds::dds::Topic* reply = nullptr;
   eprosima::fastdds::dds::Topic* group_request = nullptr;
   eprosima::fastdds::dds::Topic* group_reply = nullptr;
-  eprosima::fastdds::dds::Topic* owner = nullptr;
 
   [[nodiscard]] bool complete() const {
     return status != nullptr && event != nullptr && info != nullptr && request != nullptr &&
-           reply != nullptr && group_request != nullptr && group_reply != nullptr &&
-           owner != nullptr;
+           reply != nullptr && group_request != nullptr && group_reply != nullptr;
   }
 };
 
@@ -72,8 +70,6 @@ inline Topics create_topics(eprosima::fastdds::dds::DomainParticipant& participa
       topic(dh3::topics::GROUP_REQUEST, new TypeSupport<msg::GroupRequestPubSubType>());
   topics.group_reply =
       topic(dh3::topics::GROUP_REPLY, new TypeSupport<msg::GroupReplyPubSubType>());
-  topics.owner =
-      topic(dh3::topics::SERVICE_OWNER, new TypeSupport<msg::ServiceOwnerPubSubType>());
   return topics;
 }
 

@@ -383,34 +383,8 @@ void ClientCore::on_info(const std::string& prefix, const msg::ServiceInfo& info
     std::lock_guard lock(mutex_);
     if (closed_) return;
     ServiceTracker::Outcome outcome;
-    if (!tracker_.take_info(prefix, to_public(info), outcome) &&
-        !tracker_.believed(prefix, info.service())) {
-      not_owner_samples_.fetch_add(1, std::memory_order_relaxed);
-    }
+    tracker_.take_info(prefix, to_public(info), outcome);
     apply_locked(outcome, out);
-  }
-  run(out);
-}
-
-void ClientCore::on_owner(const std::string& prefix, const msg::ServiceOwner& claim) {
-  if (!followed(claim.service())) return;
-  Actions out;
-  {
-    std::lock_guard lock(mutex_);
-    if (closed_) return;
-    ServiceTracker::Outcome outcome;
-    tracker_.take_claim(contract::to_claim(claim, prefix), outcome);
-    apply_locked(outcome, out);
-  }
-  run(out);
-}
-
-void ClientCore::on_owner_alive(const std::string& prefix, bool alive) {
-  Actions out;
-  {
-    std::lock_guard lock(mutex_);
-    if (closed_) return;
-    apply_locked(tracker_.owner_alive(prefix, alive), out);
   }
   run(out);
 }
@@ -425,11 +399,7 @@ void ClientCore::on_status(const std::string& prefix, const msg::HandStatus& sam
     ServiceTracker::Outcome outcome;
     const bool known = tracker_.note_participant(prefix, sample.service(), outcome);
     apply_locked(outcome, out);
-    if (known) {
-      take_status_locked(prefix, sample);
-    } else {
-      not_owner_samples_.fetch_add(1, std::memory_order_relaxed);
-    }
+    if (known) take_status_locked(prefix, sample);
   }
   run(out);
 }
@@ -446,15 +416,11 @@ void ClientCore::on_event(const std::string& prefix, const msg::HandEvent& sampl
   events_taken_.fetch_add(1, std::memory_order_relaxed);
   if (!followed(sample.hand().service(), sample.hand().bus())) return;
   std::lock_guard lock(mutex_);
-  if (closed_) return;
-  if (!tracker_.believed(prefix, sample.hand().service())) {
-    not_owner_samples_.fetch_add(1, std::memory_order_relaxed);
-    return;
-  }
+  if (closed_ || tracker_.participant_gone(prefix)) return;
   subscriptions_.post_event(to_public(sample));
 }
 
-void ClientCore::on_reply(const std::string& prefix, const msg::CommandReply& reply) {
+void ClientCore::on_reply(const msg::CommandReply& reply) {
   // The reply reader's filter keeps our client_id; checked again in case
   // Fast DDS refused the filtered topic and we read the plain one.
   if (reply.client_id() != client_id_) {
@@ -467,12 +433,6 @@ void ClientCore::on_reply(const std::string& prefix, const msg::CommandReply& re
     std::lock_guard lock(mutex_);
     const PendingCalls::Call* call = calls_.find(reply.request_seq());
     if (call == nullptr || call->group || call->request.command() != reply.command()) return;
-    // Another service of the name answered too (a duplicate before it saw the
-    // owner): only the one the call went to is believed.
-    if (!call->sent_to.empty() && call->sent_to != prefix) {
-      not_owner_samples_.fetch_add(1, std::memory_order_relaxed);
-      return;
-    }
     // The hand's status as the command left it, cached (and posted) before the
     // call ends; the same sample on the status topic is then not news.
     if (reply.status().update_seq() != 0 && !closed_ && !call->sent_to.empty() &&
@@ -544,7 +504,6 @@ WatchTraffic ClientCore::watch_traffic() const {
   traffic.statuses = statuses_taken_.load(std::memory_order_relaxed);
   traffic.events = events_taken_.load(std::memory_order_relaxed);
   traffic.infos = infos_taken_.load(std::memory_order_relaxed);
-  traffic.not_owner = not_owner_samples_.load(std::memory_order_relaxed);
   if (endpoints_ != nullptr) traffic.dropped_on_arrival = endpoints_->follow_filtered();
   return traffic;
 }

@@ -152,11 +152,7 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   void on_info(const std::string& prefix, const msg::ServiceInfo& info);
   void on_status(const std::string& prefix, const msg::HandStatus& status);
   void on_event(const std::string& prefix, const msg::HandEvent& event);
-  /// A service's owner claim (dh3_ownership.hpp), and its writer's liveliness.
-  void on_owner(const std::string& prefix, const msg::ServiceOwner& claim);
-  void on_owner_alive(const std::string& prefix, bool alive);
-  /// A reply written by `prefix`: taken only from the service the call went to.
-  void on_reply(const std::string& prefix, const msg::CommandReply& reply);
+  void on_reply(const msg::CommandReply& reply);
   void on_group_reply(const msg::GroupReply& reply);
 
  private:
@@ -232,9 +228,6 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   std::atomic<std::uint64_t> statuses_taken_{0};
   std::atomic<std::uint64_t> events_taken_{0};
   std::atomic<std::uint64_t> infos_taken_{0};
-  /// Statuses, events, infos and replies from a participant that does not own
-  /// the service name they carry (a duplicate, a standby, an outranked owner).
-  std::atomic<std::uint64_t> not_owner_samples_{0};
 
   std::thread io_thread_;
 };

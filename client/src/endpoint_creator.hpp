@@ -27,8 +27,7 @@ enum class ClientEndpoint {
   event_reader,
   info_reader,
   group_request_writer,
-  group_reply_reader,
-  owner_reader
+  group_reply_reader
 };
 
 /// Creates the client's readers and writers. DDS Security's access control

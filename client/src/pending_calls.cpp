@@ -67,10 +67,8 @@ std::vector<PendingCalls::Completion> PendingCalls::end_sent_to(const std::strin
     if (it->second.sent_to == incarnation) {
       ended.emplace_back(
           std::move(it->second.done),
-          make_reply(Code::service_lost,
-                       why + " while " + it->second.what() +
-                           " was pending; it had been sent to that service, so it may or may "
-                           "not have reached the hand"));
+          make_reply(Code::service_lost, why + " while " + it->second.what() +
+                                             " was pending; it may or may not have run"));
       it = calls_.erase(it);
     } else {
       ++it;

@@ -6,7 +6,7 @@ namespace dh3::detail {
 
 bool ServiceTracker::note_participant(const std::string& prefix, const std::string& service,
                                       Outcome& out) {
-  if (service.empty() || !believed(prefix, service)) return false;
+  if (service.empty() || participant_gone(prefix)) return false;
   auto& participant = participants_[prefix];
   participant.service = service;
   participant.alive = true;
@@ -21,8 +21,7 @@ void ServiceTracker::make_current(const std::string& service, const std::string&
   if (state.incarnation != prefix) {
     state.incarnation = prefix;
     // The info of another incarnation is not this one's.
-    const auto it = participants_.find(prefix);
-    state.info = it != participants_.end() ? it->second.info : std::nullopt;
+    state.info.reset();
   }
   state.alive = true;
   out.service = service;
@@ -41,53 +40,8 @@ void ServiceTracker::lose(const std::string& service, const std::string& why, Ou
   out.lost_service = true;
 }
 
-bool ServiceTracker::believed(const std::string& prefix, std::string_view service) const {
-  if (const auto owner = owners_.owner(service)) return owner->participant == prefix;
-  // A claimant that is not the owner: dead, frozen, outranked or a standby.
-  if (owners_.claim_of(prefix)) return false;
-  return !participant_gone(prefix);
-}
-
-void ServiceTracker::take_claim(const contract::OwnerClaim& claim, Outcome& out) {
-  owners_.claim(claim);
-  follow_owner(claim.service, out);
-}
-
-ServiceTracker::Outcome ServiceTracker::owner_alive(const std::string& prefix, bool alive) {
-  Outcome out;
-  owners_.set_alive(prefix, alive);
-  if (const auto claim = owners_.claim_of(prefix)) follow_owner(claim->service, out);
-  return out;
-}
-
-void ServiceTracker::follow_owner(const std::string& service, Outcome& out) {
-  const auto owner = owners_.owner(service);
-  auto& state = services_[service];
-  if (owner) {
-    if (state.incarnation == owner->participant && state.alive) return;
-    if (state.alive && !state.incarnation.empty()) {
-      lose(service, "service '" + service + "' is now served by " + owner->describe(), out);
-    }
-    auto& participant = participants_[owner->participant];
-    participant.service = service;
-    participant.alive = true;  // again, if its liveliness had lapsed
-    make_current(service, owner->participant, out);
-    return;
-  }
-  // No live owner: the current one, if it was a claimant, stopped asserting.
-  const auto lapsed = owners_.claim_of(state.incarnation);
-  if (state.alive && lapsed && !owners_.alive(state.incarnation)) {
-    lose(service,
-         "service '" + service + "' (" + lapsed->describe() + ") stopped asserting it lives: no "
-         "sign of it for " + std::to_string(contract::kOwnerLease.count()) +
-         " ms (killed, frozen or cut off)",
-         out);
-  }
-}
-
 ServiceTracker::Outcome ServiceTracker::participant_left(const std::string& prefix) {
   Outcome out;
-  owners_.forget(prefix);
   request_readers_.erase(prefix);
   reply_writers_.erase(prefix);
   event_writers_.erase(prefix);
@@ -100,16 +54,12 @@ ServiceTracker::Outcome ServiceTracker::participant_left(const std::string& pref
     return out;
   }
   lose(service, "service '" + service + "' left the domain", out);
-  if (owners_.owner(service)) {
-    follow_owner(service, out);
-    return out;
-  }
   // Another live participant of that name (a newer instance that was not yet
   // current) takes over; the latest started first.
   const Participant* best = nullptr;
   std::string best_prefix;
   for (const auto& [other, p] : participants_) {
-    if (!p.alive || p.service != service || !believed(other, service)) continue;
+    if (!p.alive || p.service != service) continue;
     if (best == nullptr || (p.has_info && (!best->has_info || p.started_ns > best->started_ns))) {
       best = &p;
       best_prefix = other;
@@ -121,18 +71,12 @@ ServiceTracker::Outcome ServiceTracker::participant_left(const std::string& pref
 
 bool ServiceTracker::take_info(const std::string& prefix, ServiceInfo info, Outcome& out) {
   const std::string service = info.name;
-  if (!service.empty() && !participant_gone(prefix)) {
-    auto& kept = participants_[prefix];
-    kept.service = service;
-    kept.info = info;
-  }
   if (!note_participant(prefix, service, out)) return false;
   auto& participant = participants_[prefix];
   participant.has_info = true;
   participant.started_ns = info.started_ns;
   auto& state = services_[service];
-  // The owner rule decides, once claims are known (note_participant kept only the owner).
-  if (state.incarnation != prefix && !owners_.owner(service)) {
+  if (state.incarnation != prefix) {
     const auto current = participants_.find(state.incarnation);
     const bool newer = current == participants_.end() || !current->second.has_info ||
                        info.started_ns > current->second.started_ns;

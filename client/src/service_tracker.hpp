@@ -5,11 +5,7 @@
 // Not thread-safe: ClientCore keeps it under its state mutex, with the calls and
 // statuses a loss changes. Knows no DDS: participants are GUID prefixes in hex.
 //
-// Once a service's owner claims are known (dh3_ownership.hpp), the owner is
-// current and nothing else of that name is believed: its statuses, events,
-// infos and replies are ignored. An owner whose liveliness lapses (killed,
-// frozen, cut off) is lost at once; one that asserts again is current again.
-// Before any claim is known, the participant whose ServiceInfo says it
+// When two participants claim one name, the one whose ServiceInfo says it
 // started later is current: discovery order says nothing (the new instance of
 // a killed service may be discovered before the client hears the last of the
 // old one). The service is ready once that participant has matched our request
@@ -25,7 +21,6 @@
 #include <vector>
 
 #include "dh3/types.hpp"
-#include "dh3_ownership.hpp"
 
 namespace dh3::detail {
 
@@ -63,14 +58,6 @@ class ServiceTracker {
   /// A ServiceInfo from `prefix`. False if ignored (the participant is gone,
   /// or an older instance still around while the newer is current).
   bool take_info(const std::string& prefix, ServiceInfo info, Outcome& out);
-  /// An owner claim written by `prefix` (its sample arrived).
-  void take_claim(const contract::OwnerClaim& claim, Outcome& out);
-  /// The owner writer of `prefix` asserted its liveliness (true) or missed its lease.
-  Outcome owner_alive(const std::string& prefix, bool alive);
-  /// True if what `prefix` says about `service` is to be believed: it is the
-  /// service's owner, or no owner of the name is known and it is not gone.
-  [[nodiscard]] bool believed(const std::string& prefix, std::string_view service) const;
-
   /// One of our endpoints matched (or unmatched) one of `prefix`'s; returns the
   /// participant's service if it is alive (its waiting calls may go out).
   std::optional<std::string> matched(Endpoint endpoint, const std::string& prefix, bool matched);
@@ -101,9 +88,6 @@ class ServiceTracker {
     bool alive = true;
     bool has_info = false;         ///< its ServiceInfo arrived
     std::uint64_t started_ns = 0;  ///< from its ServiceInfo
-    /// Its ServiceInfo, kept while it is not believed: it is sent once
-    /// (TRANSIENT_LOCAL), and the service may become the owner later.
-    std::optional<ServiceInfo> info;
   };
   struct ServiceState {
     std::string incarnation;  ///< current participant's prefix; empty until known
@@ -112,9 +96,6 @@ class ServiceTracker {
   };
 
   void make_current(const std::string& service, const std::string& prefix, Outcome& out);
-  /// Follows the owner table: the owner of `service` (if any) becomes
-  /// current, a current participant that is no longer the owner is lost.
-  void follow_owner(const std::string& service, Outcome& out);
   void lose(const std::string& service, const std::string& why, Outcome& out);
   [[nodiscard]] ServiceInfo info_of(const std::string& name, const ServiceState& state) const;
   std::multiset<std::string>& set_of(Endpoint endpoint);
@@ -122,7 +103,6 @@ class ServiceTracker {
   bool can_command_ = true;
   std::map<std::string, Participant> participants_;  ///< service participants, by prefix
   std::map<std::string, ServiceState, std::less<>> services_;
-  contract::OwnerTable owners_;
   std::multiset<std::string> request_readers_;  ///< prefixes of matched request readers
   std::multiset<std::string> reply_writers_;    ///< prefixes of matched reply writers
   std::multiset<std::string> event_writers_;    ///< prefixes of matched event writers

@@ -10,12 +10,7 @@ bool StatusCache::take(const std::string& incarnation, const HandStatus& status)
   const auto origin = origins_.find(status.address);
   if (origin != origins_.end() && origin->second == incarnation) {
     const auto cached = statuses_.find(status.address);
-    // A hand marked lost with its service takes the same sample again: the
-    // service was frozen or cut off and asserts again, and its refresh says so.
-    if (cached != statuses_.end() && !cached->second.service_lost &&
-        status.update_seq <= cached->second.update_seq) {
-      return false;
-    }
+    if (cached != statuses_.end() && status.update_seq <= cached->second.update_seq) return false;
   }
   origins_[status.address] = incarnation;
   statuses_[status.address] = status;
