@@ -19,7 +19,8 @@ contract::ParticipantOptions participant_options(const ClientOptions& options) {
   participant_options.interfaces = options.interfaces;
   participant_options.udp_only = options.udp_only;
   participant_options.shared_memory = options.shared_memory;
-  // A client needs services, not the other clients (issue 23).
+  // A client needs services, not the other clients: N clients that find each
+  // other cost on the order of N^3 discovery messages.
   participant_options.is_client = true;
   participant_options.discovery_servers = options.discovery_servers;
   participant_options.xml_profile_file = options.xml_profile_file;

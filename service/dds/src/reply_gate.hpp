@@ -5,7 +5,7 @@
 // kStreamDepth replies for such a late reader (TRANSIENT_LOCAL), but when more
 // replies than that are written before the reader matches, as in a burst of
 // clients started together, the client's own reply is pushed out and it is
-// never answered (issue 23: 2 of 128 dh3ctl at once). So a reply to a client
+// never answered (2 of 128 dh3ctl started at once were). So a reply to a client
 // whose participant the service knows, and none of whose reply readers the
 // writer has matched yet, is held until one matches or `hold_limit` passes
 // (then it is written anyway: the writer's history is the fallback). Every

@@ -1,8 +1,8 @@
 #pragma once
 // The kernel's receive time of what a recvmsg() read, for dh3-sim's interval
 // check: the time of reading includes however long the server's loop was not
-// scheduled, which made frames the service spaced correctly look too close
-// (issue 28). CAN sockets stamp each frame; TCP stamps the newest segment of
+// scheduled, which made frames the service spaced correctly look too close.
+// CAN sockets stamp each frame; TCP stamps the newest segment of
 // a read, which for frames one interval apart is the frame itself.
 //
 // Threading: pure functions.
