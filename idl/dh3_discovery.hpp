@@ -82,7 +82,7 @@ inline void use_client_lease_with_servers(eprosima::fastdds::dds::DomainParticip
 /// participant it knows each time it finds a new one, so N participants that
 /// start together exchange on the order of N^3 messages: 128 dh3ctl started
 /// at once on two cores spent 0.73 s of CPU each, 36 times what one alone
-/// spends (issue 23). Hearing services only makes it services x clients.
+/// spends. Hearing services only makes it services x clients.
 ///
 /// The price: a service that starts after the client is found when it hears
 /// the client's next periodic announcement (`announcement_period`), not its

@@ -13,8 +13,8 @@
 // open fails, and it retries the same message forever (fixed upstream in
 // Fast DDS 2.12.1, "SHM transport: ignore non-existing segment on pop"). Any
 // dh3ctl that exits while the service, or another client, has not yet read
-// what it sent can make that participant deaf (issue 23; the README's "Which
-// transport setup when" gives the evidence, BENCHMARKS.md section 1 the round
+// what it sent can make that participant deaf (docs/operations.md, "Which
+// transport setup when", gives the evidence, BENCHMARKS.md section 1 the round
 // trip over both).
 
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
@@ -62,7 +62,7 @@ inline eprosima::fastdds::dds::DomainParticipantQos participant_qos(
   // A participant whose port is taken tries the next one, 2 further on, this
   // many times: Fast DDS's 100 leaves the 101st participant of a domain on a
   // host without a unicast port (128 dh3ctl at once: the last ones never found
-  // the service; issue 23). Past about 120 the ports reach into the next
+  // the service). Past about 120 the ports reach into the next
   // domain id's range, which a host running that many participants should
   // leave unused.
   qos.wire_protocol().builtin.mutation_tries = kPortTries;

@@ -142,8 +142,7 @@ class Participant {
     // One participant set up at a time per process: Fast DDS 2.9 reads the
     // user name with getpwuid() (SystemInfo::get_username), whose result is a
     // static buffer, so two threads setting participants up at once race
-    // (ThreadSanitizer, 32 dh3::Clients started together in one process;
-    // issue 23).
+    // (ThreadSanitizer, 32 dh3::Clients started together in one process).
     static std::mutex setting_up;
     std::lock_guard setup_lock(setting_up);
     auto qos = make_participant_qos(options, report);

@@ -1,4 +1,4 @@
-// dh3._dh3: the Python binding of libdh3client (issue 16). The package dh3
+// dh3._dh3: the Python binding of libdh3client. The package dh3
 // (dh3/__init__.py) re-exports these names and defines the enums as Python
 // enum.IntEnum classes and the exception dh3.Error; support.hpp converts to
 // and from them at the boundary and states the rules on threads and the GIL.
