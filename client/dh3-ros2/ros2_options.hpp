@@ -7,7 +7,7 @@
 #include <string>
 
 #include "dh3/client.hpp"
-#include "dh3_participant_options.hpp"
+#include "dh3/contract/participant_options.hpp"
 #include "joint_state_message.hpp"
 #include "joint_units.hpp"
 

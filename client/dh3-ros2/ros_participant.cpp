@@ -3,7 +3,7 @@
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 
-#include "dh3_participant_setup.hpp"
+#include "dh3/contract/participant_setup.hpp"
 
 namespace dh3::ros2 {
 

@@ -17,7 +17,7 @@
 #include <string>
 
 #include "dh3/base/result.hpp"
-#include "dh3_participant_options.hpp"
+#include "dh3/contract/participant_options.hpp"
 
 namespace dh3::ros2 {
 

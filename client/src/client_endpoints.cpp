@@ -4,7 +4,7 @@
 #include "client_endpoints.hpp"
 
 #include "dh3/base/host_name.hpp"
-#include "dh3_qos.hpp"
+#include "dh3/contract/qos.hpp"
 
 namespace dh3::detail {
 
@@ -58,11 +58,11 @@ void ClientEndpoints::create_command_endpoints(const EndpointCreator& creator,
   // A follower commands its cell only: its endpoints are in the cell's
   // partition, so the other cells' reply writers do not even match it.
   request_writer_ =
-      creator.create_writer(ClientEndpoint::request_writer, publisher_for(follow),
-                            topics.request, contract::writer_qos(TopicRole::request),
-                            &request_listener_, fdds::StatusMask::publication_matched());
+      creator.create_writer(ClientEndpoint::request_writer, publisher_for(follow), topics.request,
+                            contract::writer_qos(TopicRole::request), &request_listener_,
+                            fdds::StatusMask::publication_matched());
   // Only our replies: the service's writer sends each client its own (see
-  // dh3_reply_filter.hpp), instead of every client taking every reply.
+  // dh3/contract/reply_filter.hpp), instead of every client taking every reply.
   // Should Fast DDS refuse the filtered topic, the plain one still works:
   // on_reply() keeps only our client_id.
   fdds::TopicDescription* own_replies =
@@ -105,9 +105,9 @@ void ClientEndpoints::create_watch_endpoints(const EndpointCreator& creator,
   using contract::TopicRole;
   const contract::Topics& topics = participant_->topics();
   // A follower reads in its cell's partition, so the other cells' writers do
-  // not even match it (dh3_cell_partition.hpp), and each topic through the
+  // not even match it (dh3/contract/cell_partition.hpp), and each topic through the
   // follow filter, which the services' writers evaluate for it
-  // (dh3_follow_filter.hpp; it also picks one bus). Should Fast DDS refuse a
+  // (dh3/contract/follow_filter.hpp; it also picks one bus). Should Fast DDS refuse a
   // filtered topic, the plain one still works: ClientCore keeps only what it
   // follows.
   auto& subscriber = subscriber_for(follow);

@@ -14,7 +14,7 @@
 #include <string_view>
 
 #include "client_core.hpp"
-#include "dh3_participant_setup.hpp"
+#include "dh3/contract/participant_setup.hpp"
 #include "endpoint_creator.hpp"
 
 namespace dh3::detail {
@@ -200,7 +200,7 @@ class ClientEndpoints {
                                 const std::optional<contract::Follow>& follow);
   void create_group_endpoints(const EndpointCreator& creator,
                               const std::optional<contract::Follow>& follow);
-  /// Where a follower's endpoints go: its cell's partition (dh3_cell_partition.hpp).
+  /// Where a follower's endpoints go: its cell's partition (dh3/contract/cell_partition.hpp).
   eprosima::fastdds::dds::Publisher& publisher_for(const std::optional<contract::Follow>& follow);
   eprosima::fastdds::dds::Subscriber& subscriber_for(const std::optional<contract::Follow>& follow);
   void create_watch_endpoints(const EndpointCreator& creator,

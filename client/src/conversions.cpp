@@ -3,7 +3,7 @@
 #include <chrono>
 #include <cstdio>
 
-#include "dh3_value_ranges.hpp"
+#include "dh3/contract/value_ranges.hpp"
 
 namespace dh3::detail {
 

@@ -9,9 +9,9 @@
 #include <utility>
 
 #include "dh3/base/result.hpp"
+#include "dh3/contract/dh3.h"
+#include "dh3/contract/names.hpp"
 #include "dh3/types.hpp"
-#include "dh3_idl/dh3.h"
-#include "dh3_names.hpp"
 
 namespace dh3::detail {
 

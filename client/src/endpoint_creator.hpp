@@ -13,7 +13,7 @@
 #include <fastdds/dds/subscriber/Subscriber.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
 
-#include "dh3_participant_setup.hpp"
+#include "dh3/contract/participant_setup.hpp"
 
 namespace dh3::detail {
 

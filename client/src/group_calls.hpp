@@ -12,8 +12,8 @@
 
 #include "dh3/base/result.hpp"
 #include "dh3/client.hpp"
+#include "dh3/contract/dh3.h"
 #include "dh3/group.hpp"
-#include "dh3_idl/dh3.h"
 #include "pending_calls.hpp"
 
 namespace dh3::detail {

@@ -20,9 +20,9 @@
 #include <vector>
 
 #include "dh3/address.hpp"
+#include "dh3/contract/dh3.h"
 #include "dh3/group.hpp"
 #include "dh3/types.hpp"
-#include "dh3_idl/dh3.h"
 
 namespace dh3::detail {
 

@@ -33,7 +33,7 @@
 # access control and its data and metadata encrypted.
 #
 # The dh3::contract::security_files_in(DIR, IDENTITY) helper
-# (idl/dh3_security.hpp) and deploy/dds/secure.xml expect this layout.
+# (idl/include/dh3/contract/security.hpp) and deploy/dds/secure.xml expect this layout.
 set -euo pipefail
 
 repo=$(cd "$(dirname "$0")/../.." && pwd -P)

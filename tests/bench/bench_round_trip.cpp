@@ -62,13 +62,13 @@
 #include "dh3/app/bus_setup.hpp"
 #include "dh3/app/config.hpp"
 #include "dh3/client.hpp"
+#include "dh3/contract/dh3PubSubTypes.h"
+#include "dh3/contract/participant.hpp"
+#include "dh3/contract/qos.hpp"
 #include "dh3/dds/service.hpp"
 #include "dh3/protocol/codec.hpp"
 #include "dh3/protocol/registers.hpp"
 #include "dh3/registers.hpp"
-#include "dh3_idl/dh3PubSubTypes.h"
-#include "dh3_participant.hpp"
-#include "dh3_qos.hpp"
 #include "raw_dds.hpp"
 
 namespace {

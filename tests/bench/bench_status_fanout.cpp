@@ -33,7 +33,7 @@
 
 #include "bench_util.hpp"
 #include "dh3/client.hpp"
-#include "dh3_qos.hpp"
+#include "dh3/contract/qos.hpp"
 #include "raw_dds.hpp"
 
 namespace {

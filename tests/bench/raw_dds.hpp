@@ -12,8 +12,8 @@
 #include <memory>
 #include <string>
 
-#include "dh3_idl/dh3PubSubTypes.h"
-#include "dh3_participant_setup.hpp"
+#include "dh3/contract/dh3PubSubTypes.h"
+#include "dh3/contract/participant_setup.hpp"
 
 namespace dh3::bench {
 

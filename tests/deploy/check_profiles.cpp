@@ -39,9 +39,9 @@
 #include <utility>
 #include <vector>
 
-#include "dh3_idl/dh3.h"
-#include "dh3_idl/dh3PubSubTypes.h"
-#include "dh3_qos.hpp"
+#include "dh3/contract/dh3.h"
+#include "dh3/contract/dh3PubSubTypes.h"
+#include "dh3/contract/qos.hpp"
 
 namespace {
 

@@ -13,10 +13,10 @@
 #include <cstdlib>
 #include <vector>
 
+#include "dh3/contract/dh3PubSubTypes.h"
+#include "dh3/contract/type_support.hpp"
 #include "dh3/hand/command_validation.hpp"
 #include "dh3/protocol/registers.hpp"
-#include "dh3_idl/dh3PubSubTypes.h"
-#include "dh3_type_support.hpp"
 #include "request_validation.hpp"
 
 namespace {

@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "dh3_idl/dh3PubSubTypes.h"
+#include "dh3/contract/dh3PubSubTypes.h"
 
 namespace {
 

@@ -68,12 +68,13 @@ fresh_corpus() {
 # Fast DDS's payload type (linked from the system's libraries), the service's
 # DDS-side validation and the hand layer's command checks.
 build_request_validation() {
-  if [[ -z $generated || ! -f $generated/dh3_idl/dh3PubSubTypes.cxx ]]; then
+  if [[ -z $generated || ! -f $generated/dh3/contract/dh3PubSubTypes.cxx ]]; then
     echo "fuzz_request_validation: no generated IDL code in '$generated' (build the project first)"
     return 1
   fi
-  local idl=(-I "$generated" -I "$generated/dh3_idl" -I "$root/idl")
-  local idl_sources=("$generated/dh3_idl/dh3.cxx" "$generated/dh3_idl/dh3PubSubTypes.cxx")
+  local idl=(-I "$generated" -I "$generated/dh3/contract" -I "$root/idl/include")
+  local idl_sources=("$generated/dh3/contract/dh3.cxx" "$generated/dh3/contract/dh3PubSubTypes.cxx"
+    "$root"/idl/src/names.cpp "$root"/idl/src/value_ranges.cpp)
   local libs=(-lfastrtps -lfastcdr -lfmt)
   "$cxx" "${flags[@]}" "${idl[@]}" "$here/fuzz_request_validation.cpp" "${idl_sources[@]}" \
     "$root"/service/dds/src/request_validation.cpp "$root"/service/dds/src/conversions.cpp \

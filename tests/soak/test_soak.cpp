@@ -42,10 +42,10 @@
 #include <vector>
 
 #include "dh3/client.hpp"
+#include "dh3/contract/dh3PubSubTypes.h"
+#include "dh3/contract/participant.hpp"
+#include "dh3/contract/qos.hpp"
 #include "dh3/registers.hpp"
-#include "dh3_idl/dh3PubSubTypes.h"
-#include "dh3_participant.hpp"
-#include "dh3_qos.hpp"
 #include "support/process.hpp"
 
 namespace dh3::test {

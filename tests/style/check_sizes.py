@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Keeps the product code in pieces a reader can hold: no source file over
 MAX_FILE_LINES lines and no function over MAX_FUNCTION_LINES lines under
-service/ and client/ (tests, benchmarks and generated code are not product).
+service/, client/ and idl/ (tests, benchmarks and generated code are not product).
 
     check_sizes.py SOURCE_DIR
 
@@ -19,7 +19,7 @@ import sys
 
 MAX_FILE_LINES = 700
 MAX_FUNCTION_LINES = 80
-PRODUCT_DIRS = ("service", "client")
+PRODUCT_DIRS = ("service", "client", "idl")
 SUFFIXES = (".cpp", ".hpp", ".h", ".cc")
 
 

@@ -33,11 +33,11 @@
 #include <tuple>
 #include <vector>
 
-#include "dh3_idl/dh3.h"
-#include "dh3_idl/dh3PubSubTypes.h"
-#include "dh3_participant_setup.hpp"
-#include "dh3_qos.hpp"
-#include "dh3_type_support.hpp"
+#include "dh3/contract/dh3.h"
+#include "dh3/contract/dh3PubSubTypes.h"
+#include "dh3/contract/participant_setup.hpp"
+#include "dh3/contract/qos.hpp"
+#include "dh3/contract/type_support.hpp"
 
 namespace dh3::test {
 

@@ -6,9 +6,9 @@
 #include <string>
 #include <string_view>
 
+#include "dh3/contract/dh3.h"
+#include "dh3/contract/names.hpp"
 #include "dh3/hand/hand_types.hpp"
-#include "dh3_idl/dh3.h"
-#include "dh3_names.hpp"
 
 namespace dh3::dds {
 

@@ -10,8 +10,8 @@
 #include <vector>
 
 #include "dh3/base/clock.hpp"
+#include "dh3/contract/dh3.h"
 #include "dh3/dds/service.hpp"
-#include "dh3_idl/dh3.h"
 #include "group_validation.hpp"
 #include "hand_directory.hpp"
 #include "lease_table.hpp"

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "dh3/base/result.hpp"
-#include "dh3_idl/dh3.h"
+#include "dh3/contract/dh3.h"
 #include "hand_directory.hpp"
 #include "request_validation.hpp"
 

@@ -2,7 +2,7 @@
 
 #include <fastrtps/utils/IPLocator.h>
 
-#include "dh3_participant.hpp"
+#include "dh3/contract/participant.hpp"
 
 namespace dh3::dds {
 

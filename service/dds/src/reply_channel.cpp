@@ -11,7 +11,7 @@
 #include <string_view>
 
 #include "conversions.hpp"
-#include "dh3_participant.hpp"
+#include "dh3/contract/participant.hpp"
 
 namespace dh3::dds {
 

@@ -15,8 +15,8 @@
 #include <string_view>
 
 #include "dh3/base/clock.hpp"
+#include "dh3/contract/dh3.h"
 #include "dh3/dds/request_trace_seam.hpp"
-#include "dh3_idl/dh3.h"
 #include "reply_gate.hpp"
 #include "reply_sink.hpp"
 

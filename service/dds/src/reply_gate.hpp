@@ -27,7 +27,7 @@
 #include <vector>
 
 #include "dh3/base/clock.hpp"
-#include "dh3_idl/dh3.h"
+#include "dh3/contract/dh3.h"
 
 namespace dh3::dds {
 

@@ -5,7 +5,7 @@
 // Threading: write() from any thread (request listeners, bus loops) at once;
 // an implementation takes no lock of its callers'. Knows no Fast DDS.
 
-#include "dh3_idl/dh3.h"
+#include "dh3/contract/dh3.h"
 
 namespace dh3::dds {
 

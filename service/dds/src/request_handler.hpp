@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
+#include "dh3/contract/dh3.h"
 #include "dh3/dds/service.hpp"
 #include "dh3/hand/bus_scheduler.hpp"
-#include "dh3_idl/dh3.h"
 #include "hand_directory.hpp"
 #include "lease_table.hpp"
 #include "reply_sink.hpp"

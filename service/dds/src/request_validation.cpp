@@ -4,9 +4,9 @@
 #include <optional>
 
 #include "conversions.hpp"
+#include "dh3/contract/value_ranges.hpp"
 #include "dh3/hand/command_validation.hpp"
 #include "dh3/protocol/registers.hpp"
-#include "dh3_value_ranges.hpp"
 
 namespace dh3::dds {
 namespace {

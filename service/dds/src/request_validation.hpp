@@ -8,8 +8,8 @@
 #include <string>
 
 #include "dh3/base/result.hpp"
+#include "dh3/contract/dh3.h"
 #include "dh3/hand/hand_types.hpp"
-#include "dh3_idl/dh3.h"
 #include "hand_directory.hpp"
 
 namespace dh3::dds {

@@ -33,11 +33,11 @@
 #include <vector>
 
 #include "conversions.hpp"
+#include "dh3/contract/dh3PubSubTypes.h"
+#include "dh3/contract/participant.hpp"
+#include "dh3/contract/participant_setup.hpp"
+#include "dh3/contract/qos.hpp"
 #include "dh3/dds/service.hpp"
-#include "dh3_idl/dh3PubSubTypes.h"
-#include "dh3_participant.hpp"
-#include "dh3_participant_setup.hpp"
-#include "dh3_qos.hpp"
 #include "expiry_timer.hpp"
 #include "group_commands.hpp"
 #include "hand_directory.hpp"

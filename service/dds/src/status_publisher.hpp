@@ -16,9 +16,9 @@
 
 #include "dh3/base/clock.hpp"
 #include "dh3/bus/bus.hpp"
+#include "dh3/contract/dh3.h"
 #include "dh3/dds/service.hpp"
 #include "dh3/hand/hand_types.hpp"
-#include "dh3_idl/dh3.h"
 #include "hand_directory.hpp"
 #include "lease_table.hpp"
 

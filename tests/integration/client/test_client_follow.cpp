@@ -122,7 +122,7 @@ TEST(ClientFollow, AClientFollowingOneCellIsSentNoneOfTheOtherCellsStatusesOrEve
   ASSERT_TRUE(everything.wait_for_service(a, kClientDeadline));
   ASSERT_TRUE(follower.wait_for_statuses(kClientDeadline));
   // Cell b's writers publish in its own partition and the default one, the
-  // follower reads in cell a's (dh3_cell_partition.hpp): they never match it,
+  // follower reads in cell a's (dh3/contract/cell_partition.hpp): they never match it,
   // so not even the samples they kept from before reach it (with the follow
   // filter alone, each hand's last status and the service info did).
   exercise(everything, {b, "bus0", 2});  // the other cell works
@@ -288,8 +288,9 @@ TEST(ClientFollow, AHandAtRestIsRepublishedOncePerRefreshAndAChangeAtOnce) {
   const HandAddress every_hand{every, "bus0", 1};
   ASSERT_TRUE(client.hand(slow_hand).wait_until(
       [](const HandStatus& s) { return s.online && s.read_at_ns != 0; }, kClientDeadline));
-  ASSERT_TRUE(client.hand(every_hand).wait_until(
-      [](const HandStatus& s) { return s.online && s.read_at_ns != 0; }, kClientDeadline));
+  ASSERT_TRUE(client.hand(every_hand)
+                  .wait_until([](const HandStatus& s) { return s.online && s.read_at_ns != 0; },
+                              kClientDeadline));
   Seen seen(client);
   // The statuses already here are delivered first; count from a mark on.
   std::this_thread::sleep_for(std::chrono::milliseconds(500));

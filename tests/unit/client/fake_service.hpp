@@ -29,11 +29,11 @@
 #include <string>
 #include <vector>
 
-#include "dh3_idl/dh3.h"
-#include "dh3_idl/dh3PubSubTypes.h"
-#include "dh3_participant_setup.hpp"
-#include "dh3_qos.hpp"
-#include "dh3_type_support.hpp"
+#include "dh3/contract/dh3.h"
+#include "dh3/contract/dh3PubSubTypes.h"
+#include "dh3/contract/participant_setup.hpp"
+#include "dh3/contract/qos.hpp"
+#include "dh3/contract/type_support.hpp"
 
 namespace dh3::test {
 
@@ -82,9 +82,9 @@ class FakeService {
                                                  contract::writer_qos(TopicRole::hand_event));
     info_writer_ = publisher->create_datawriter(contract_topics.info,
                                                 contract::writer_qos(TopicRole::service_info));
-    reply_writer_ = publisher->create_datawriter(
-        contract_topics.reply, contract::writer_qos(TopicRole::reply), &reply_matches_,
-        fdds::StatusMask::publication_matched());
+    reply_writer_ =
+        publisher->create_datawriter(contract_topics.reply, contract::writer_qos(TopicRole::reply),
+                                     &reply_matches_, fdds::StatusMask::publication_matched());
 
     msg::ServiceInfo service_info;
     service_info.service(name_);
@@ -206,9 +206,9 @@ class FakeService {
   /// the wait was a bounded 10 s).
   class ReplyMatches final : public eprosima::fastdds::dds::DataWriterListener {
    public:
-    void on_publication_matched(eprosima::fastdds::dds::DataWriter* writer,
-                                const eprosima::fastdds::dds::PublicationMatchedStatus& status)
-        override {
+    void on_publication_matched(
+        eprosima::fastdds::dds::DataWriter* writer,
+        const eprosima::fastdds::dds::PublicationMatchedStatus& status) override {
       const std::string prefix = contract::client_id_for(
           eprosima::fastrtps::rtps::iHandle2GUID(status.last_subscription_handle).guidPrefix);
       std::vector<msg::CommandReply> released;
@@ -227,8 +227,8 @@ class FakeService {
       for (auto& reply : released) writer->write(&reply);
     }
     /// Writes `replies` now if `client_id`'s reader has matched, else when it does.
-    void send_when_matched(eprosima::fastdds::dds::DataWriter& writer,
-                           const std::string& client_id, std::vector<msg::CommandReply> replies) {
+    void send_when_matched(eprosima::fastdds::dds::DataWriter& writer, const std::string& client_id,
+                           std::vector<msg::CommandReply> replies) {
       {
         std::lock_guard lock(mutex_);
         if (prefixes_.count(client_id) == 0) {

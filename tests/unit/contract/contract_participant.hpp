@@ -21,10 +21,10 @@
 #include <thread>
 #include <vector>
 
-#include "dh3_idl/dh3.h"
-#include "dh3_idl/dh3PubSubTypes.h"
-#include "dh3_participant.hpp"
-#include "dh3_qos.hpp"
+#include "dh3/contract/dh3.h"
+#include "dh3/contract/dh3PubSubTypes.h"
+#include "dh3/contract/participant.hpp"
+#include "dh3/contract/qos.hpp"
 #include "support/test_domain.hpp"
 
 namespace dh3::test {

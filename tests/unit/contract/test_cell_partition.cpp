@@ -1,9 +1,9 @@
-// idl/dh3_cell_partition.hpp: the partition a service publishes its cell in,
+// idl/include/dh3/contract/cell_partition.hpp: the partition a service publishes its cell in,
 // and which names get none (DDS would read them as patterns).
 
-#include "dh3_cell_partition.hpp"
-
 #include <gtest/gtest.h>
+
+#include "dh3/contract/cell_partition.hpp"
 
 namespace dh3::contract {
 namespace {

@@ -1,8 +1,9 @@
-// dh3_discovery.hpp: which discovery servers a participant uses, and that a
+// dh3/contract/discovery.hpp: which discovery servers a participant uses, and that a
 // participant set up by it really finds others only through a running
 // `fastdds discovery` server.
 
 #include <arpa/inet.h>
+#include <fastrtps/utils/IPLocator.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
@@ -14,7 +15,7 @@
 #include <vector>
 
 #include "contract_participant.hpp"
-#include "dh3_discovery.hpp"
+#include "dh3/contract/discovery.hpp"
 #include "support/process.hpp"
 
 namespace {

@@ -1,4 +1,4 @@
-// idl/dh3_follow_filter.hpp: what a client may follow, how the filter reads
+// idl/include/dh3/contract/follow_filter.hpp: what a client may follow, how the filter reads
 // the service and bus of serialized statuses, events and service infos, what
 // it lets through, and the expressions and parameters its factory accepts.
 
@@ -10,8 +10,8 @@
 #include <string_view>
 #include <vector>
 
-#include "dh3_follow_filter.hpp"
-#include "dh3_idl/dh3PubSubTypes.h"
+#include "dh3/contract/dh3PubSubTypes.h"
+#include "dh3/contract/follow_filter.hpp"
 
 namespace {
 
@@ -102,10 +102,10 @@ TEST(FollowFilter, ReadsServiceAndBusOfSerializedStatusesAndEvents) {
   }
   // The second string is aligned to 4 after the first: "c" (length 2) ends
   // at byte 10, "bus0" starts at 12.
-  std::vector<unsigned char> little{0, 1, 0, 0, 2, 0, 0, 0, 'c', 0, 0xee, 0xee,
-                                    5, 0, 0, 0, 'b', 'u', 's', '0', 0};
-  std::vector<unsigned char> big{0, 0, 0, 0, 0, 0, 0, 2, 'c', 0, 0xee, 0xee,
-                                 0, 0, 0, 5, 'b', 'u', 's', '0', 0};
+  std::vector<unsigned char> little{0,    1, 0, 0, 2, 0,   0,   0,   'c', 0, 0xee,
+                                    0xee, 5, 0, 0, 0, 'b', 'u', 's', '0', 0};
+  std::vector<unsigned char> big{0,    0, 0, 0, 0, 0,   0,   2,   'c', 0, 0xee,
+                                 0xee, 0, 0, 0, 5, 'b', 'u', 's', '0', 0};
   for (const auto& bytes : {little, big}) {
     std::string_view service;
     std::string_view bus;

@@ -1,4 +1,4 @@
-// idl/dh3_participant_setup.hpp: the one participant setup every dh3 program
+// idl/include/dh3/contract/participant_setup.hpp: the one participant setup every dh3 program
 // uses. Two participants made by it find each other on the contract's topics;
 // options it cannot honour are refused with a message saying which.
 
@@ -21,8 +21,8 @@
 #include <thread>
 #include <vector>
 
-#include "dh3_participant_setup.hpp"
-#include "dh3_qos.hpp"
+#include "dh3/contract/participant_setup.hpp"
+#include "dh3/contract/qos.hpp"
 #include "support/test_domain.hpp"
 
 namespace {
@@ -77,7 +77,7 @@ TEST(ParticipantSetup, TwoParticipantsFindEachOtherOnTheContractsTopics) {
 }
 
 // The transports a participant announces: UDP alone unless shared memory is
-// asked for (dh3_participant.hpp: Fast DDS 2.9's shared-memory listener goes
+// asked for (dh3/contract/participant.hpp: Fast DDS 2.9's shared-memory listener goes
 // deaf for good after a sender exits; issue 23).
 std::vector<std::string> transport_kinds(const ParticipantOptions& options) {
   SetupReport report;
@@ -143,7 +143,7 @@ TEST(ParticipantSetup, HearingServicesOnlyLeavesTheDiscoveryGroupButAnnouncesToI
 }
 
 // A busy discovery server loses clients whose lease is Fast DDS's 20 s
-// (dh3_discovery.hpp says how it was seen); a service keeps the default, so
+// (dh3/contract/discovery.hpp says how it was seen); a service keeps the default, so
 // that a killed one is still noticed as soon.
 TEST(ParticipantSetup, AClientOfDiscoveryServersKeepsALongerLeaseThanAService) {
   SetupReport report;

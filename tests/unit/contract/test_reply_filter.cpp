@@ -1,4 +1,4 @@
-// idl/dh3_reply_filter.hpp: a reader of the reply topic filtered to its
+// idl/include/dh3/contract/reply_filter.hpp: a reader of the reply topic filtered to its
 // client_id gets only its replies; a reader of the plain topic gets them all. The filter reads
 // client_id from serialized replies of either byte order and lets through what it cannot read.
 
@@ -14,9 +14,9 @@
 #include <thread>
 #include <vector>
 
-#include "dh3_participant_setup.hpp"
-#include "dh3_qos.hpp"
-#include "dh3_reply_filter.hpp"
+#include "dh3/contract/participant_setup.hpp"
+#include "dh3/contract/qos.hpp"
+#include "dh3/contract/reply_filter.hpp"
 #include "support/test_domain.hpp"
 
 namespace {

@@ -1,4 +1,4 @@
-// dh3_security.hpp with the PKI deploy/security/make-test-pki.sh makes, in
+// dh3/contract/security.hpp with the PKI deploy/security/make-test-pki.sh makes, in
 // Fast DDS itself: who may create which writer and reader, that authenticated
 // participants get each other's data and that a participant without
 // credentials gets none.
@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "contract_participant.hpp"
-#include "dh3_security.hpp"
+#include "dh3/contract/security.hpp"
 #include "support/process.hpp"
 
 namespace {

@@ -1,12 +1,12 @@
 // The contract's value limits (idl/dh3.idl, module dh3::limits, as
-// idl/dh3_value_ranges.hpp maps them to commands) and the protocol layer's
+// idl/include/dh3/contract/value_ranges.hpp maps them to commands) and the protocol layer's
 // register map are two declarations of one fact: each command's range must be
 // the range of the register it writes. A limit changed in one and not the
 // other fails here.
 #include <gtest/gtest.h>
 
+#include "dh3/contract/value_ranges.hpp"
 #include "dh3/protocol/registers.hpp"
-#include "dh3_value_ranges.hpp"
 
 namespace dh3 {
 namespace {

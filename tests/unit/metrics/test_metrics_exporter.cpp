@@ -9,8 +9,8 @@
 #include <string>
 
 #include "conversions.hpp"
+#include "dh3/contract/names.hpp"
 #include "dh3/metrics/metrics_exporter.hpp"
-#include "dh3_names.hpp"
 #include "hand_directory.hpp"
 #include "request_validation.hpp"
 #include "support/metrics_scrape.hpp"

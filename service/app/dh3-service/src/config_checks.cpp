@@ -8,9 +8,9 @@
 
 #include "dh3/bus/bus_spec.hpp"
 #include "dh3/metrics/metrics_exporter.hpp"
-#include "dh3_discovery_servers.hpp"
-#include "dh3_idl/dh3.h"
-#include "dh3_security_files.hpp"
+#include "dh3/contract/discovery_servers.hpp"
+#include "dh3/contract/dh3.h"
+#include "dh3/contract/security_files.hpp"
 
 namespace dh3::app {
 namespace {

@@ -8,7 +8,7 @@
 #include <string_view>
 
 #include "dh3/app/config_keys.hpp"
-#include "dh3_participant_options.hpp"
+#include "dh3/contract/participant_options.hpp"
 
 namespace dh3::app {
 

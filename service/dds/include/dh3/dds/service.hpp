@@ -17,9 +17,9 @@
 #include "dh3/base/clock.hpp"
 #include "dh3/base/result.hpp"
 #include "dh3/bus/bus.hpp"
+#include "dh3/contract/participant_options.hpp"
 #include "dh3/dds/request_trace_seam.hpp"
 #include "dh3/hand/bus_scheduler.hpp"
-#include "dh3_participant_options.hpp"
 
 namespace dh3::dds {
 

@@ -25,8 +25,8 @@
 #include "dh3/base/clock.hpp"
 #include "dh3/base/result.hpp"
 #include "dh3/bus/frame_recorder.hpp"
+#include "dh3/contract/participant_options.hpp"
 #include "dh3/hand/bus_scheduler.hpp"
-#include "dh3_participant_options.hpp"
 
 namespace dh3::app {
 

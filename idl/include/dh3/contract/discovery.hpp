@@ -1,6 +1,6 @@
 #pragma once
 // How a participant discovers the others. With discovery servers
-// (dh3_discovery_servers.hpp: from configuration or ROS_DISCOVERY_SERVER) it
+// (dh3/contract/discovery_servers.hpp: from configuration or ROS_DISCOVERY_SERVER) it
 // becomes a discovery CLIENT of each. Without, simple discovery, in which a
 // client of dh3 may hear services only (hear_services_only below).
 //
@@ -9,15 +9,13 @@
 //   auto qos = dh3::contract::participant_qos(name, transport);
 //   dh3::contract::use_discovery_servers(qos, *servers);
 
-#include <fastdds/rtps/attributes/ServerAttributes.h>
-#include <fastdds/rtps/common/Locator.h>
-#include <fastrtps/utils/IPLocator.h>
+#include <fastdds/rtps/common/Time_t.h>
 
 #include <cstdint>
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 #include <vector>
 
-#include "dh3_discovery_servers.hpp"
+#include "dh3/contract/discovery_servers.hpp"
 
 namespace dh3::contract {
 
@@ -25,29 +23,13 @@ namespace dh3::contract {
 /// the longest a service that starts after it waits to be found by it. Fast
 /// DDS's default is 3 s; services receive one small sample a second per
 /// client.
-inline const eprosima::fastrtps::Duration_t announcement_period{1, 0};
+extern const eprosima::fastrtps::Duration_t announcement_period;
 
 /// Makes the participant a discovery CLIENT of `servers`; with none it is left
 /// alone (simple discovery). False only if Fast DDS has no prefix for an id,
 /// which the parsers above already rule out.
-[[nodiscard]] inline bool use_discovery_servers(eprosima::fastdds::dds::DomainParticipantQos& qos,
-                                                const std::vector<DiscoveryServer>& servers) {
-  namespace rtps = eprosima::fastrtps::rtps;
-  if (servers.empty()) return true;
-  auto& discovery = qos.wire_protocol().builtin.discovery_config;
-  discovery.discoveryProtocol = rtps::DiscoveryProtocol_t::CLIENT;
-  discovery.m_DiscoveryServers.clear();
-  for (const auto& server : servers) {
-    rtps::RemoteServerAttributes remote;
-    if (!rtps::get_server_client_default_guidPrefix(server.id, remote.guidPrefix)) return false;
-    rtps::Locator_t locator;
-    rtps::IPLocator::setIPv4(locator, server.address);
-    locator.port = server.port;
-    remote.metatrafficUnicastLocatorList.push_back(locator);
-    discovery.m_DiscoveryServers.push_back(remote);
-  }
-  return true;
-}
+[[nodiscard]] bool use_discovery_servers(eprosima::fastdds::dds::DomainParticipantQos& qos,
+                                         const std::vector<DiscoveryServer>& servers);
 
 /// How long a discovery server keeps a client of dh3 (the client library)
 /// without hearing from it, instead of Fast DDS's 20 s. A service keeps the
@@ -65,11 +47,9 @@ inline const eprosima::fastrtps::Duration_t announcement_period{1, 0};
 /// The price: a client that dies without leaving the domain (SIGKILL, power
 /// cut, cable) keeps the control leases it holds for up to 60 s instead of
 /// 20, unless their own time to live ends first.
-inline const eprosima::fastrtps::Duration_t client_lease_with_servers{60, 0};
+extern const eprosima::fastrtps::Duration_t client_lease_with_servers;
 
-inline void use_client_lease_with_servers(eprosima::fastdds::dds::DomainParticipantQos& qos) {
-  qos.wire_protocol().builtin.discovery_config.leaseDuration = client_lease_with_servers;
-}
+void use_client_lease_with_servers(eprosima::fastdds::dds::DomainParticipantQos& qos);
 
 /// Simple discovery for a participant that needs services, not its fellow
 /// clients: it announces itself to the domain's discovery multicast group as
@@ -87,26 +67,6 @@ inline void use_client_lease_with_servers(eprosima::fastdds::dds::DomainParticip
 /// The price: a service that starts after the client is found when it hears
 /// the client's next periodic announcement (`announcement_period`), not its
 /// own first one.
-inline void hear_services_only(eprosima::fastdds::dds::DomainParticipantQos& qos,
-                               std::uint32_t domain) {
-  namespace rtps = eprosima::fastrtps::rtps;
-  auto& builtin = qos.wire_protocol().builtin;
-  // A unicast locator of port 0 on any address: Fast DDS fills in the
-  // participant's own metatraffic port and the whitelisted interfaces. With
-  // it given, Fast DDS adds no multicast locator of its own.
-  rtps::Locator_t unicast;
-  unicast.kind = LOCATOR_KIND_UDPv4;
-  builtin.metatrafficUnicastLocatorList.clear();
-  builtin.metatrafficUnicastLocatorList.push_back(unicast);
-  builtin.metatrafficMulticastLocatorList.clear();
-  // Announcements still go to the group the services listen to.
-  rtps::Locator_t group;
-  group.kind = LOCATOR_KIND_UDPv4;
-  rtps::IPLocator::setIPv4(group, 239, 255, 0, 1);
-  group.port = qos.wire_protocol().port.getMulticastPort(domain);
-  builtin.initialPeersList.clear();
-  builtin.initialPeersList.push_back(group);
-  builtin.discovery_config.leaseDuration_announcementperiod = announcement_period;
-}
+void hear_services_only(eprosima::fastdds::dds::DomainParticipantQos& qos, std::uint32_t domain);
 
 }  // namespace dh3::contract

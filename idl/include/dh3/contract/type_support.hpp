@@ -13,11 +13,9 @@
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/topic/Topic.hpp>
-#include <fastdds/dds/topic/TypeSupport.hpp>
-#include <string>
 
-#include "dh3_idl/dh3.h"
-#include "dh3_idl/dh3PubSubTypes.h"
+#include "dh3/contract/dh3.h"
+#include "dh3/contract/dh3PubSubTypes.h"
 
 namespace dh3::contract {
 
@@ -46,31 +44,9 @@ struct Topics {
   eprosima::fastdds::dds::Topic* group_request = nullptr;
   eprosima::fastdds::dds::Topic* group_reply = nullptr;
 
-  [[nodiscard]] bool complete() const {
-    return status != nullptr && event != nullptr && info != nullptr && request != nullptr &&
-           reply != nullptr && group_request != nullptr && group_reply != nullptr;
-  }
+  [[nodiscard]] bool complete() const;
 };
 
-inline Topics create_topics(eprosima::fastdds::dds::DomainParticipant& participant) {
-  namespace fdds = eprosima::fastdds::dds;
-  const auto topic = [&participant](const std::string& name, fdds::TopicDataType* type) {
-    fdds::TypeSupport support(type);
-    support.register_type(&participant);
-    return participant.create_topic(name, support.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
-  };
-  Topics topics;
-  topics.status = topic(dh3::topics::HAND_STATUS, new TypeSupport<msg::HandStatusPubSubType>());
-  topics.event = topic(dh3::topics::HAND_EVENT, new TypeSupport<msg::HandEventPubSubType>());
-  topics.info = topic(dh3::topics::SERVICE_INFO, new TypeSupport<msg::ServiceInfoPubSubType>());
-  topics.request =
-      topic(dh3::topics::COMMAND_REQUEST, new TypeSupport<msg::CommandRequestPubSubType>());
-  topics.reply = topic(dh3::topics::COMMAND_REPLY, new TypeSupport<msg::CommandReplyPubSubType>());
-  topics.group_request =
-      topic(dh3::topics::GROUP_REQUEST, new TypeSupport<msg::GroupRequestPubSubType>());
-  topics.group_reply =
-      topic(dh3::topics::GROUP_REPLY, new TypeSupport<msg::GroupReplyPubSubType>());
-  return topics;
-}
+Topics create_topics(eprosima::fastdds::dds::DomainParticipant& participant);
 
 }  // namespace dh3::contract

@@ -1,6 +1,6 @@
 #pragma once
 // Switches DDS Security on for a participant: the properties of
-// dh3_security_files.hpp added to its QoS.
+// dh3/contract/security_files.hpp added to its QoS.
 //
 //   const auto files = dh3::contract::security_files_in(dir, "service");
 //   if (auto readable = dh3::contract::check_security_files(files); !readable) {
@@ -11,19 +11,13 @@
 
 #include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 
-#include "dh3_security_files.hpp"
+#include "dh3/contract/security_files.hpp"
 
 namespace dh3::contract {
 
 /// Adds the security properties to the participant's QoS. Check the files
 /// first (check_security_files); Fast DDS refuses to create a participant
 /// whose credentials do not load or do not fit together.
-inline void enable_security(eprosima::fastdds::dds::DomainParticipantQos& qos,
-                            const SecurityFiles& files) {
-  auto& properties = qos.properties().properties();
-  for (auto& [name, value] : security_properties(files)) {
-    properties.emplace_back(name, value);
-  }
-}
+void enable_security(eprosima::fastdds::dds::DomainParticipantQos& qos, const SecurityFiles& files);
 
 }  // namespace dh3::contract

@@ -2,7 +2,7 @@
 // Everything a dh3 participant (service, client library, test clients,
 // benchmarks) is told about where and how it talks, in one struct. No Fast
 // DDS here, so configuration code can fill it without the middleware;
-// dh3_participant_setup.hpp turns it into a participant.
+// dh3/contract/participant_setup.hpp turns it into a participant.
 
 #include <string>
 #include <vector>
@@ -16,23 +16,23 @@ struct ParticipantOptions {
   /// DDS domain id, 0-232.
   int domain = 0;
   /// A service's name: its writers publish in its cell's partition too
-  /// (dh3_cell_partition.hpp). Empty for clients.
+  /// (dh3/contract/cell_partition.hpp). Empty for clients.
   std::string cell;
   /// IPv4 addresses of the interfaces to use; empty = loopback only; {"*"} = all.
   std::vector<std::string> interfaces;
-  /// UDP only: the default (dh3_participant.hpp says why). Kept so that
+  /// UDP only: the default (dh3/contract/participant.hpp says why). Kept so that
   /// configurations and command lines that ask for it keep working; it
   /// contradicts shared_memory.
   bool udp_only = false;
   /// Also the shared-memory transport between processes on one host. Needs a
-  /// Fast DDS with the listener fix of 2.12.1 (dh3_participant.hpp).
+  /// Fast DDS with the listener fix of 2.12.1 (dh3/contract/participant.hpp).
   bool shared_memory = false;
   /// A participant of the client library, not a service (which leaves it
   /// off). With simple discovery it finds services but not fellow clients
-  /// (dh3_discovery.hpp, hear_services_only); with discovery servers its
+  /// (dh3/contract/discovery.hpp, hear_services_only); with discovery servers its
   /// lease is longer (client_lease_with_servers).
   bool is_client = false;
-  /// Fast DDS discovery servers as "HOST[:PORT]" (dh3_discovery_servers.hpp);
+  /// Fast DDS discovery servers as "HOST[:PORT]" (dh3/contract/discovery_servers.hpp);
   /// empty: ROS_DISCOVERY_SERVER's if set, unless an XML profile decides.
   std::vector<std::string> discovery_servers;
   /// A Fast DDS XML profiles file: the participant QoS comes from its profile
@@ -40,7 +40,7 @@ struct ParticipantOptions {
   std::string xml_profile_file;
   std::string xml_profile;
   /// DDS Security with the credentials of `security_identity` in this
-  /// directory (dh3_security_files.hpp); empty: no security (unless the XML
+  /// directory (dh3/contract/security_files.hpp); empty: no security (unless the XML
   /// profile enables it).
   std::string security_dir;
   std::string security_identity;

@@ -1,7 +1,7 @@
 #pragma once
 // A DDS partition per cell, so that a client following one cell does not
 // even match the writers of the others. With the follow filter alone
-// (dh3_follow_filter.hpp) every service's status, event and info writers
+// (dh3/contract/follow_filter.hpp) every service's status, event and info writers
 // still match every follower and, being reliable, send it a heartbeat for
 // their history and a gap for each sample filtered out for it: bytes that
 // grow with the plant (BENCHMARKS.md section 9). A service publishes in the
@@ -21,11 +21,6 @@ namespace dh3::contract {
 /// The partition of the cell served by `service`; nullopt for a name that
 /// DDS would read as a pattern ('*', '?', '[', '\\'): such a cell is served
 /// by the follow filter alone.
-[[nodiscard]] inline std::optional<std::string> cell_partition(std::string_view service) {
-  if (service.empty() || service.find_first_of("*?[\\") != std::string_view::npos) {
-    return std::nullopt;
-  }
-  return "dh3.cell." + std::string(service);
-}
+[[nodiscard]] std::optional<std::string> cell_partition(std::string_view service);
 
 }  // namespace dh3::contract

@@ -1,26 +1,8 @@
-#pragma once
-// The range each command's value must fall in, from the contract's limits, so
-// the client can refuse a bad value before sending it and the service refuses
-// the same values with the same words.
-
-#include <cstdint>
-#include <optional>
-#include <string>
-
-#include "dh3/base/result.hpp"
-#include "dh3_idl/dh3.h"
-#include "dh3_names.hpp"
+#include "dh3/contract/value_ranges.hpp"
 
 namespace dh3::contract {
 
-struct ValueRange {
-  std::int64_t min = 0;
-  std::int64_t max = 0;
-  const char* what = "";
-};
-
-/// nullopt when the command ignores its value.
-inline std::optional<ValueRange> value_range(msg::CommandType command) {
+std::optional<ValueRange> value_range(msg::CommandType command) {
   switch (command) {
     case msg::MOVE:
     case msg::RELEASE:
@@ -47,9 +29,7 @@ inline std::optional<ValueRange> value_range(msg::CommandType command) {
   }
 }
 
-/// The request's value is in range or ignored; otherwise "MOVE value 150 is
-/// out of range for position (...) (0-100)".
-inline Result<void, std::string> check_value_range(const msg::CommandRequest& request) {
+Result<void, std::string> check_value_range(const msg::CommandRequest& request) {
   const auto range = value_range(request.command());
   if (!range || (request.value() >= range->min && request.value() <= range->max)) return {};
   return dh3::fail(command_name(request.command()) + " value " + std::to_string(request.value()) +

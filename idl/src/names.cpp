@@ -1,17 +1,10 @@
-#pragma once
-// Names of the contract's enums as every participant prints them, so the
-// service's messages and the client's read alike.
+#include "dh3/contract/names.hpp"
 
 #include <cstdint>
-#include <string>
-#include <string_view>
-
-#include "dh3_idl/dh3.h"
 
 namespace dh3::contract {
 
-/// "MOVE", "SET_CLOSING_FORCE", ...; "command N" for a value outside the enum.
-inline std::string command_name(msg::CommandType command) {
+std::string command_name(msg::CommandType command) {
   switch (command) {
     case msg::INITIALIZE:
       return "INITIALIZE";
@@ -49,8 +42,7 @@ inline std::string command_name(msg::CommandType command) {
   return "command " + std::to_string(static_cast<std::uint32_t>(command));
 }
 
-/// "OK", "INVALID_ARGUMENT", ...; "UNKNOWN_RESULT" for a value outside the enum.
-inline std::string_view result_code_name(msg::ResultCode code) {
+std::string_view result_code_name(msg::ResultCode code) {
   switch (code) {
     case msg::OK:
       return "OK";

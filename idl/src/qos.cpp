@@ -1,28 +1,11 @@
-#pragma once
-// The QoS half of the contract: every participant (service, client library,
-// tests, benchmarks) uses these for dh3's topics, so readers and writers always
-// match. Participants of other DDS vendors must use the same policies
-// (documented beside the topic names in dh3.idl).
-
-#include <cstdint>
-#include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
-#include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
+#include "dh3/contract/qos.hpp"
 
 namespace dh3::contract {
 
-enum class TopicRole {
-  hand_status,   ///< keyed per hand; late joiners get the last sample of each hand
-  service_info,  ///< keyed per service; late joiners get it
-  hand_event,    ///< a stream; only live subscribers get events
-  request,       ///< commands from clients
-  reply,         ///< answers from services
-};
-
-/// History depth for the streams (events, requests, replies).
-inline constexpr int kStreamDepth = 64;
+namespace {
 
 template <typename Qos>
-inline Qos qos_for(TopicRole role) {
+Qos qos_for(TopicRole role) {
   namespace dds = eprosima::fastdds::dds;
   Qos qos;
   qos.reliability().kind = dds::RELIABLE_RELIABILITY_QOS;
@@ -51,7 +34,7 @@ inline Qos qos_for(TopicRole role) {
       // be lost. Kept replies reach a TRANSIENT_LOCAL reader (another
       // vendor's client) when it matches; clients take only replies carrying
       // their own client_id, which the writer filters for them
-      // (dh3_reply_filter.hpp). dh3's own client reads VOLATILE, so that it
+      // (dh3/contract/reply_filter.hpp). dh3's own client reads VOLATILE, so that it
       // is sent none of the replies kept for others, and dh3-service holds a
       // reply to it until its reader matched (service/dds ReplyGate).
       qos.durability().kind = dds::TRANSIENT_LOCAL_DURABILITY_QOS;
@@ -61,13 +44,9 @@ inline Qos qos_for(TopicRole role) {
   return qos;
 }
 
-/// Heartbeat period of every reliable writer. A reader acknowledges, or asks
-/// for what it missed, when a heartbeat comes; with Fast DDS's 3 s default a
-/// lost sample costs seconds, and a writer waiting for acknowledgments before
-/// it leaves (orderly shutdown) waits that long. Not part of matching.
-inline constexpr std::uint32_t kHeartbeatPeriodNs = 100'000'000;
+}  // namespace
 
-inline eprosima::fastdds::dds::DataWriterQos writer_qos(TopicRole role) {
+eprosima::fastdds::dds::DataWriterQos writer_qos(TopicRole role) {
   auto qos = qos_for<eprosima::fastdds::dds::DataWriterQos>(role);
   qos.reliable_writer_qos().times.heartbeatPeriod =
       eprosima::fastrtps::Duration_t(0, kHeartbeatPeriodNs);
@@ -83,7 +62,7 @@ inline eprosima::fastdds::dds::DataWriterQos writer_qos(TopicRole role) {
   return qos;
 }
 
-inline eprosima::fastdds::dds::DataReaderQos reader_qos(TopicRole role) {
+eprosima::fastdds::dds::DataReaderQos reader_qos(TopicRole role) {
   return qos_for<eprosima::fastdds::dds::DataReaderQos>(role);
 }
 

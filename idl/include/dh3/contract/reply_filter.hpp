@@ -1,0 +1,101 @@
+#pragma once
+// Replies only to the client that asked. A dh3 client reads the reply topic
+// through a content-filtered topic that keeps the replies carrying its
+// client_id; the service's reply writer evaluates the same filter for each such
+// reader and sends it only its own replies (Fast DDS 2.9 filters on the
+// writer's side when the writer's liveliness lease is infinite, its
+// writer_resource_limits().reader_filters_allocation.maximum is above 0 (32 by
+// default; no limit on dh3's writers, dh3/contract/qos.hpp), the reader is not reached by
+// data-sharing (never for dh3's types: their strings are unbounded) and the reader announced no
+// multicast locator). A reader on the plain topic, e.g. a participant of another vendor, still gets
+// every reply and keeps its own. Where the writer does not filter (as seen in
+// tests/unit/contract/test_reply_filter.cpp, a reader in the writer's own process; replies the
+// writer kept from before the reader matched) the reader applies the same filter to what it
+// receives.
+//
+// The filter is dh3's own filter class rather than DDSSQL: Fast DDS's DDSSQL
+// filter needs the types' TypeObjects and deserializes each sample into a
+// DynamicData once per filtered reader, so the service's work per reply would
+// grow with the number of clients; this one reads the first member of the
+// serialized reply (client_id) and compares bytes. Both sides of a filter
+// must know the class: contract::Participant registers it on every dh3
+// participant. Where a writer does not know it, the reader filters alone.
+
+#include <atomic>
+#include <cstdint>
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/topic/ContentFilteredTopic.hpp>
+#include <fastdds/dds/topic/IContentFilter.hpp>
+#include <fastdds/dds/topic/IContentFilterFactory.hpp>
+#include <string>
+#include <string_view>
+
+namespace dh3::contract {
+
+/// The filter class, as readers announce it in discovery.
+inline constexpr const char* kReplyFilterClass = "DH3_CLIENT_ID";
+/// The only expression the class accepts; parameter %0 is the client_id.
+inline constexpr const char* kReplyFilterExpression = "client_id = %0";
+/// The name of a client's filtered view of the reply topic in its participant.
+std::string own_replies_topic_name();
+
+/// The client_id of a serialized CommandReply (or CommandRequest: both begin
+/// with it), without copying; false if the payload is not plain CDR or too
+/// short to hold it.
+[[nodiscard]] bool serialized_client_id(const unsigned char* data, std::uint32_t length,
+                                        std::string_view& client_id);
+
+/// Counts what the filters of one participant decided (on the writer's side
+/// for a service, on the reader's side for a client), for tests and
+/// benchmarks: a client whose replies are filtered by the service never
+/// rejects one itself.
+struct ReplyFilterCounts {
+  std::atomic<std::uint64_t> passed{0};
+  std::atomic<std::uint64_t> rejected{0};
+};
+
+// Fast DDS's filter interfaces have no virtual destructor; a filter is only
+// ever deleted as a ReplyFilter (ReplyFilterFactory::delete_content_filter).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wnon-virtual-dtor"
+class ReplyFilter final : public eprosima::fastdds::dds::IContentFilter {
+ public:
+  ReplyFilter(std::string client_id, ReplyFilterCounts& counts);
+  void set_client_id(std::string client_id);
+
+  bool evaluate(const SerializedPayload& payload, const FilterSampleInfo& sample_info,
+                const GUID_t& reader_guid) const override;
+
+ private:
+  std::string client_id_;
+  ReplyFilterCounts& counts_;
+};
+
+/// Makes ReplyFilters; registered under kReplyFilterClass on every dh3
+/// participant (it must outlive the participant).
+class ReplyFilterFactory final : public eprosima::fastdds::dds::IContentFilterFactory {
+ public:
+  ReturnCode_t create_content_filter(
+      const char* filter_class_name, const char* type_name,
+      const eprosima::fastdds::dds::TopicDataType* data_type, const char* filter_expression,
+      const ParameterSeq& filter_parameters,
+      eprosima::fastdds::dds::IContentFilter*& filter_instance) override;
+
+  ReturnCode_t delete_content_filter(
+      const char* filter_class_name,
+      eprosima::fastdds::dds::IContentFilter* filter_instance) override;
+
+  [[nodiscard]] const ReplyFilterCounts& counts() const { return counts_; }
+
+ private:
+  ReplyFilterCounts counts_;
+};
+#pragma GCC diagnostic pop
+
+/// The reply topic as `client_id` reads it: only the replies to its requests.
+/// nullptr if Fast DDS refused (e.g. no ReplyFilterFactory registered).
+eprosima::fastdds::dds::ContentFilteredTopic* create_own_replies_topic(
+    eprosima::fastdds::dds::DomainParticipant& participant,
+    eprosima::fastdds::dds::Topic* reply_topic, const std::string& client_id);
+
+}  // namespace dh3::contract
