@@ -1,5 +1,7 @@
 #include "bearer_token.hpp"
 
+#include <openssl/crypto.h>
+
 #include <fstream>
 
 namespace dh3::web {
@@ -34,15 +36,11 @@ bool BearerToken::accepts(std::string_view authorization) const {
   constexpr std::string_view kScheme = "Bearer ";
   if (authorization.substr(0, kScheme.size()) != kScheme) return false;
   const std::string_view given = trimmed(authorization.substr(kScheme.size()));
-  // Every byte compared whatever the first difference: the time taken does
-  // not tell an attacker how much of a guess was right.
-  unsigned difference = given.size() == token_.size() ? 0U : 1U;
-  for (std::size_t i = 0; i < token_.size(); ++i) {
-    const char g = i < given.size() ? given[i] : '\0';
-    difference |= static_cast<unsigned>(static_cast<unsigned char>(g) ^
-                                        static_cast<unsigned char>(token_[i]));
-  }
-  return difference == 0U;
+  // CRYPTO_memcmp takes as long whatever the first difference, so the time
+  // taken does not tell an attacker how much of a guess was right. The
+  // length is no such hint: a token is at least kMinTokenLength random characters.
+  return given.size() == token_.size() &&
+         CRYPTO_memcmp(given.data(), token_.data(), token_.size()) == 0;
 }
 
 }  // namespace dh3::web
