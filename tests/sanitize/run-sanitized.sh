@@ -38,7 +38,7 @@ case $mode in
     # each test program not built as "<program>_NOT_BUILT", which the
     # selection leaves out.
     targets=(test_common test_protocol test_bus test_sim test_hand test_dds test_metrics test_app
-             test_contract test_contract_types test_contract_limits test_participant_setup
+             test_contract test_contract_types test_contract_limits test_contract_participant
              test_client_api test_client_fake_service test_client_internals test_client_security
              test_client_service test_service test_integration test_reliability test_soak
              test_web_api test_web_service
