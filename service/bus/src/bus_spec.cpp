@@ -5,8 +5,9 @@
 #include <algorithm>
 #include <charconv>
 #include <optional>
-#include <set>
 #include <utility>
+
+#include "dh3/base/hand_ids.hpp"
 
 namespace dh3::bus {
 namespace {
@@ -49,31 +50,9 @@ Result<BusSpec, std::string> parse_sim(std::string_view text, std::string_view r
     return spec;
   }
   if (rest.empty()) return dh3::fail(bad(text, "no hand ids after 'sim:' (expected sim:1,2,3)"));
-  std::set<std::uint8_t> seen;
-  while (true) {
-    const auto comma = rest.find(',');
-    const std::string_view item = rest.substr(0, comma);
-    const auto id = parse_unsigned<unsigned>(item);
-    if (!id) {
-      return dh3::fail(
-          bad(text, "hand id '" + std::string(item) + "' is not a number (expected sim:1,2,3)"));
-    }
-    if (*id == 0) {
-      return dh3::fail(bad(text,
-                           "hand id 0 is not a hand's id (ID 0 addresses whichever hand is "
-                           "there); use 1-255"));
-    }
-    if (*id > 255) {
-      return dh3::fail(bad(text, "hand id " + std::to_string(*id) + " is out of range 1-255"));
-    }
-    const auto hand = static_cast<std::uint8_t>(*id);
-    if (!seen.insert(hand).second) {
-      return dh3::fail(bad(text, "hand id " + std::to_string(*id) + " is listed twice"));
-    }
-    spec.sim_hand_ids.push_back(hand);
-    if (comma == std::string_view::npos) break;
-    rest.remove_prefix(comma + 1);
-  }
+  auto ids = parse_hand_ids(rest);
+  if (!ids) return dh3::fail(bad(text, ids.error() + " (expected sim:1,2,3)"));
+  spec.sim_hand_ids = *std::move(ids);
   return spec;
 }
 

@@ -35,6 +35,7 @@ TEST(BusSpec, PlainSimIsOneHandWithTheDefaultId) {
 TEST(BusSpec, SimWithIdsKeepsThemInOrder) {
   EXPECT_EQ(parse_ok("sim:1,2,3").sim_hand_ids, (std::vector<std::uint8_t>{1, 2, 3}));
   EXPECT_EQ(parse_ok("sim:255,7").sim_hand_ids, (std::vector<std::uint8_t>{255, 7}));
+  EXPECT_EQ(parse_ok("sim:1-3,7").sim_hand_ids, (std::vector<std::uint8_t>{1, 2, 3, 7}));
 }
 
 TEST(BusSpec, BadSimIdsAreRejectedWithTheReason) {
@@ -46,6 +47,7 @@ TEST(BusSpec, BadSimIdsAreRejectedWithTheReason) {
   EXPECT_THAT(parse_error("sim:-1"), HasSubstr("'-1' is not a number"));
   EXPECT_THAT(parse_error("sim:1,2,1"), HasSubstr("hand id 1 is listed twice"));
   EXPECT_THAT(parse_error("sim:1 "), HasSubstr("'1 ' is not a number"));
+  EXPECT_THAT(parse_error("sim:1-3,2"), HasSubstr("hand id 2 is listed twice"));
 }
 
 TEST(BusSpec, SocketCanNamesAnInterface) {

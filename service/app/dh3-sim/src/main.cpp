@@ -21,6 +21,7 @@
 
 #include "dh3/base/can_socket.hpp"
 #include "dh3/base/clock.hpp"
+#include "dh3/base/hand_ids.hpp"
 #include "dh3/sim_server/can_server.hpp"
 #include "dh3/sim_server/transfer_box_server.hpp"
 
@@ -62,31 +63,15 @@ int parse_int(const std::string& text, const std::string& what) {
 }
 
 std::uint8_t parse_hand_id(const std::string& text, const std::string& what) {
-  const int id = parse_int(text, what);
-  if (id < 1 || id > 255) throw CLI::ValidationError(what, "hand IDs are 1-255, not " + text);
-  return static_cast<std::uint8_t>(id);
+  auto id = dh3::parse_hand_id(text);
+  if (!id) throw CLI::ValidationError(what, id.error());
+  return *id;
 }
 
-/// "1,2,3" or "1-8,10".
 std::vector<std::uint8_t> parse_hand_list(const std::string& text) {
-  std::vector<std::uint8_t> ids;
-  std::size_t start = 0;
-  while (start <= text.size()) {
-    std::size_t comma = text.find(',', start);
-    if (comma == std::string::npos) comma = text.size();
-    const std::string item = text.substr(start, comma - start);
-    const std::size_t dash = item.find('-');
-    if (dash == std::string::npos) {
-      ids.push_back(parse_hand_id(item, "--hands"));
-    } else {
-      const std::uint8_t first = parse_hand_id(item.substr(0, dash), "--hands");
-      const std::uint8_t last = parse_hand_id(item.substr(dash + 1), "--hands");
-      if (last < first) throw CLI::ValidationError("--hands", "empty range " + item);
-      for (int id = first; id <= last; ++id) ids.push_back(static_cast<std::uint8_t>(id));
-    }
-    start = comma + 1;
-  }
-  return ids;
+  auto ids = dh3::parse_hand_ids(text);
+  if (!ids) throw CLI::ValidationError("--hands", ids.error());
+  return *std::move(ids);
 }
 
 /// "ID:POS" with POS 0-100.

@@ -9,6 +9,8 @@
 #include <charconv>
 #include <sstream>
 
+#include "dh3/base/hand_ids.hpp"
+
 namespace dh3::sim {
 
 namespace {
@@ -36,12 +38,6 @@ std::optional<T> parse_number(std::string_view text) {
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (error != std::errc{} || end != text.data() + text.size()) return std::nullopt;
   return value;
-}
-
-std::optional<std::uint8_t> parse_hand_id(std::string_view text) {
-  const auto id = parse_number<int>(text);
-  if (!id || *id < 1 || *id > 255) return std::nullopt;
-  return static_cast<std::uint8_t>(*id);
 }
 
 /// "none" (nullopt) or a percentage 0-100.
@@ -317,7 +313,7 @@ std::string SimHost::execute_for_hand(std::span<const std::string_view> words,
     return "error " + std::string(verb) + " takes " + (one ? "ID" : "ID and a value");
   }
   if (replay_) return "error replaying a recording: the hands do what it says";
-  const std::optional<std::uint8_t> id = parse_hand_id(words[1]);
+  const auto id = dh3::parse_hand_id(words[1]);
   if (!id) return "error '" + std::string(words[1]) + "' is no hand ID (1-255)";
   SimHand* hand = hand_now(*id);
   if (hand == nullptr) return "error no hand " + std::to_string(*id);

@@ -4,7 +4,7 @@
 // simulated bus itself lives in the sim layer above, see dh3/sim/sim_bus.hpp):
 //
 //   sim                         one simulated hand with CAN ID 1
-//   sim:1,2,3                   simulated hands with these CAN IDs (1-255)
+//   sim:1,2,3 or sim:1-4,7      simulated hands with these CAN IDs (1-255)
 //   socketcan:can0              a SocketCAN interface
 //   tcp:HOST:PORT               a transfer box over TCP ("tcp:[::1]:9000" for IPv6)
 //   serial:DEVICE[@BAUD]        a transfer box on a serial line, 8N1, default 115200
