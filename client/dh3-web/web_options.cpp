@@ -1,9 +1,9 @@
 #include "web_options.hpp"
 
 #include <CLI/CLI.hpp>
-#include <charconv>
 
 #include "client_options_cli.hpp"
+#include "dh3/base/host_port.hpp"
 
 #ifndef DH3_VERSION
 #define DH3_VERSION "0.0.0"
@@ -12,22 +12,17 @@
 namespace dh3::web {
 
 Result<ListenAddress, std::string> parse_listen(const std::string& text) {
-  const auto colon = text.rfind(':');
-  if (colon == std::string::npos) {
-    return fail("--listen " + text + ": expected ADDR:PORT (e.g. 127.0.0.1:8080)");
+  HostPortRules listening;
+  listening.port_zero = true;
+  listening.empty_host = true;
+  auto address = parse_host_port(text, listening);
+  if (!address) {
+    return fail("--listen " + text + ": " + address.error() +
+                " (expected ADDR:PORT, e.g. 127.0.0.1:8080)");
   }
   ListenAddress listen;
-  std::string host = text.substr(0, colon);
-  if (host.size() >= 2 && host.front() == '[' && host.back() == ']') {
-    host = host.substr(1, host.size() - 2);
-  }
-  if (!host.empty()) listen.host = host;
-  const std::string port = text.substr(colon + 1);
-  const auto parsed = std::from_chars(port.data(), port.data() + port.size(), listen.port);
-  if (port.empty() || parsed.ec != std::errc() || parsed.ptr != port.data() + port.size() ||
-      listen.port < 0 || listen.port > 65535) {
-    return fail("--listen " + text + ": the port must be a number 0-65535");
-  }
+  if (!address->host.empty()) listen.host = std::move(address->host);
+  listen.port = address->port;
   return listen;
 }
 

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "dh3/base/hand_ids.hpp"
+#include "dh3/base/host_port.hpp"
 
 namespace dh3::bus {
 namespace {
@@ -82,43 +83,12 @@ Result<BusSpec, std::string> parse_socketcan(std::string_view text, std::string_
 
 Result<BusSpec, std::string> parse_tcp(std::string_view text, std::string_view rest) {
   constexpr std::string_view kExpected = " (expected tcp:HOST:PORT, e.g. tcp:192.168.1.20:8888)";
-  std::string_view host;
-  std::string_view port_text;
-  if (!rest.empty() && rest.front() == '[') {  // [IPv6]:PORT
-    const auto close = rest.find(']');
-    if (close == std::string_view::npos) {
-      return dh3::fail(bad(text, "missing ']' after the IPv6 address" + std::string(kExpected)));
-    }
-    host = rest.substr(1, close - 1);
-    const std::string_view after = rest.substr(close + 1);
-    if (after.empty() || after.front() != ':') {
-      return dh3::fail(bad(text, "missing port" + std::string(kExpected)));
-    }
-    port_text = after.substr(1);
-  } else {
-    const auto colon = rest.rfind(':');
-    if (colon == std::string_view::npos) {
-      return dh3::fail(bad(text, "missing port" + std::string(kExpected)));
-    }
-    host = rest.substr(0, colon);
-    port_text = rest.substr(colon + 1);
-    if (host.find(':') != std::string_view::npos) {
-      return dh3::fail(bad(text, "an IPv6 address must be in brackets, e.g. tcp:[::1]:9000"));
-    }
-  }
-  if (host.empty()) return dh3::fail(bad(text, "missing host" + std::string(kExpected)));
-  if (port_text.empty()) return dh3::fail(bad(text, "missing port" + std::string(kExpected)));
-  const auto port = parse_unsigned<unsigned>(port_text);
-  if (!port) {
-    return dh3::fail(bad(text, "port '" + std::string(port_text) + "' is not a number"));
-  }
-  if (*port == 0 || *port > 65535) {
-    return dh3::fail(bad(text, "port " + std::string(port_text) + " is out of range 1-65535"));
-  }
+  auto address = parse_host_port(rest);
+  if (!address) return dh3::fail(bad(text, address.error() + std::string(kExpected)));
   BusSpec spec;
   spec.kind = BusKind::tcp;
-  spec.host = std::string(host);
-  spec.port = static_cast<std::uint16_t>(*port);
+  spec.host = std::move(address->host);
+  spec.port = address->port;
   return spec;
 }
 

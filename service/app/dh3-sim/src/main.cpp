@@ -22,6 +22,7 @@
 #include "dh3/base/can_socket.hpp"
 #include "dh3/base/clock.hpp"
 #include "dh3/base/hand_ids.hpp"
+#include "dh3/base/host_port.hpp"
 #include "dh3/sim_server/can_server.hpp"
 #include "dh3/sim_server/transfer_box_server.hpp"
 
@@ -202,16 +203,12 @@ void declare_options(CLI::App& app, SimArguments& args) {
 dh3::sim::TransferBoxServerOptions server_options(const SimArguments& args) {
   dh3::sim::TransferBoxServerOptions options;
   options.min_interval = std::chrono::milliseconds(args.min_interval_ms);
-  const std::size_t colon = args.listen.rfind(':');
-  if (colon == std::string::npos) {
-    throw CLI::ValidationError("--listen", "expected HOST:PORT, got " + args.listen);
-  }
-  options.host = args.listen.substr(0, colon);
-  const int port = parse_int(args.listen.substr(colon + 1), "--listen");
-  if (port < 0 || port > 65535) {
-    throw CLI::ValidationError("--listen", "bad port in " + args.listen);
-  }
-  options.port = static_cast<std::uint16_t>(port);
+  dh3::HostPortRules listening;
+  listening.port_zero = true;
+  auto address = dh3::parse_host_port(args.listen, listening);
+  if (!address) throw CLI::ValidationError("--listen", address.error() + " in " + args.listen);
+  options.host = std::move(address->host);
+  options.port = address->port;
   options.shared = args.shared;
 
   for (const std::uint8_t id : parse_hand_list(args.hand_list)) {
