@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # The README's test command: install dependencies, configure, build, run every
-# test (kernel CAN tests inside user-mode Linux and container tests included);
-# then the whole suite again under AddressSanitizer + UBSan and the hand, bus
-# and service tests under ThreadSanitizer (tests/sanitize/run-sanitized.sh).
+# test (kernel CAN tests inside user-mode Linux and container tests included):
+# the C++ tests under AddressSanitizer + UBSan, everything else in the Release
+# build; then the hand, bus and service tests again under ThreadSanitizer
+# (tests/sanitize/run-sanitized.sh, tests/sanitize/address-selection.sh).
 # Prints how long each phase took.
 #   tests/run-all.sh [extra ctest args]
 # BUILD_DIR (default build) and JOBS (default 2) may be set; SANITIZERS=0 skips
-# the sanitizer builds (for a quick local run; CI runs them).
+# the sanitizer builds and runs every test in the Release build (for a quick
+# local run; CI runs them).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${BUILD_DIR:-build}
@@ -43,14 +45,26 @@ cmake --build "$build" -j "$jobs"
 tests/ros2/install-npm.sh "$build/ros2-npm"
 end_phase "build"
 status=0
-ctest --test-dir "$build" --output-on-failure -j "$jobs" "$@" || status=$?
-
-# ctest lists skipped tests without their reason; print the reason each gave
-# (GoogleTest's "Skipped" message, or a script's "SKIP:" line).
-log="$build/Testing/Temporary/LastTest.log"
-if [[ -f $log ]] && grep -q -E ': Skipped$|^SKIP: ' "$log"; then
-  echo "Skipped tests and their reasons:"
-  awk '/: Skipped$/ { getline reason; print "  " reason } /^SKIP: / { print "  " $0 }' "$log" | sort -u
+# Runs ctest on the Release build with the arguments given; ctest lists skipped
+# tests without their reason, so this prints the reason each gave (GoogleTest's
+# "Skipped" message, or a script's "SKIP:" line).
+run_ctest() {
+  ctest --test-dir "$build" --output-on-failure -j "$jobs" "$@" || status=$?
+  local log="$build/Testing/Temporary/LastTest.log"
+  if [[ -f $log ]] && grep -q -E ': Skipped$|^SKIP: ' "$log"; then
+    echo "Skipped tests and their reasons:"
+    awk '/: Skipped$/ { getline reason; print "  " reason } /^SKIP: / { print "  " $0 }' "$log" | sort -u
+  fi
+}
+if [[ ${SANITIZERS:-1} != 0 ]]; then
+  # The C++ tests run once, under AddressSanitizer + UBSan below; here every
+  # other test: scripts, packages, containers, the kernel, Python, the browser,
+  # and the C++ tests the sanitized run leaves out (address-selection.sh).
+  source tests/sanitize/address-selection.sh
+  run_ctest -LE "$address_labels" "$@"
+  run_ctest -L "$address_labels" -R "$address_left_out" "$@"
+else
+  run_ctest "$@"
 fi
 end_phase "tests"
 

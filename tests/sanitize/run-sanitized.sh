@@ -12,6 +12,7 @@
 # suppression files here name only findings inside Fast DDS, each with why.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
+source "$here/address-selection.sh"
 cd "$here/../.."
 mode=${1:?"address or thread"}
 shift
@@ -43,20 +44,9 @@ case $mode in
              test_client_service test_service test_integration test_reliability test_soak
              test_web_api test_web_service
              dh3-service dh3-sim dh3ctl dh3-web pick_loop event_watcher)
-    # fuzz.*: the fuzz targets are built by clang with ASan+UBSan already.
-    # install.*: builds and links an out-of-tree program against the
-    #   installed package; a packaging check, not code that runs.
-    # layering.*, client.header_examples*, docs.*, style.*: compile checks and
-    #   source readers.
-    # reliability.client_burst: a load test (dozens of processes at once beside
-    #   busy loops); its programs' code runs under the sanitizers in the other
-    #   tests, and sanitized it would measure the sanitizers.
-    # vendor.*: Cyclone DDS's participant; interoperability is a property of
-    #   the wire, checked by the main build.
-    # The Python module's tests and the page in Chromium are not C++ (dh3-web's
-    #   C++ runs sanitized in test_web_service).
-    selection=(-L '^(unit|integration|reliability|soak)$'
-               -E '(_NOT_BUILT$|^fuzz\.|^install\.|^layering\.|^client\.header_examples|^docs\.|^style\.|^kernel\.|^vendor\.|^reliability\.client_burst$|^web\.browser$)')
+    # Which tests: tests/sanitize/address-selection.sh (tests/run-all.sh runs
+    # the rest in the plain build).
+    selection=(-L "$address_labels" -E "$address_left_out")
     # new_delete_type_mismatch=0: Debian's libfastrtps 2.9 frees objects of its
     # own with a smaller size than it allocated them with (~RTPSReader and
     # ~RTPSWriter, seen on every reader and writer deleted). Allocation and
