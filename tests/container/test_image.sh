@@ -15,9 +15,15 @@ source "$(dirname "$0")/lib.sh"
 
 start=$SECONDS
 # build-image.sh installs podman itself; only then can we ask whether it runs.
-"$SRC/deploy/container/build-image.sh" --tag "$image" >"$work/build.log" 2>&1
+# With this machine's compiler cache and the test command's flags, the image's
+# build stage reuses what the test command's build compiled.
+cache_opts=()
+if command -v ccache >/dev/null && cache_dir=$(ccache -k cache_dir) && mkdir -p "$cache_dir"; then
+  cache_opts=(--ccache "$cache_dir" --werror)
+fi
+"$SRC/deploy/container/build-image.sh" --tag "$image" "${cache_opts[@]}" >"$work/build.log" 2>&1
 status=$?
-grep -E '^build-image:|STEP [0-9]+/' "$work/build.log"
+grep -E '^build-image:|^build-in-image: compiler|STEP [0-9]+/' "$work/build.log"
 if ((status != 0)); then
   # build-image.sh installs podman itself; only then can one ask whether it runs.
   if ! podman info >"$work/info" 2>&1; then
