@@ -68,11 +68,27 @@ else
 fi
 end_phase "tests"
 
+# The names of the tests ctest would run in build directory $1 with the
+# selection given after it, sorted.
+test_names() {
+  ctest --test-dir "$1" -N "${@:2}" | sed -n 's/^ *Test *#[0-9]*: //p' | sort -u
+}
 if [[ ${SANITIZERS:-1} != 0 ]]; then
   for mode in address thread; do
     JOBS=$jobs tests/sanitize/run-sanitized.sh "$mode" "$@" || status=1
     end_phase "$mode sanitizer"
   done
+  # Every test ran in one of the two builds: one the sanitized build did not
+  # build would otherwise go unnoticed.
+  unrun=$(comm -23 <(test_names "$build") \
+    <(sort -u <(test_names "$build" -LE "$address_labels") \
+      <(test_names "$build" -L "$address_labels" -R "$address_left_out") \
+      <(test_names build-asan -L "$address_labels" -E "$address_left_out")))
+  if [[ -n $unrun ]]; then
+    echo "== tests neither build ran (add their program to the sanitized build):"
+    sed 's/^/   /' <<<"$unrun"
+    status=1
+  fi
 else
   echo "SANITIZERS=0: the sanitizer runs were skipped"
 fi

@@ -1,4 +1,4 @@
-// A cell of clients commanding one service at once (issue 15, item 4).
+// A cell of clients commanding one service at once (item 4).
 //
 // dh3-service (a child process) serves 16 simulated hands on one bus that
 // answer at once (reply delay 0, command interval 0, status polling slowed to
@@ -67,7 +67,7 @@ int run_client(int domain, const std::string& service, int hand_id, int count, b
   options.domain = domain;
   options.participant_name = "dh3-bench-cell-client";
   options.udp_only = udp_only;
-  options.shared_memory = !udp_only;  // "shm": not the default since issue 23
+  options.shared_memory = !udp_only;  // "shm": not the default
   Client client(options);
   auto hand = client.wait_for_hand(service + "/bus0/" + std::to_string(hand_id), 60s);
   if (!hand) {

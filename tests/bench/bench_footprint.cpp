@@ -1,4 +1,4 @@
-// Footprint (issue 7, benchmark 5): dh3-service (a child process) with 1, 32
+// Footprint (benchmark 5): dh3-service (a child process) with 1, 32
 // and 255 simulated hands at idle, i.e. no commands, only its status polling
 // (the default timings: every 500 ms per idle hand) and no client connected:
 // resident memory (VmRSS, VmHWM from /proc/PID/status) and CPU (utime + stime

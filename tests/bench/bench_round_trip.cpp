@@ -1,4 +1,4 @@
-// Command round trip and service overhead (issue 7, benchmarks 1 and 2).
+// Command round trip and service overhead (benchmarks 1 and 2).
 //
 // Round trip: dh3::Client -> dh3-service (a child process) -> a simulated hand
 // that answers at once (sim bus, reply delay 0, command interval 0) -> reply ->
@@ -149,7 +149,7 @@ Measured client_round_trips(int domain, const std::string& service, bool udp_onl
   options.domain = domain;
   options.participant_name = "dh3-bench-client";
   options.udp_only = udp_only;
-  options.shared_memory = !udp_only;  // the "shm" rows: not the default since issue 23
+  options.shared_memory = !udp_only;  // the "shm" rows: not the default
   Client client(options);
   auto hand = client.wait_for_hand(service + "/bus0/1", 30s);
   if (!hand) {
@@ -579,7 +579,7 @@ void print_percentiles(const char* name, const Percentiles& p) {
   std::printf("%-36s %9.1f %9.1f %9.1f %9.1f\n", name, p.p50, p.p90, p.p99, p.max);
 }
 
-/// The goal of issue 15: dh3's round trip at most this many times raw's.
+/// The goal: dh3's round trip at most this many times raw's.
 constexpr double kGoalP50 = 1.25;
 constexpr double kGoalP99 = 1.5;
 

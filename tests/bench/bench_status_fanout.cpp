@@ -1,4 +1,4 @@
-// Status fan-out (issue 7, benchmark 4): dh3-service (a child process) with 64
+// Status fan-out (benchmark 4): dh3-service (a child process) with 64
 // simulated hands kept moving, and 1, 4 and 16 subscribing clients. Reports the
 // status samples per second the service published and each client received,
 // and the service's CPU time (utime + stime from /proc) per published sample.

@@ -190,7 +190,7 @@ class ServiceChild {
   std::vector<std::string> args(int domain, const std::string& name, bool udp_only) const {
     std::vector<std::string> list{"--config", config_.path(), "--domain",    std::to_string(domain),
                                   "--name",   name,           "--log-level", "warn"};
-    // The "shm" rows ask for shared memory: not the default since issue 23.
+    // The "shm" rows ask for shared memory: not the default.
     list.emplace_back(udp_only ? "--udp-only" : "--shared-memory");
     return list;
   }

@@ -27,7 +27,7 @@ class RawParticipant {
     options.name = name;
     options.domain = domain;
     options.udp_only = udp_only;
-    options.shared_memory = !udp_only;  // the "shm" rows: not the default since issue 23
+    options.shared_memory = !udp_only;  // the "shm" rows: not the default
     contract::SetupReport report;
     auto created = contract::Participant::create(options, report);
     if (!created) return;

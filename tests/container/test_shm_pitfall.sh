@@ -5,8 +5,8 @@
 # (--shared-memory), each with its own IPC namespace (podman's default, so its
 # own /dev/shm). Fast DDS takes them to be on one host (same addresses) and
 # sends the data through shared memory the other cannot see: no status ever
-# arrives. `--ipc=host` for both is the way out; dh3's default transports (UDP
-# only since issue 23) never meet the pitfall.
+# arrives. `--ipc=host` for both is the way out; dh3's default transports (UDP)
+# never meet the pitfall.
 #
 #   test_shm_pitfall.sh SOURCE_DIR
 # Exit 77 (skipped) with the reason where no container engine can run.

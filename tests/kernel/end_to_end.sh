@@ -99,9 +99,7 @@ expect "" release e2e/can/2 100
 # CANCELLED if the stop came in time) and the stop succeeds.
 # The stop's dh3ctl starts once the move's frame (position 100 to hand 1) is on
 # the bus, not after a fixed sleep, so that the stop reaches fingers in motion.
-# (It once also kept two clients from starting together, which could leave one
-# unready under load on Fast DDS's shared memory; clients are UDP only since
-# issue 23, and tests/reliability/client_burst.sh starts 32 at once.)
+# (Clients started together are tests/reliability/client_burst.sh's case.)
 move_frame='001#0602010064000000'
 frames_before=$(grep -c "$move_frame" "$work/bus.log" || true)
 ctl move e2e/can/1 100 >"$work/move.out" 2>&1 &

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Clients started together (issue 23): SERVICES dh3-service processes with
+# Clients started together: SERVICES dh3-service processes with
 # their simulated hands, then CLIENTS dh3ctl processes started at the same
 # moment, each reading one hand's position, with BUSY busy loops on the CPU
 # beside them. Every client must be answered; the script counts each

@@ -1,4 +1,4 @@
-// Clients started together in one process (issue 23): as a cell controller
+// Clients started together in one process: as a cell controller
 // that opens a dh3::Client per hand or per task at start-up. Each client is
 // its own DDS participant; all of them start at the same moment against one
 // dh3-service (default transports), and every one must be answered.

@@ -17,8 +17,9 @@ address_labels='^(unit|integration|reliability|soak)$'
 # reliability.client_burst: a load test (dozens of processes at once beside
 #   busy loops); its programs' code runs under the sanitizers in the other
 #   tests, and sanitized it would measure the sanitizers.
-# vendor.*: Cyclone DDS's participant; interoperability is a property of
-#   the wire, checked by the main build.
+# vendor.*, ros2.* (the scripts; the Ros2* C++ tests run sanitized): Cyclone
+#   DDS's participant, npm's encoder, tshark; interoperability is a property
+#   of the wire, checked by the main build.
 # The Python module's tests and the page in Chromium are not C++ (dh3-web's
 #   C++ runs sanitized in test_web_service).
-address_left_out='(_NOT_BUILT$|^fuzz\.|^install\.|^layering\.|^client\.header_examples|^docs\.|^style\.|^kernel\.|^vendor\.|^reliability\.client_burst$|^web\.browser$)'
+address_left_out='(_NOT_BUILT$|^fuzz\.|^install\.|^layering\.|^client\.header_examples|^docs\.|^style\.|^kernel\.|^vendor\.|^ros2\.|^reliability\.client_burst$|^web\.browser$)'

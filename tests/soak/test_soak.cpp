@@ -1,4 +1,4 @@
-// Soak (issue 7): dh3-service (a child process) with 32 simulated hands and 4
+// Soak: dh3-service (a child process) with 32 simulated hands and 4
 // clients issuing commands continuously for DH3_SOAK_SECONDS (CMake cache
 // variable SOAK_SECONDS). Asserts what a user would notice over a long run:
 // every call ends with exactly one result from the service (none lost: no

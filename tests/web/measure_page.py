@@ -10,8 +10,7 @@ hand's row show them (performance.timeOrigin + now(), the same host's clock).
 So the figure covers the service publishing, DDS to dh3-web, the stream and
 the page's own work.
 Hand 2 moves back and forth through the API, one move after the other has
-arrived; each new position read is one change (since issue 28 the position is
-not read while the fingers move: one change per move, where it stopped).
+arrived; each new position read is one change.
 
   DH3_SERVICE=build/service/app/dh3-service/dh3-service DH3_WEB=build/client/dh3-web \\
   DH3CTL=build/client/dh3ctl tests/web/measure_page.py [--moves 40]"""

@@ -169,7 +169,7 @@ TEST(Config, SimulatorSettingsOnlyOnSimBuses) {
               HasSubstr("out of range (0-100)"));
 }
 
-// A hand at rest republished every 5 s unless the file says otherwise (issue 24).
+// A hand at rest republished every 5 s unless the file says otherwise.
 TEST(Config, StatusRefreshIsFiveSecondsUnlessTheFileSays) {
   EXPECT_EQ(default_config().status_refresh, std::chrono::seconds(5));
   auto from_file =
@@ -180,7 +180,7 @@ TEST(Config, StatusRefreshIsFiveSecondsUnlessTheFileSays) {
               HasSubstr("dds.status_refresh_ms"));
 }
 
-// UDP alone unless shared memory is asked for (issue 23): the file's choice,
+// UDP alone unless shared memory is asked for: the file's choice,
 // and the command line's over it.
 TEST(Config, SharedMemoryIsOffUnlessAskedForAndTheCommandLineDecides) {
   EXPECT_FALSE(default_config().participant.shared_memory);

@@ -78,7 +78,7 @@ TEST(ParticipantSetup, TwoParticipantsFindEachOtherOnTheContractsTopics) {
 
 // The transports a participant announces: UDP alone unless shared memory is
 // asked for (dh3/contract/participant.hpp: Fast DDS 2.9's shared-memory listener goes
-// deaf for good after a sender exits; issue 23).
+// deaf for good after a sender exits).
 std::vector<std::string> transport_kinds(const ParticipantOptions& options) {
   SetupReport report;
   const auto qos = dh3::contract::make_participant_qos(options, report);
@@ -203,7 +203,7 @@ class Discovered : public eprosima::fastdds::dds::DomainParticipantListener {
 };
 
 // Two clients that hear services only both find the service and never each
-// other (issue 23: clients started together must not pay for each other).
+// other (clients started together must not pay for each other).
 TEST(ParticipantSetup, ClientsThatHearServicesOnlyFindTheServiceButNotEachOther) {
   SetupReport report;
   Discovered at_service;
