@@ -35,6 +35,8 @@ prefix=/usr/local
 launcher=()
 if [[ -n ${DH3_CCACHE_DIR:-} && -d $DH3_CCACHE_DIR ]] && command -v ccache >/dev/null; then
   export CCACHE_DIR=$DH3_CCACHE_DIR CCACHE_BASEDIR=$src CCACHE_NOHASHDIR=true
+  export CCACHE_STATSLOG=$build/ccache-results.log
+  rm -f "$CCACHE_STATSLOG"
   launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
   echo "build-in-image: compiler cache $CCACHE_DIR"
 fi
@@ -42,6 +44,10 @@ cmake -S "$src" -B "$build" -G Ninja "${launcher[@]}" \
   -DCMAKE_BUILD_TYPE=Release -DDH3_BUILD_TESTS=OFF -DDH3_BUILD_PYTHON=OFF \
   -DDH3_WERROR="${DH3_WERROR:-OFF}" -DCMAKE_INSTALL_PREFIX="$prefix"
 cmake --build "$build" -j "$jobs"
+if [[ -n ${CCACHE_STATSLOG:-} && -f $CCACHE_STATSLOG ]]; then
+  echo "build-in-image: $(grep -c -E '^(direct|preprocessed)_cache_hit' "$CCACHE_STATSLOG") of" \
+    "$(grep -c '^#' "$CCACHE_STATSLOG") compiles from the cache"
+fi
 
 rm -rf "$stage"
 DESTDIR="$stage" cmake --install "$build"

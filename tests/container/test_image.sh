@@ -23,7 +23,7 @@ if command -v ccache >/dev/null && cache_dir=$(ccache -k cache_dir) && mkdir -p 
 fi
 "$SRC/deploy/container/build-image.sh" --tag "$image" "${cache_opts[@]}" >"$work/build.log" 2>&1
 status=$?
-grep -E '^build-image:|^build-in-image: compiler|STEP [0-9]+/' "$work/build.log"
+grep -E '^build-image:|^build-in-image: (compiler|[0-9]+ of)|STEP [0-9]+/' "$work/build.log"
 if ((status != 0)); then
   # build-image.sh installs podman itself; only then can one ask whether it runs.
   if ! podman info >"$work/info" 2>&1; then
