@@ -8,8 +8,8 @@
 
 namespace dh3::ctl {
 
-/// --domain, --interface, --udp-only, --shared-memory, --xml, --profile,
-/// --discovery-server, --security-dir, --security-identity and --follow, bound to `options`.
+/// The DDS participant's options every dh3 program shares
+/// (dh3/contract/participant_flags.hpp) and --follow, bound to `options`.
 void add_client_options(CLI::App& app, ClientOptions& options);
 
 }  // namespace dh3::ctl

@@ -12,6 +12,7 @@
 #include "config_checks.hpp"
 #include "dh3/app/config_keys.hpp"
 #include "dh3/bus/bus_spec.hpp"
+#include "dh3/contract/participant_checks.hpp"
 
 namespace dh3::app {
 namespace {
@@ -21,6 +22,14 @@ namespace {
 struct FileError {
   std::string message;
 };
+
+/// The key of a member of the participant's options: "security_dir" is
+/// dds.security.dir, "udp_only" dds.udp_only.
+std::string participant_key(std::string_view field) {
+  constexpr std::string_view kSecurity = "security_";
+  if (field.starts_with(kSecurity)) return "dds.security." + std::string(field.substr(kSecurity.size()));
+  return "dds." + std::string(field);
+}
 
 bool is_sim_bus(const BusSettings& bus) {
   const auto parsed = bus::parse_bus_spec(bus.spec);
@@ -161,18 +170,18 @@ class FileParser {
   void check_map(const YAML::Node& node, std::string_view scope, const std::string& where,
                  ConfigTarget& target) const {
     if (scope == "dds") {
-      auto fits = check_participant(target.config->participant,
-                                    [](std::string_view key) { return std::string(key); });
+      auto fits = contract::check_participant(target.config->participant, participant_key);
       if (!fits) {
-        const auto& misfit = fits.error();
+        const std::string key = participant_key(fits.error().field);
+        // The culprit's own line: dds.security.dir is node["security"]["dir"].
         YAML::Node culprit = node;
-        std::string_view rest = misfit.key.substr(4);  // after "dds."
+        std::string_view rest = std::string_view(key).substr(4);  // after "dds."
         for (auto dot = rest.find('.'); dot != std::string_view::npos; dot = rest.find('.')) {
           culprit = culprit[std::string(rest.substr(0, dot))];
           rest = rest.substr(dot + 1);
         }
         const YAML::Node at = culprit[std::string(rest)];
-        fail_at(at ? at : node, misfit.key, misfit.message);
+        fail_at(at ? at : node, key, fits.error().message);
       }
     } else if (scope == "buses[]") {
       check_simulator_keys(node, where, *target.bus);
@@ -331,9 +340,11 @@ Applied apply_service_options(ConfigTarget& target, const CommandLine& line) {
     if (!value) continue;
     if (auto set = set_key(path, target, *value, option_name(*find_config_key(path))); !set) return set;
   }
-  const auto option_of = [](std::string_view path) { return option_name(*find_config_key(path)); };
-  if (auto fits = check_participant(target.config->participant, option_of); !fits) {
-    return fail(ConfigError{option_of(fits.error().key) + ": " + fits.error().message});
+  const auto option_of = [](std::string_view field) {
+    return option_name(*find_config_key(participant_key(field)));
+  };
+  if (auto fits = contract::check_participant(target.config->participant, option_of); !fits) {
+    return fail(ConfigError{option_of(fits.error().field) + ": " + fits.error().message});
   }
   return {};
 }

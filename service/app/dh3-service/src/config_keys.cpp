@@ -6,6 +6,8 @@
 #include <type_traits>
 
 #include "config_checks.hpp"
+#include "dh3/contract/participant_checks.hpp"
+#include "dh3/contract/participant_flags.hpp"
 
 // Each key names only what it has; the members it leaves out keep their
 // defaults, which is what designated initializers are for here.
@@ -127,9 +129,9 @@ std::vector<ConfigKey> declare_root_and_dds() {
   return {
       {.path = "name", .type = text, .doc = "service name; requests address hands by it (1-64 characters)",
        .field = of_config(&ServiceConfig::name), .option = "-n,--name", .check = named("service name")},
-      {.path = "domain", .type = integer, .max = 232,
+      {.path = "domain", .type = integer, .max = contract::kMaxDomainId,
        .doc = "DDS domain id (Fast DDS's default port mapping ends at 232)",
-       .field = of_participant(&P::domain), .option = "-d,--domain"},
+       .field = of_participant(&P::domain), .option = contract::kDomainOption},
       {.path = "log_level", .doc = "trace, debug, info, warn, error, critical or off",
        .field = of_config(&ServiceConfig::log_level), .option = "-l,--log-level", .check = check_log_level},
       {.path = "allow_admin", .type = boolean, .doc = "accept SET_CAN_ID and SET_BAUD_RATE",
@@ -146,27 +148,27 @@ std::vector<ConfigKey> declare_root_and_dds() {
 
       {.path = "dds.interfaces", .type = list,
        .doc = "IPv4 addresses of the NICs DDS uses, or [\"*\"] for all",
-       .field = of_participant(&P::interfaces), .option = "-i,--interface", .note = "loopback only",
-       .check = check_interface},
+       .field = of_participant(&P::interfaces), .option = contract::kInterfaceOption, .note = "loopback only",
+       .check = contract::check_interface},
       {.path = "dds.udp_only", .type = boolean,
        .doc = "UDP only (kept for older files; it is the default)",
-       .field = of_participant(&P::udp_only), .option = "--udp-only", .note = "true"},
+       .field = of_participant(&P::udp_only), .option = contract::kUdpOnlyOption, .note = "true"},
       {.path = "dds.shared_memory", .type = boolean,
        .doc = "also Fast DDS's shared memory (contradicts udp_only: true)",
-       .field = of_participant(&P::shared_memory), .option = "--shared-memory"},
+       .field = of_participant(&P::shared_memory), .option = contract::kSharedMemoryOption},
       {.path = "dds.discovery_servers", .type = list,
        .doc = "HOST[:PORT] of each discovery server, the n-th is `fastdds discovery -i n`; absent: "
               "ROS_DISCOVERY_SERVER, else multicast",
-       .field = of_participant(&P::discovery_servers), .option = "--discovery-server",
-       .check = check_discovery_server},
+       .field = of_participant(&P::discovery_servers), .option = contract::kDiscoveryServerOption,
+       .check = contract::check_discovery_server},
       {.path = "dds.xml_profile_file", .doc = "a Fast DDS XML file with the participant's QoS",
-       .field = of_participant(&P::xml_profile_file), .option = "--xml",
+       .field = of_participant(&P::xml_profile_file), .option = contract::kXmlOption,
        .check = [](std::string_view path) {
-         return check_readable_file("XML profiles file", std::string(path));
+         return contract::check_readable_file("XML profiles file", std::string(path));
        }},
       {.path = "dds.xml_profile",
        .doc = "the participant profile in that file (absent: its default profile)",
-       .field = of_participant(&P::xml_profile), .option = "--profile",
+       .field = of_participant(&P::xml_profile), .option = contract::kProfileOption,
        .check = not_empty("the profile name")},
       {.path = "dds.status_refresh_ms", .type = milliseconds, .max = kDay,
        .doc = "a hand's status that only was read again goes out at most this often (any change "
@@ -176,11 +178,11 @@ std::vector<ConfigKey> declare_root_and_dds() {
        .doc = "DDS Security (PKI-DH, Access-Permissions, AES-GCM-GMAC); absent: none"},
       {.path = "dds.security.dir",
        .doc = "the credentials, laid out as deploy/security/make-test-pki.sh writes them",
-       .field = of_participant(&P::security_dir), .option = "--security-dir", .required = true,
+       .field = of_participant(&P::security_dir), .option = contract::kSecurityDirOption, .required = true,
        .check = not_empty("the security directory")},
       {.path = "dds.security.identity", .doc = "the sub-directory with this participant's credentials",
-       .field = of_participant(&P::security_identity), .option = "--security-identity",
-       .check = check_identity},
+       .field = of_participant(&P::security_identity), .option = contract::kSecurityIdentityOption,
+       .check = contract::check_identity},
   };
 }
 

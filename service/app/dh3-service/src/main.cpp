@@ -19,6 +19,7 @@
 #include "dh3/app/config_keys.hpp"
 #include "dh3/base/clock.hpp"
 #include "dh3/base/host_name.hpp"
+#include "dh3/contract/participant_flags.hpp"
 #include "dh3/dds/service.hpp"
 #include "dh3/metrics/metrics_exporter.hpp"
 
@@ -66,20 +67,21 @@ void add_key_option(CLI::App& cli, std::string_view path, std::optional<T>& targ
   option->allow_extra_args(false);
 }
 
-/// -i, --udp-only, --shared-memory, --discovery-server: straight into `line`.
-void add_transport_options(CLI::App& cli, dh3::app::CommandLine& line) {
-  using dh3::app::option_help;
-  // One address per -i: a stray word is an error.
-  cli.add_option(option_of("dds.interfaces"), line.interfaces,
-                 "repeatable; " + option_help("dds.interfaces"))
-      ->allow_extra_args(false);
-  cli.add_flag(option_of("dds.udp_only"), line.udp_only, option_help("dds.udp_only"));
-  cli.add_flag(option_of("dds.shared_memory"), line.shared_memory,
-               "needs Fast DDS 2.12.1 or later: 2.9's listener can go deaf after a peer exits; " +
-                   option_help("dds.shared_memory"));
-  cli.add_option(option_of("dds.discovery_servers"), line.discovery_servers,
-                 "repeatable, replaces the file's; " + option_help("dds.discovery_servers"))
-      ->allow_extra_args(false);
+/// The participant's options the command line gave, into `line`: the
+/// service checks them as its configuration keys (config_keys.cpp), the
+/// file's and the command line's values alike.
+void take_participant_options(const dh3::contract::ParticipantOptionsGiven& given,
+                              const dh3::contract::ParticipantOptions& values,
+                              dh3::app::CommandLine& line) {
+  if (given.domain->count() > 0) line.domain = values.domain;
+  line.interfaces = values.interfaces;
+  line.udp_only = values.udp_only;
+  line.shared_memory = values.shared_memory;
+  line.discovery_servers = values.discovery_servers;
+  if (given.xml_profile_file->count() > 0) line.xml_profile_file = values.xml_profile_file;
+  if (given.xml_profile->count() > 0) line.xml_profile = values.xml_profile;
+  if (given.security_dir->count() > 0) line.security_dir = values.security_dir;
+  if (given.security_identity->count() > 0) line.security_identity = values.security_identity;
 }
 
 /// What the command line asks for.
@@ -98,14 +100,11 @@ dh3::Result<Invocation, EarlyExit> parse_command_line(int argc, char** argv) {
                      option_help("buses[].spec"))
       ->allow_extra_args(false);
   add_key_option(cli, "name", line.name);
-  add_key_option(cli, "domain", line.domain);
   add_key_option(cli, "log_level", line.log_level);
   cli.add_flag(option_of("allow_admin"), line.allow_admin, option_help("allow_admin"));
-  add_transport_options(cli, line);
-  add_key_option(cli, "dds.xml_profile_file", line.xml_profile_file);
-  add_key_option(cli, "dds.xml_profile", line.xml_profile);
-  add_key_option(cli, "dds.security.dir", line.security_dir, "enable DDS Security: ");
-  add_key_option(cli, "dds.security.identity", line.security_identity);
+  dh3::contract::ParticipantOptions participant = dh3::app::service_participant();
+  const auto given = dh3::contract::add_participant_options(
+      cli, dh3::contract::fields_of(participant), dh3::contract::FlagChecks::by_caller);
   add_key_option(cli, "metrics", line.metrics_address,
                  "e.g. 127.0.0.1:9464, the log says the port; empty turns the file's off; ");
   bool print_config_keys = false;
@@ -126,6 +125,7 @@ dh3::Result<Invocation, EarlyExit> parse_command_line(int argc, char** argv) {
     std::fputs(dh3::app::config_keys_table().c_str(), stdout);
     return dh3::fail(EarlyExit{0});
   }
+  take_participant_options(given, participant, line);
   return invocation;
 }
 
