@@ -258,7 +258,7 @@ gc::GripperCommand_Result_ GripperActionServer::state_of(
   gc::GripperCommand_Result_ result;
   if (!status || status->position < 0) return result;
   result.position(units_.opening(status->position));
-  result.stalled(status->grip == GripState::caught);
+  result.stalled(status->grip == GripState::grasped);
   result.effort(result.stalled() ? units_.force(status->closing_force) : 0.0);
   result.reached_goal(status->grip == GripState::arrived);
   return result;

@@ -13,10 +13,10 @@ constexpr std::uint64_t kNanosPerSecond = 1'000'000'000;
 
 double finger_effort(const HandStatus& status, const JointUnits& units) {
   switch (status.grip) {
-    case GripState::caught:
+    case GripState::grasped:
       return units.force(status.closing_force);
     case GripState::arrived:
-    case GripState::no_object:
+    case GripState::missed:
     case GripState::dropped:
       return 0.0;
     case GripState::moving:

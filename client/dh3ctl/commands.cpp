@@ -19,6 +19,7 @@
 #include "client_options_cli.hpp"
 #include "dh3/client.hpp"
 #include "dh3/registers.hpp"
+#include "motion_end.hpp"
 #include "output.hpp"
 
 #ifndef DH3_VERSION
@@ -50,6 +51,7 @@ struct Args {
   std::int32_t second = 0;
   bool has_second = false;
   bool watch = false;
+  bool wait = false;  ///< move, rotate: until the motion ends
   bool yes = false;
   int count = 0;              ///< events, status --watch: stop after this many lines (0: never)
   std::string group_command;  ///< group: init, move, rotate, grasp, release, force
@@ -314,6 +316,51 @@ int cmd_scan(Context& c, const Args& a) {
   return exit_code;
 }
 
+/// move and rotate: "moving to N" once the hand took the command; with --wait,
+/// then where the motion ended, from its event (or a read of the position when
+/// the event went out before the position was read again).
+int cmd_motion(Context& c, const std::string& command, const Args& a, Hand& hand) {
+  const bool rotation = command == "rotate";
+  const std::string target = hand.address().to_string();
+  const Timeout t = c.timeout();
+  MotionEnd end(rotation, a.value);
+  // Subscribed before the command goes out, so an end that comes fast is not missed.
+  Subscription watching;
+  if (a.wait) watching = hand.subscribe([&end](const HandEvent& e) { end.offer(e); });
+  const Reply reply = rotation ? hand.rotate_to(a.value, t) : hand.move_to(a.value, t);
+  const std::string moving = target + ": moving to " + std::to_string(a.value);
+  if (!a.wait || !reply.ok()) return c.report(command, target, reply, moving);
+  if (!c.globals.json) c.out << moving << std::endl;
+  const auto ended = end.wait(std::chrono::steady_clock::now() + t, [&] { return c.interrupted.load(); });
+  watching.unsubscribe();
+  if (!ended) {
+    return c.fail(command, target, Code::timeout,
+                  "the motion did not end within the timeout (" + std::to_string(t.count()) + " ms)");
+  }
+  if (ended->kind == EventKind::offline) {
+    return c.fail(command, target, Code::bus_down, "the hand went offline: " + ended->message);
+  }
+  std::optional<std::int32_t> at = ended->position;
+  if (!at) {
+    const Reply read = hand.read(rotation ? reg::rotation : reg::position, t);
+    if (!read.ok()) return c.fail(command, target, read.code, read.message);
+    at = read.value;
+  }
+  if (c.globals.json) {
+    Json json = reply_json(command, target, reply);
+    json["outcome"] = ended->kind;
+    json["position"] = *at;
+    if (!ended->message.empty()) json["outcome_message"] = ended->message;
+    c.out << json_text(json) << std::endl;
+  } else {
+    std::string text = target + ": " + std::string(to_string(ended->kind)) + " at " +
+                       std::to_string(*at);
+    if (!ended->message.empty()) text += " (" + ended->message + ")";
+    c.out << text << std::endl;
+  }
+  return kExitOk;
+}
+
 /// Commands on one hand that send one request and print its reply.
 int cmd_hand(Context& c, const std::string& command, const Args& a) {
   auto hand = c.hand(command, a.hand);
@@ -323,14 +370,7 @@ int cmd_hand(Context& c, const std::string& command, const Args& a) {
   if (command == "init") {
     return c.report(command, target, hand->initialize(t), target + ": initialized");
   }
-  if (command == "move") {
-    return c.report(command, target, hand->move_to(a.value, t),
-                    target + ": moved to " + std::to_string(a.value));
-  }
-  if (command == "rotate") {
-    return c.report(command, target, hand->rotate_to(a.value, t),
-                    target + ": rotated to " + std::to_string(a.value));
-  }
+  if (command == "move" || command == "rotate") return cmd_motion(c, command, a, *hand);
   if (command == "force") {
     std::optional<std::int32_t> opening;
     if (a.has_second) opening = a.second;
@@ -462,12 +502,19 @@ CLI::Option* declare_commands(CLI::App& app, Args& a) {
                    "update otherwise; Ctrl-C to stop");
   status->add_option("--count", a.count, "with --watch: stop after N status updates");
   hand_arg(app.add_subcommand("init", "initialize HAND (replies once it finished)"));
-  auto* move = app.add_subcommand("move", "move HAND's fingers to POS percent (100 = open)");
+  auto* move = app.add_subcommand(
+      "move", "move HAND's fingers to POS percent (100 = open); answers once the hand took it");
   hand_arg(move);
   value_arg(move, "POS", "position, 0-100");
-  auto* rotate = app.add_subcommand("rotate", "rotate HAND to PCT percent of 90 degrees");
+  move->add_flag("--wait", a.wait,
+                 "then wait until the fingers stop, and print how (ARRIVED, GRASPED, MISSED) and where");
+  auto* rotate = app.add_subcommand(
+      "rotate", "rotate HAND to PCT percent of 90 degrees; answers once the hand took it");
   hand_arg(rotate);
   value_arg(rotate, "PCT", "rotation, 0-100");
+  rotate->add_flag("--wait", a.wait,
+                   "then wait until the rotation stops, and print how (ROTATION_ARRIVED, "
+                   "ROTATION_BLOCKED) and where");
   auto* force = app.add_subcommand("force", "set HAND's closing force, and its opening force");
   hand_arg(force);
   value_arg(force, "CLOSE", "closing (gripping) force, 20-100 percent");

@@ -49,7 +49,7 @@ std::string status_table(const std::vector<HandStatus>& hands) {
                         s.online ? "yes" : (s.service_lost ? "lost" : "no"),
                         s.initialized ? "yes" : "no", number_or_dash(s.position),
                         number_or_dash(s.target_position), std::string(to_string(s.grip)),
-                        std::to_string(s.closing_force) + "/" + std::to_string(s.opening_force),
+                        number_or_dash(s.closing_force) + "/" + number_or_dash(s.opening_force),
                         number_or_dash(s.rotation), s.lease_holder.empty() ? "-" : s.lease_holder,
                         time_of_day_or_dash(s.read_at_ns), error}});
   }
@@ -79,7 +79,7 @@ std::string status_line(const HandStatus& s) {
   out += s.initialized ? " initialized" : " not-initialized";
   out += " position " + number_or_dash(s.position) + " target " +
          number_or_dash(s.target_position) + " grip " + std::string(to_string(s.grip)) + " force " +
-         std::to_string(s.closing_force) + "/" + std::to_string(s.opening_force) + " rotation " +
+         number_or_dash(s.closing_force) + "/" + number_or_dash(s.opening_force) + " rotation " +
          number_or_dash(s.rotation) + " " + std::string(to_string(s.rotation_state));
   if (!s.lease_holder.empty()) out += " leased by " + s.lease_holder;
   out += " read " + time_of_day_or_dash(s.read_at_ns);
@@ -96,8 +96,8 @@ std::string event_line(const HandEvent& e) {
   // Appended, not "literal" + std::string: GCC 12 warns falsely about that at -O3
   // (-Wrestrict inside libstdc++'s string insert, GCC bugs 105329, 105651).
   out.append(" ").append(to_string(e.kind));
-  out += " position " + std::to_string(e.position) + " target " + std::to_string(e.target) +
-         " value " + std::to_string(e.value);
+  out += " position " + (e.position ? std::to_string(*e.position) : std::string("- (not read yet)")) +
+         " target " + number_or_dash(e.target) + " value " + std::to_string(e.value);
   if (!e.message.empty()) out += ": " + e.message;
   return out;
 }

@@ -64,8 +64,10 @@ int main(int argc, char** argv) {
   // The callback runs on the client's own thread, one event at a time.
   dh3::Subscription subscription = client.subscribe(
       [](const dh3::HandEvent& e) {
-        std::printf("%s %s position %d target %d%s%s\n", e.hand.to_string().c_str(),
-                    std::string(to_string(e.kind)).c_str(), e.position, e.target,
+        // An ending motion's position is where it stopped, once read.
+        const std::string position = e.position ? std::to_string(*e.position) : "not read yet";
+        std::printf("%s %s position %s target %d%s%s\n", e.hand.to_string().c_str(),
+                    std::string(to_string(e.kind)).c_str(), position.c_str(), e.target,
                     e.message.empty() ? "" : ": ", e.message.c_str());
         std::fflush(stdout);
       },

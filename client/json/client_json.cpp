@@ -2,7 +2,21 @@
 
 #include "client_json.hpp"
 
+#include "dh3/registers.hpp"
+
 namespace dh3 {
+namespace {
+
+/// A value the hand has not reported yet is null, not the -1 that holds its place.
+Json read_or_null(std::int32_t value) {
+  return value < 0 ? Json(nullptr) : Json(value);
+}
+
+Json known_or_null(std::optional<std::int32_t> value) {
+  return value ? Json(*value) : Json(nullptr);
+}
+
+}  // namespace
 
 void to_json(Json& json, Code code) {
   json = to_string(code);
@@ -37,12 +51,12 @@ void to_json(Json& json, const HandStatus& s) {
               {"online", s.online},
               {"initialized", s.initialized},
               {"grip", s.grip},
-              {"position", s.position},
-              {"target_position", s.target_position},
-              {"closing_force", s.closing_force},
-              {"opening_force", s.opening_force},
-              {"rotation", s.rotation},
-              {"rotation_target", s.rotation_target},
+              {"position", read_or_null(s.position)},
+              {"target_position", read_or_null(s.target_position)},
+              {"closing_force", read_or_null(s.closing_force)},
+              {"opening_force", read_or_null(s.opening_force)},
+              {"rotation", read_or_null(s.rotation)},
+              {"rotation_target", read_or_null(s.rotation_target)},
               {"rotation_state", s.rotation_state},
               {"firmware_version", s.firmware_version},
               {"firmware_version_text", s.firmware_version_text},
@@ -60,7 +74,7 @@ void to_json(Json& json, const HandEvent& e) {
               {"hand", e.hand},
               {"name", e.name},
               {"kind", e.kind},
-              {"position", e.position},
+              {"position", known_or_null(e.position)},
               {"target", e.target},
               {"value", e.value},
               {"message", e.message},
@@ -128,6 +142,12 @@ Json reply_json(std::string_view command, std::string_view target, const Reply& 
   Json json{{"type", "reply"}, {"command", command}, {"hand", target}};
   json.update(Json(reply));
   if (command == "scan" && !json.contains("found_ids")) json["found_ids"] = Json::array();
+  // What the text output says besides the value: where a grasp stopped, and
+  // the firmware version as its string.
+  if (reply.ok() && command == "grasp") json["position"] = reply.value;
+  if (reply.ok() && command == "version") {
+    json["firmware_version_text"] = firmware_version_text(reply.value);
+  }
   return json;
 }
 

@@ -52,10 +52,10 @@ GripState to_public(msg::GripState state) {
       return GripState::moving;
     case msg::GRIP_ARRIVED:
       return GripState::arrived;
-    case msg::GRIP_CAUGHT:
-      return GripState::caught;
-    case msg::GRIP_NO_OBJECT:
-      return GripState::no_object;
+    case msg::GRIP_GRASPED:
+      return GripState::grasped;
+    case msg::GRIP_MISSED:
+      return GripState::missed;
     case msg::GRIP_DROPPED:
       return GripState::dropped;
     case msg::GRIP_UNKNOWN:
@@ -148,7 +148,7 @@ HandEvent to_public(const msg::HandEvent& e) {
   out.hand = to_public(e.hand());
   out.name = e.name();
   out.kind = to_public(e.kind());
-  out.position = e.position();
+  if (e.position_known()) out.position = e.position();
   out.target = e.target();
   out.value = e.value();
   out.message = e.message();

@@ -34,7 +34,7 @@ HandEvent StatusCache::offline_event(const HandStatus& status, const std::string
   event.hand = status.address;
   event.name = status.name;
   event.kind = EventKind::offline;
-  event.position = status.position;
+  if (status.position >= 0) event.position = status.position;
   event.target = status.target_position;
   event.message = why;
   event.timestamp_ns = made_ns;

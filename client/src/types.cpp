@@ -56,10 +56,10 @@ std::string_view to_string(GripState state) {
       return "MOVING";
     case GripState::arrived:
       return "ARRIVED";
-    case GripState::caught:
-      return "CAUGHT";
-    case GripState::no_object:
-      return "NO_OBJECT";
+    case GripState::grasped:
+      return "GRASPED";
+    case GripState::missed:
+      return "MISSED";
     case GripState::dropped:
       return "DROPPED";
   }

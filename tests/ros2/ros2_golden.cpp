@@ -59,7 +59,7 @@ void print_joint_state() {
   dh3::HandStatus status;
   status.address = {"dh3", "bus0", 1};
   status.online = status.initialized = true;
-  status.grip = dh3::GripState::caught;
+  status.grip = dh3::GripState::grasped;
   status.position = 40;
   status.rotation = 50;
   status.closing_force = 60;

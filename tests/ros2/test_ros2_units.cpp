@@ -73,10 +73,10 @@ TEST(Ros2JointState, UnreadValuesAreNaNAndEffortFollowsTheGrip) {
   EXPECT_EQ(message.header().stamp().sec(), 5);
   EXPECT_EQ(message.header().stamp().nanosec(), 1U);
 
-  status.grip = GripState::no_object;
+  status.grip = GripState::missed;
   status.position = 0;
   EXPECT_EQ(joint_state_of(status, JointNames{}, JointUnits{}).effort()[0], 0.0);
-  status.grip = GripState::caught;
+  status.grip = GripState::grasped;
   status.closing_force = 20;
   EXPECT_DOUBLE_EQ(joint_state_of(status, JointNames{}, JointUnits{}).effort()[0], 18.0);
 }

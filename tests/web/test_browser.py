@@ -63,7 +63,7 @@ def test_the_page_shows_the_hands_grasps_and_follows_another_client(web_url, bro
     controls.find_element(By.CSS_SELECTOR, 'button[data-command="grasp"]').click()
     wait_for(browser, "GRASPED in the table",
              lambda d: "grasp: OK GRASPED at position" in cell(d, 1, "result"))
-    wait_for(browser, "the grip CAUGHT", lambda d: cell(d, 1, "grip") == "CAUGHT")
+    wait_for(browser, "the grip GRASPED", lambda d: cell(d, 1, "grip") == "GRASPED")
     wait_for(browser, "GRASPED in the log", lambda d: any(
         hand(1) in line and " GRASPED " in line for line in log_lines(d)))
 

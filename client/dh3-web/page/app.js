@@ -25,7 +25,7 @@ function timeOfDay(ns) {
          pad(d.getMilliseconds(), 3);
 }
 
-function numberOrDash(n) { return n < 0 ? "-" : String(n); }
+function numberOrDash(n) { return n === null || n === undefined || n < 0 ? "-" : String(n); }
 
 function field(row, name) { return row.querySelector('[data-field="' + name + '"]'); }
 
@@ -83,7 +83,8 @@ function showEvent(e) {
   item.className = e.kind.toLowerCase();
   item.dataset.hand = e.hand;
   let text = timeOfDay(e.timestamp_ns) + " " + e.hand + (e.name ? " (" + e.name + ")" : "") + " " +
-             e.kind + " position " + e.position + " target " + e.target + " value " + e.value;
+             e.kind + " position " + (e.position === null ? "- (not read yet)" : e.position) +
+             " target " + numberOrDash(e.target) + " value " + e.value;
   if (e.message) text += ": " + e.message;
   item.textContent = text;
   log.insertBefore(item, log.firstChild);

@@ -168,7 +168,7 @@ class DH3_CLIENT_API Hand {
   [[nodiscard]] bool online() const;
   /// Waits until the hand's latest status satisfies `pred` (checked at once,
   /// then on every new status); returns that status, nullopt on timeout.
-  ///   hand.wait_until([](const dh3::HandStatus& s) { return s.grip == dh3::GripState::caught; })
+  ///   hand.wait_until([](const dh3::HandStatus& s) { return s.grip == dh3::GripState::grasped; })
   std::optional<HandStatus> wait_until(const std::function<bool(const HandStatus&)>& pred,
                                        Timeout timeout = Timeout::zero()) const;
 

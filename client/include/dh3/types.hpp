@@ -43,7 +43,9 @@ DH3_CLIENT_API std::string_view to_string(Code code);
 enum class GraspOutcome : std::uint8_t { none, grasped, missed };
 DH3_CLIENT_API std::string_view to_string(GraspOutcome outcome);
 
-enum class GripState : std::uint8_t { unknown, moving, arrived, caught, no_object, dropped };
+/// The grip outcomes have the names of the GRASP reply and the events
+/// (GRASPED, MISSED, DROPPED) wherever they appear.
+enum class GripState : std::uint8_t { unknown, moving, arrived, grasped, missed, dropped };
 DH3_CLIENT_API std::string_view to_string(GripState state);
 
 enum class RotationState : std::uint8_t { unknown, moving, arrived, blocked };
@@ -164,16 +166,19 @@ struct HandEvent {
   HandAddress hand;
   std::string name;
   EventKind kind = EventKind::fault;
-  /// The position (the rotation, for the rotation events) as last read when
-  /// the event went out. An event goes out on the status read that shows it,
-  /// about one command interval after the change at most, before the position
-  /// is read again: for arrived, grasped, missed and the rotation events it is
-  /// where the motion started, not where it stopped. The status that follows
-  /// (and the reply to a grasp or release) says where it stopped. dropped:
-  /// where the fingers held the object.
-  std::int32_t position = 0;
-  std::int32_t target = 0;  ///< target in force
-  std::int32_t value = 0;   ///< status value or force that explains it
+  /// arrived, grasped, missed: where the fingers stopped; rotation_arrived,
+  /// rotation_blocked: where the rotation stopped. Empty when it was not read
+  /// yet as the event went out: an event goes out on the status read that
+  /// shows the end, about one command interval after it at most, and the
+  /// position is read in the next frame; the status that follows (and the
+  /// reply to a grasp or release) says it. dropped: where the fingers held
+  /// the object. Other events: the position as last read (empty before any).
+  std::optional<std::int32_t> position;
+  std::int32_t target = 0;  ///< target in force; after a stop, the target of the motion it ended
+  /// grasped: the closing force it holds with; arrived, missed and the rotation
+  /// events: the status value read; dropped, fault: the status value; online:
+  /// the raw firmware version; offline: unanswered requests in a row.
+  std::int32_t value = 0;
   std::string message;
   /// Wall time (ns since the Unix epoch) the service saw the change; for an
   /// event the client made itself, when it made it.

@@ -108,8 +108,8 @@ class GripState(_Spelled):
     UNKNOWN = 0
     MOVING = 1
     ARRIVED = 2
-    CAUGHT = 3
-    NO_OBJECT = 4
+    GRASPED = 3
+    MISSED = 4
     DROPPED = 5
 
 

@@ -40,8 +40,8 @@ class GripState(_Spelled):
     UNKNOWN = 0
     MOVING = 1
     ARRIVED = 2
-    CAUGHT = 3
-    NO_OBJECT = 4
+    GRASPED = 3
+    MISSED = 4
     DROPPED = 5
 
 class RotationState(_Spelled):
@@ -214,7 +214,10 @@ class HandEvent:
     @property
     def kind(self) -> EventKind: ...
     @property
-    def position(self) -> int: ...
+    def position(self) -> Optional[int]:
+        """ARRIVED, GRASPED, MISSED: where the fingers stopped; the rotation events: where the
+        rotation stopped; None when not read yet as the event went out (the status that
+        follows says it). DROPPED: where the fingers held."""
     @property
     def target(self) -> int: ...
     @property

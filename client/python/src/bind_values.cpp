@@ -149,11 +149,15 @@ void bind_hand_event(py::module_& m) {
       .def_readonly("name", &dh3::HandEvent::name)
       .def_readonly("kind", &dh3::HandEvent::kind)
       .def_readonly("position", &dh3::HandEvent::position,
-                    "Position (rotation, for the rotation events) as last read when the event "
-                    "went out: for an ending motion, where it started; the status that follows "
-                    "says where it stopped.")
-      .def_readonly("target", &dh3::HandEvent::target, "Target in force.")
-      .def_readonly("value", &dh3::HandEvent::value, "Status value or force that explains it.")
+                    "ARRIVED, GRASPED, MISSED: where the fingers stopped; the rotation events: "
+                    "where the rotation stopped; None when not read yet as the event went out "
+                    "(the status that follows says it). DROPPED: where the fingers held.")
+      .def_readonly("target", &dh3::HandEvent::target,
+                    "Target in force; after a stop, the target of the motion it ended.")
+      .def_readonly("value", &dh3::HandEvent::value,
+                    "GRASPED: the closing force; ARRIVED, MISSED, the rotation events, DROPPED, "
+                    "FAULT: the status value read; ONLINE: the raw firmware version; OFFLINE: "
+                    "unanswered requests in a row.")
       .def_readonly("message", &dh3::HandEvent::message)
       .def_readonly("timestamp_ns", &dh3::HandEvent::timestamp_ns)
       .def_readonly("event_seq", &dh3::HandEvent::event_seq,
@@ -162,7 +166,8 @@ void bind_hand_event(py::module_& m) {
                     "True for the OFFLINE events the client emits when a service disappears.")
       .def("__repr__", [](const dh3::HandEvent& e) {
         return "HandEvent(" + e.hand.to_string() + ", " + std::string(dh3::to_string(e.kind)) +
-               ", position=" + std::to_string(e.position) + ")";
+               ", position=" + (e.position ? std::to_string(*e.position) : std::string("None")) +
+               ")";
       });
 }
 

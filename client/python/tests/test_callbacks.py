@@ -75,7 +75,7 @@ def test_client_wide_and_filtered_subscriptions(client):
     assert everything.wait(lambda items: {2, 3} <= hands_missed(items))
     assert only_three.wait(lambda items: 3 in hands_missed(items))
     assert {e.hand.can_id for e in only_three.items} == {3}
-    assert statuses.wait(lambda items: any(s.grip == dh3.GripState.NO_OBJECT for s in items))
+    assert statuses.wait(lambda items: any(s.grip == dh3.GripState.MISSED for s in items))
     assert {s.address.can_id for s in statuses.items} == {2}
     for subscription in subscriptions:
         subscription.unsubscribe()

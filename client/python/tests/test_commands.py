@@ -60,7 +60,7 @@ def test_initialize_move_grasp_release(client):
     assert grasp.ok, grasp
     assert grasp.grasp == dh3.GraspOutcome.GRASPED
     assert 35 <= grasp.value <= 45
-    assert one.wait_until(lambda s: s.grip == dh3.GripState.CAUGHT, timeout=DEADLINE)
+    assert one.wait_until(lambda s: s.grip == dh3.GripState.GRASPED, timeout=DEADLINE)
     release = one.release(100)
     assert release.ok, release
     assert one.wait_until(lambda s: s.position == 100, timeout=DEADLINE)

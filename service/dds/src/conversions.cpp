@@ -49,10 +49,10 @@ msg::GripState to_msg(hand::GripState state) {
       return msg::GRIP_MOVING;
     case hand::GripState::arrived:
       return msg::GRIP_ARRIVED;
-    case hand::GripState::caught:
-      return msg::GRIP_CAUGHT;
-    case hand::GripState::no_object:
-      return msg::GRIP_NO_OBJECT;
+    case hand::GripState::grasped:
+      return msg::GRIP_GRASPED;
+    case hand::GripState::missed:
+      return msg::GRIP_MISSED;
     case hand::GripState::dropped:
       return msg::GRIP_DROPPED;
   }
@@ -170,7 +170,8 @@ void fill_event(msg::HandEvent& out, const hand::HandEvent& event, std::string_v
   out.hand().can_id(event.can_id);
   out.name(std::string(hand_name));
   out.kind(to_msg(event.kind));
-  out.position(event.position);
+  out.position(event.position.value_or(-1));
+  out.position_known(event.position.has_value());
   out.target(event.target);
   out.value(event.value);
   out.message(event.message);

@@ -253,12 +253,14 @@ std::optional<Message> HandDriver::stop_frame(TimePoint now, StopStep step) {
     case StopStep::read_position:
       return send_job(protocol::make_read(id, reg::kPosition), now);
     case StopStep::hold_position:
-      finger_motion_sent(active()->held, false);
+      // Reached only while the fingers move (advance_stop): a hand at rest is
+      // not sent a motion, so it reports no arrival it did not make.
+      finger_motion_sent(active()->held, false, fingers_.motion()->reported_target());
       return send_job(protocol::make_write(id, reg::kPosition, active()->held), now);
     case StopStep::read_rotation:
       return send_job(protocol::make_read(id, reg::kRotation), now);
     case StopStep::hold_rotation:
-      rotation_motion_sent(active()->held);
+      rotation_motion_sent(active()->held, rotation_.motion()->reported_target());
       return send_job(protocol::make_write(id, reg::kRotation, active()->held), now);
   }
   return std::nullopt;
@@ -312,20 +314,26 @@ std::optional<Message> HandDriver::online_frame(Online& on, TimePoint now) {
 // ---------------------------------------------------------------------------
 // Motions started by sending
 
-void HandDriver::finger_motion_sent(std::int32_t target, bool gripping) {
+void HandDriver::finger_motion_sent(std::int32_t target, bool gripping,
+                                    std::optional<std::int32_t> stopped_target) {
   if (active()) active()->motion_sent = true;
   // A grasp or release waiting for the previous motion to end is superseded.
   ledger_.finish_motion_waiter(fail(CommandError::cancelled));
   ++finger_epoch_;
-  fingers_.start(FingerMotion{target, gripping, state_.position < 0 || target < state_.position});
+  fingers_.start(FingerMotion{.target = target,
+                              .gripping = gripping,
+                              .closing = state_.position < 0 || target < state_.position,
+                              .stopped_target = stopped_target});
   hold_untouched_ = false;
   state_.target_position = target;
   state_.grip = GripState::moving;
 }
 
-void HandDriver::rotation_motion_sent(std::int32_t target) {
+void HandDriver::rotation_motion_sent(std::int32_t target,
+                                      std::optional<std::int32_t> stopped_target) {
   if (active()) active()->motion_sent = true;
-  rotation_.start(RotationMotion{target});
+  rotation_.start(
+      RotationMotion{.target = target, .stopped_target = stopped_target});
   state_.rotation_target = target;
   state_.rotation_state = RotationState::moving;
 }
@@ -364,7 +372,7 @@ PollPlan HandDriver::poll_plan() const {
   PollActivity activity;
   if (const auto& motion = fingers_.motion()) {
     activity.fingers = motion->closing ? FingerActivity::closing : FingerActivity::opening;
-  } else if (state_.grip == GripState::caught) {
+  } else if (state_.grip == GripState::grasped) {
     activity.fingers = FingerActivity::holding;
   }
   activity.rotating = rotation_.motion().has_value();
@@ -527,24 +535,28 @@ void HandDriver::set_error(CommandError error, std::string message) {
   state_.last_error_message = std::move(message);
 }
 
-void HandDriver::emit_rotation_event(EventKind kind, std::int32_t status, TimePoint now) {
-  std::string message;
-  if (kind == EventKind::rotation_blocked) {
-    message = fmt::format("rotation blocked on the way to {} (last read at {})",
-                          state_.rotation_target, state_.rotation);
-  }
-  emit(kind, now, status, std::move(message), state_.rotation, state_.rotation_target);
+void HandDriver::emit_motion_end(EventKind kind, TimePoint now, std::int32_t value,
+                                 std::string message, std::optional<std::int32_t> stopped_at,
+                                 std::int32_t target) {
+  emit_event(kind, now, value, std::move(message), stopped_at, target);
 }
 
-void HandDriver::emit(EventKind kind, TimePoint now, std::int32_t value, std::string message,
-                      std::optional<std::int32_t> position, std::optional<std::int32_t> target) {
+void HandDriver::emit(EventKind kind, TimePoint now, std::int32_t value, std::string message) {
+  const std::optional<std::int32_t> last_read =
+      state_.position >= 0 ? std::optional(state_.position) : std::nullopt;
+  emit_event(kind, now, value, std::move(message), last_read, state_.target_position);
+}
+
+void HandDriver::emit_event(EventKind kind, TimePoint now, std::int32_t value,
+                            std::string message, std::optional<std::int32_t> position,
+                            std::int32_t target) {
   if (anonymous_) return;
   HandEvent event;
   event.kind = kind;
   event.can_id = state_.can_id;
   event.time = now;
-  event.position = position.value_or(state_.position);
-  event.target = target.value_or(state_.target_position);
+  event.position = position;
+  event.target = target;
   event.value = value;
   event.message = std::move(message);
   spdlog::info("{}: {}{}{}", label(), to_string(kind), event.message.empty() ? "" : ": ",

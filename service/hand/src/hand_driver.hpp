@@ -137,8 +137,12 @@ class HandDriver {
   /// Ready and held for the group: nothing else goes to the hand meanwhile.
   [[nodiscard]] bool holding_for_group() const;
   protocol::Message send_job(protocol::Message message, TimePoint now);
-  void finger_motion_sent(std::int32_t target, bool gripping);
-  void rotation_motion_sent(std::int32_t target);
+  /// `stopped_target`: for a stop's hold, the target of the motion it ended
+  /// (the hold's ending event reports it).
+  void finger_motion_sent(std::int32_t target, bool gripping,
+                          std::optional<std::int32_t> stopped_target = std::nullopt);
+  void rotation_motion_sent(std::int32_t target,
+                            std::optional<std::int32_t> stopped_target = std::nullopt);
 
   // Receiving (hand_driver_receiving.cpp).
   void on_reply(const InFlight& sent, const protocol::Message& reply, TimePoint now);
@@ -155,6 +159,7 @@ class HandDriver {
   /// Where the fingers stopped was read: a grasp or release waiting for it ends.
   void on_position_confirmed();
   void finger_motion_ended(GripState grip, EventKind event, TimePoint now);
+
 
   // Lifecycle and time (hand_driver.cpp).
   void on_answer(TimePoint now);
@@ -175,9 +180,14 @@ class HandDriver {
   [[nodiscard]] PollPlan poll_plan() const;
 
   // Reporting (hand_driver.cpp).
-  void emit_rotation_event(EventKind kind, std::int32_t status, TimePoint now);
-  void emit(EventKind kind, TimePoint now, std::int32_t value = 0, std::string message = {},
-            std::optional<std::int32_t> position = {}, std::optional<std::int32_t> target = {});
+  /// An event with the position as last read and the target in force.
+  void emit(EventKind kind, TimePoint now, std::int32_t value = 0, std::string message = {});
+  /// The end of a motion: `stopped_at` where the axis stopped, if read after
+  /// the end; `target` the one the event reports (reported_target()).
+  void emit_motion_end(EventKind kind, TimePoint now, std::int32_t value, std::string message,
+                       std::optional<std::int32_t> stopped_at, std::int32_t target);
+  void emit_event(EventKind kind, TimePoint now, std::int32_t value, std::string message,
+                  std::optional<std::int32_t> position, std::int32_t target);
   void set_error(CommandError error, std::string message);
   /// Publishes the state if it changed, then the events, then the completions,
   /// so that whoever hears of an event or a result finds the state behind it.

@@ -18,6 +18,14 @@ CommandResult ok(std::int32_t value, GraspOutcome grasp = GraspOutcome::none) {
   return CommandSuccess{value, grasp};
 }
 
+/// What the ending event of a stop's hold says; empty for other motions.
+template <class Motion>
+std::string hold_message(const Motion& motion) {
+  return motion.stopped_target
+             ? fmt::format("stopped by STOP on the way to {}", *motion.stopped_target)
+             : std::string{};
+}
+
 }  // namespace
 
 bool HandDriver::on_frame(const Message& message, TimePoint now) {
@@ -88,6 +96,7 @@ void HandDriver::apply_read(Register r, const Message& reply, TimePoint now) {
     on_grip_status(protocol::status_value(reply), now);
   } else if (r == reg::kRotation) {
     state_.rotation = reply.data;
+    rotation_.value_read();
   } else if (r == reg::kRotationStatus) {
     on_rotation_status(protocol::status_value(reply), now);
   } else if (r == reg::kClosingForce) {
@@ -192,9 +201,11 @@ void HandDriver::advance_job(const Message& reply, TimePoint now) {
 void HandDriver::advance_stop(StopStep& step, const Message& reply) {
   switch (step) {
     case StopStep::read_position:
+      // An axis at rest is already held: writing its position would make a
+      // motion, and an arrival event, of nothing.
       active()->held = reply.data;
       state_.position = reply.data;
-      step = StopStep::hold_position;
+      step = fingers_.motion() ? StopStep::hold_position : StopStep::read_rotation;
       return;
     case StopStep::hold_position:
       step = StopStep::read_rotation;
@@ -202,7 +213,11 @@ void HandDriver::advance_stop(StopStep& step, const Message& reply) {
     case StopStep::read_rotation:
       active()->held = reply.data;
       state_.rotation = reply.data;
-      step = StopStep::hold_rotation;
+      if (rotation_.motion()) {
+        step = StopStep::hold_rotation;
+      } else {
+        ledger_.finish_active(ok(state_.position));
+      }
       return;
     case StopStep::hold_rotation:
       ledger_.finish_active(ok(state_.position));
@@ -260,22 +275,27 @@ void HandDriver::on_grip_status(std::int32_t status, TimePoint now) {
 
 void HandDriver::finger_motion_ended(GripState grip, EventKind event, TimePoint now) {
   state_.grip = grip;
-  // The event goes out on this read, one interval at most from the change,
-  // with the position last read (the contract says so). Where the fingers
-  // stopped is read next: a status sample then says it, and a grasp or release
-  // waiting for the motion ends with it. Not when a read during this motion
-  // found them at the target and the status says they stopped without a catch.
+  // The event goes out on this read, one interval at most from the change.
+  // Where the fingers stopped is read next: a status sample then says it, and
+  // a grasp or release waiting for the motion ends with it. The event carries
+  // it when it is known already: the read that rechecked this arrival, or a
+  // read during the motion that found them at the target, with a status that
+  // says they stopped without a catch.
   const bool stopped_at_target =
       event != EventKind::grasped && fingers_.read_at_target(state_.position);
+  const bool known = stopped_at_target || fingers_.rechecking();
+  const FingerMotion motion = *fingers_.motion();
   fingers_.end(stopped_at_target);
   // A grasp is explained by the force it holds with; an arrival by its status.
-  emit(event, now, event == EventKind::grasped ? state_.closing_force : 2);
+  emit_motion_end(event, now, event == EventKind::grasped ? state_.closing_force : 2,
+                  hold_message(motion), known ? std::optional(state_.position) : std::nullopt,
+                  motion.reported_target());
   if (MotionWaiter* waiter = ledger_.motion_waiter();
       waiter && waiter->epoch == finger_epoch_ && !waiter->outcome) {
     // The result carries where the fingers stopped, after the same read.
-    waiter->outcome = grip == GripState::caught      ? GraspOutcome::grasped
-                      : grip == GripState::no_object ? GraspOutcome::missed
-                                                     : GraspOutcome::none;
+    waiter->outcome = grip == GripState::grasped  ? GraspOutcome::grasped
+                      : grip == GripState::missed ? GraspOutcome::missed
+                                                  : GraspOutcome::none;
   }
   if (stopped_at_target) on_position_confirmed();
 }
@@ -290,9 +310,20 @@ void HandDriver::on_rotation_status(std::int32_t status, TimePoint now) {
   }
   if (reading.state) state_.rotation_state = *reading.state;
   if (reading.motion_ended) {
-    // Reported now, with the rotation last read; where it stopped is read next.
-    rotation_.end(false);
-    emit_rotation_event(*reading.event, status, now);
+    // Reported now; where it stopped is read next unless a read during the
+    // rotation found it at its target (or the read rechecking it is this one).
+    const bool at_target = *reading.event == EventKind::rotation_arrived &&
+                           rotation_.read_at_target(state_.rotation);
+    const bool known = at_target || rotation_.rechecking();
+    const RotationMotion motion = *rotation_.motion();
+    rotation_.end(at_target);
+    std::string message =
+        *reading.event == EventKind::rotation_blocked
+            ? fmt::format("rotation blocked on the way to {}", motion.reported_target())
+            : hold_message(motion);
+    emit_motion_end(*reading.event, now, status, std::move(message),
+                    known ? std::optional(state_.rotation) : std::nullopt,
+                    motion.reported_target());
   } else if (reading.event == EventKind::fault) {
     rotation_.undefined_reported(status);
     emit(EventKind::fault, now, status,

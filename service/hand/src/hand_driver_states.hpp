@@ -85,12 +85,18 @@ struct FingerMotion {
   /// command, so a 2 read after it is this motion's arrival, not a reading
   /// from before it, wherever the position was last read.
   bool moving_seen = false;
+  /// A stop's hold: the target of the motion the stop ended, which the
+  /// ending event reports.
+  std::optional<std::int32_t> stopped_target{};
+  [[nodiscard]] std::int32_t reported_target() const { return stopped_target.value_or(target); }
 };
 
 /// A commanded rotation, from its write until its status ends it.
 struct RotationMotion {
   std::int32_t target = 0;
   bool moving_seen = false;  ///< as FingerMotion's, for the rotation status
+  std::optional<std::int32_t> stopped_target{};  ///< as FingerMotion's
+  [[nodiscard]] std::int32_t reported_target() const { return stopped_target.value_or(target); }
 };
 
 // ---- commands --------------------------------------------------------------

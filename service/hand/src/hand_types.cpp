@@ -58,10 +58,10 @@ std::string_view to_string(GripState state) {
       return "moving";
     case GripState::arrived:
       return "arrived";
-    case GripState::caught:
-      return "caught";
-    case GripState::no_object:
-      return "no object";
+    case GripState::grasped:
+      return "grasped";
+    case GripState::missed:
+      return "missed";
     case GripState::dropped:
       return "dropped";
   }

@@ -19,14 +19,14 @@ GripReading finger_motion_ends(GripState grip, EventKind event) {
 
 GripReading read_caught(const FingerView& view) {
   if (view.motion && !view.motion->closing) return GripReading{.stale = true};  // we are opening
-  GripReading reading = view.motion ? finger_motion_ends(GripState::caught, EventKind::grasped)
-                                    : GripReading{.grip = GripState::caught};
+  GripReading reading = view.motion ? finger_motion_ends(GripState::grasped, EventKind::grasped)
+                                    : GripReading{.grip = GripState::grasped};
   reading.hold_starts = true;
   return reading;
 }
 
 GripReading read_moving_or_arrived(FingerStatus status, const FingerView& view) {
-  if (view.grip == GripState::caught && view.hold_untouched) {
+  if (view.grip == GripState::grasped && view.hold_untouched) {
     // The document's drop detection: status left 3 with no command sent.
     return GripReading{.grip = GripState::dropped, .event = EventKind::dropped};
   }
@@ -36,13 +36,13 @@ GripReading read_moving_or_arrived(FingerStatus status, const FingerView& view) 
     return view.motion ? GripReading{.grip = GripState::moving} : GripReading{};
   }
   if (!view.motion) {
-    return view.grip == GripState::no_object ? GripReading{}
+    return view.grip == GripState::missed ? GripReading{}
                                              : GripReading{.grip = GripState::arrived};
   }
   if (!view.motion->moving_seen && !near(view.position, view.motion->target)) {
     return GripReading{.stale = true};
   }
-  return view.motion->gripping ? finger_motion_ends(GripState::no_object, EventKind::missed)
+  return view.motion->gripping ? finger_motion_ends(GripState::missed, EventKind::missed)
                                : finger_motion_ends(GripState::arrived, EventKind::arrived);
 }
 

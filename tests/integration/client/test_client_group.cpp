@@ -85,7 +85,7 @@ TEST_F(ClientGroupTest, GraspGroupClosesTheHandsBackToBackAndRepliesOnceForAll) 
   EXPECT_EQ(closes[2], closes[0] + 2);
   // Each hand's status shows its own outcome, as after a single grasp.
   EXPECT_TRUE(client_.hand(box(1)).wait_until(
-      [](const HandStatus& s) { return s.grip == GripState::caught; }, kClientDeadline));
+      [](const HandStatus& s) { return s.grip == GripState::grasped; }, kClientDeadline));
 }
 
 TEST_F(ClientGroupTest, AGroupsCompletionCallbackGetsItsOneReplyOnTheCallbackThread) {

@@ -119,7 +119,7 @@ TEST_F(ClientLibraryTest, InitializeMoveGraspAndRelease) {
   EXPECT_EQ(grasp.grasp, GraspOutcome::grasped);
   EXPECT_GE(grasp.value, 35);
   EXPECT_LE(grasp.value, 45);
-  EXPECT_TRUE(one.wait_until([](const HandStatus& s) { return s.grip == GripState::caught; }));
+  EXPECT_TRUE(one.wait_until([](const HandStatus& s) { return s.grip == GripState::grasped; }));
 
   const Reply release = one.release(100);
   ASSERT_TRUE(release) << release.message;

@@ -23,6 +23,7 @@ namespace {
 
 using ::testing::AllOf;
 using ::testing::HasSubstr;
+using ::testing::Not;
 using ::testing::StartsWith;
 
 class Dh3ctlTest : public ::testing::Test {
@@ -46,9 +47,15 @@ TEST_F(Dh3ctlTest, InitMoveGraspStatusRelease) {
 
   const Finished move = dh3ctl({"move", hand_spec(1), "60"});
   ASSERT_EQ(move.exit_code, 0) << move.text();
+  EXPECT_THAT(move.text(), HasSubstr(hand_spec(1) + ": moving to 60"))
+      << "accepted, not arrived: it does not say it moved";
   const Finished grasp = dh3ctl({"grasp", hand_spec(1), "40"});
   ASSERT_EQ(grasp.exit_code, 0) << grasp.text();
   EXPECT_THAT(grasp.text(), HasSubstr("GRASPED at position"));
+  const Finished grasp_json = dh3ctl({"--json", "grasp", hand_spec(1), "40"});
+  ASSERT_EQ(grasp_json.exit_code, 0) << grasp_json.text();
+  EXPECT_THAT(grasp_json.text(), HasSubstr(R"("grasp":"GRASPED")"));
+  EXPECT_THAT(grasp_json.text(), HasSubstr(R"("position":)")) << "the JSON says where, as the text";
 
   const Finished status = dh3ctl({"--json", "status", hand_spec(1)});
   ASSERT_EQ(status.exit_code, 0) << status.text();
@@ -86,6 +93,9 @@ TEST_F(Dh3ctlTest, VersionReadScanAndForce) {
   const Finished version = dh3ctl({"version", hand_spec(1)});
   ASSERT_EQ(version.exit_code, 0) << version.text();
   EXPECT_THAT(version.text(), HasSubstr("firmware 4.1.2.0 (raw 0x04010200)"));
+  const Finished version_json = dh3ctl({"--json", "version", hand_spec(1)});
+  ASSERT_EQ(version_json.exit_code, 0) << version_json.text();
+  EXPECT_THAT(version_json.text(), HasSubstr(R"("firmware_version_text":"4.1.2.0")"));
   const Finished force = dh3ctl({"force", hand_spec(1), "65", "35"});
   ASSERT_EQ(force.exit_code, 0) << force.text();
   const Finished read = dh3ctl({"read", hand_spec(1), "closing_force"});
@@ -107,6 +117,46 @@ TEST_F(Dh3ctlTest, EventsPrintsWhatHappensToTheHand) {
   const auto status = events.wait_exit(kClientDeadline);
   ASSERT_TRUE(status && WIFEXITED(*status));
   EXPECT_EQ(WEXITSTATUS(*status), 0);
+}
+
+TEST_F(Dh3ctlTest, MoveAndRotateWithWaitSayWhereTheMotionEnded) {
+  ASSERT_EQ(dh3ctl({"init", hand_spec(2)}).exit_code, 0);
+  const Finished move = dh3ctl({"move", hand_spec(2), "30", "--wait"});
+  ASSERT_EQ(move.exit_code, 0) << move.text();
+  ASSERT_EQ(move.lines.size(), 2U) << move.text();
+  EXPECT_EQ(move.lines[0], hand_spec(2) + ": moving to 30");
+  EXPECT_EQ(move.lines[1], hand_spec(2) + ": ARRIVED at 30");
+  const Finished rotate = dh3ctl({"--json", "rotate", hand_spec(2), "40", "--wait"});
+  ASSERT_EQ(rotate.exit_code, 0) << rotate.text();
+  ASSERT_EQ(rotate.lines.size(), 1U) << rotate.text();
+  EXPECT_THAT(rotate.lines[0],
+              AllOf(HasSubstr(R"("outcome":"ROTATION_ARRIVED")"), HasSubstr(R"("position":40)")));
+}
+
+TEST_F(Dh3ctlTest, EventsOfAMotionAreWhereItStoppedAndAStopAtRestReportsNothing) {
+  ASSERT_EQ(dh3ctl({"init", hand_spec(1)}).exit_code, 0);
+  Process events(DH3CTL_PATH, ctl_args({"--json", "events", hand_spec(1)}),
+                 Process::Stdin::dev_null);
+  ASSERT_TRUE(events.wait_for_line("watching events", kClientDeadline));
+  ASSERT_EQ(dh3ctl({"move", hand_spec(1), "50", "--wait"}).exit_code, 0);
+  ASSERT_EQ(dh3ctl({"stop", hand_spec(1)}).exit_code, 0);
+  ASSERT_EQ(dh3ctl({"move", hand_spec(1), "20", "--wait"}).exit_code, 0);
+  // The second arrival is the line after the first; a stop at rest would put
+  // an ARRIVED (target 50) between them.
+  std::vector<std::string> arrivals;
+  while (arrivals.size() < 2) {
+    const auto line = events.read_line(kClientDeadline);
+    ASSERT_TRUE(line) << "arrivals seen: " << arrivals.size();
+    if (line->find(R"("kind":"ARRIVED")") != std::string::npos) arrivals.push_back(*line);
+  }
+  EXPECT_THAT(arrivals[0], HasSubstr(R"("target":50)"));
+  EXPECT_THAT(arrivals[1], HasSubstr(R"("target":20)")) << "no arrival from the stop at rest";
+  // Where each motion stopped, or null (not read yet): never where it started.
+  EXPECT_THAT(arrivals[0], Not(HasSubstr(R"("position":100)")));
+  EXPECT_THAT(arrivals[1], Not(HasSubstr(R"("position":50)")));
+  events.send_signal(SIGINT);
+  const auto status = events.wait_exit(kClientDeadline);
+  EXPECT_TRUE(status && WIFEXITED(*status));
 }
 
 TEST_F(Dh3ctlTest, StatusWatchStreamsUpdatesUntilInterrupted) {

@@ -139,13 +139,13 @@ TEST_F(ServiceCommandsTest, GraspCatchesTheObjectAndMissesWithoutOne) {
   EXPECT_EQ(caught.value(), 40);  // the object's position
   EXPECT_TRUE(has_event(2, msg::EVENT_GRASPED));
   EXPECT_TRUE(
-      client_->wait_status(hand(2), [](const auto& s) { return s.grip() == msg::GRIP_CAUGHT; }));
+      client_->wait_status(hand(2), [](const auto& s) { return s.grip() == msg::GRIP_GRASPED; }));
 
   const auto missed = ok(1, msg::GRASP, 30);
   EXPECT_EQ(missed.grasp(), msg::MISSED);
   EXPECT_TRUE(has_event(1, msg::EVENT_MISSED));
   EXPECT_TRUE(
-      client_->wait_status(hand(1), [](const auto& s) { return s.grip() == msg::GRIP_NO_OBJECT; }));
+      client_->wait_status(hand(1), [](const auto& s) { return s.grip() == msg::GRIP_MISSED; }));
 
   ok(2, msg::RELEASE, 100);
   EXPECT_TRUE(client_->wait_status(hand(2), [](const msg::HandStatus& s) {

@@ -72,7 +72,7 @@ TEST(ConversionsTest, StatusAndEventCarryEveryField) {
   s.name("left");
   s.online(true);
   s.initialized(true);
-  s.grip(msg::GRIP_CAUGHT);
+  s.grip(msg::GRIP_GRASPED);
   s.position(41);
   s.rotation_state(msg::ROTATION_BLOCKED);
   s.last_error(msg::TIMEOUT);
@@ -82,7 +82,7 @@ TEST(ConversionsTest, StatusAndEventCarryEveryField) {
   EXPECT_EQ(status.address, (HandAddress{"cell", "bus0", 2}));
   EXPECT_EQ(status.name, "left");
   EXPECT_TRUE(status.online && status.initialized);
-  EXPECT_EQ(status.grip, GripState::caught);
+  EXPECT_EQ(status.grip, GripState::grasped);
   EXPECT_EQ(status.position, 41);
   EXPECT_EQ(status.rotation_state, RotationState::blocked);
   EXPECT_EQ(status.last_error, Code::timeout);
@@ -96,6 +96,7 @@ TEST(ConversionsTest, StatusAndEventCarryEveryField) {
   e.hand().can_id(2);
   e.kind(msg::EVENT_DROPPED);
   e.position(55);
+  e.position_known(true);
   e.event_seq(4);
   const HandEvent event = to_public(e);
   EXPECT_EQ(event.hand, (HandAddress{"cell", "bus0", 2}));
@@ -103,6 +104,10 @@ TEST(ConversionsTest, StatusAndEventCarryEveryField) {
   EXPECT_EQ(event.position, 55);
   EXPECT_EQ(event.event_seq, 4U);
   EXPECT_FALSE(event.from_client);
+  e.kind(msg::EVENT_GRASPED);
+  e.position(-1);
+  e.position_known(false);
+  EXPECT_EQ(to_public(e).position, std::nullopt) << "not read yet is no number";
 }
 
 TEST(ConversionsTest, ServiceInfoListsBusesAndHands) {

@@ -74,7 +74,7 @@ HandStatus sample_status() {
   s.name = "left";
   s.online = true;
   s.initialized = true;
-  s.grip = GripState::caught;
+  s.grip = GripState::grasped;
   s.position = 42;
   s.target_position = 0;
   s.closing_force = 40;
@@ -87,10 +87,26 @@ HandStatus sample_status() {
 TEST(JsonTest, StatusObjectIsOneLineWithEveryField) {
   const std::string line = to_json(sample_status());
   EXPECT_THAT(line, StartsWith(R"({"type":"status","hand":"cell/bus0/1","service":"cell",)"));
-  EXPECT_THAT(line, HasSubstr(R"("grip":"CAUGHT","position":42,"target_position":0)"));
+  EXPECT_THAT(line, HasSubstr(R"("grip":"GRASPED","position":42,"target_position":0)"));
   EXPECT_THAT(line, HasSubstr(R"("online":true,"initialized":true)"));
   EXPECT_THAT(line, HasSubstr(R"("update_seq":7)"));
   EXPECT_THAT(line, Not(HasSubstr("\n")));
+}
+
+TEST(JsonTest, ValuesNotReadYetAreNullAndDashesNeverMinusOne) {
+  auto s = sample_status();
+  s.position = -1;
+  s.rotation = -1;
+  s.rotation_target = -1;
+  s.closing_force = -1;
+  const std::string line = to_json(s);
+  EXPECT_THAT(line, HasSubstr(R"("position":null)"));
+  EXPECT_THAT(line, HasSubstr(R"("rotation":null,"rotation_target":null)"));
+  EXPECT_THAT(line, HasSubstr(R"("closing_force":null)"));
+  EXPECT_THAT(line, Not(HasSubstr("-1")));
+  EXPECT_THAT(status_line(s), HasSubstr("position - target 0"));
+  EXPECT_THAT(status_line(s), HasSubstr("force -/50 rotation -"));
+  EXPECT_THAT(status_line(s), Not(HasSubstr("-1")));
 }
 
 TEST(JsonTest, StatusSaysWhenItsValuesWereRead) {
@@ -110,6 +126,9 @@ TEST(JsonTest, EventAndServiceObjects) {
   e.message = "caught";
   EXPECT_THAT(to_json(e), HasSubstr(R"("type":"event","hand":"cell/bus0/2")"));
   EXPECT_THAT(to_json(e), HasSubstr(R"("kind":"GRASPED")"));
+  EXPECT_THAT(to_json(e), HasSubstr(R"("position":null)")) << "where it stopped, not read yet";
+  e.position = 40;
+  EXPECT_THAT(to_json(e), HasSubstr(R"("position":40)"));
 
   ServiceInfo info;
   info.name = "cell";
@@ -150,7 +169,7 @@ TEST(TextTest, StatusTableAlignsColumnsUnderTheHeader) {
     EXPECT_EQ(column(lines[0], c), column(lines[1], c)) << "column " << c;
     EXPECT_EQ(column(lines[0], c), column(lines[2], c)) << "column " << c;
   }
-  EXPECT_THAT(lines[1], HasSubstr("CAUGHT"));
+  EXPECT_THAT(lines[1], HasSubstr("GRASPED"));
   EXPECT_THAT(lines[1], HasSubstr("40/50"));
   EXPECT_THAT(lines[2], HasSubstr("lost"));
   EXPECT_THAT(lines[2], HasSubstr("TIMEOUT: no answer"));
@@ -164,6 +183,12 @@ TEST(TextTest, EventAndServiceLines) {
   e.position = 55;
   e.message = "object lost";
   EXPECT_EQ(event_line(e), "cell/bus0/2 (right) DROPPED position 55 target 0 value 0: object lost");
+  e.kind = EventKind::arrived;
+  e.position.reset();
+  e.target = 30;
+  e.value = 2;
+  e.message.clear();
+  EXPECT_EQ(event_line(e), "cell/bus0/2 (right) ARRIVED position - (not read yet) target 30 value 2");
 
   ServiceInfo info;
   info.name = "cell";

@@ -37,7 +37,7 @@ TEST(TypesTest, CodesReadAsTheWireSpellsThem) {
   EXPECT_EQ(to_string(Code::not_initialized), "NOT_INITIALIZED");
   EXPECT_EQ(to_string(Code::service_lost), "SERVICE_LOST");
   EXPECT_EQ(to_string(GraspOutcome::missed), "MISSED");
-  EXPECT_EQ(to_string(GripState::no_object), "NO_OBJECT");
+  EXPECT_EQ(to_string(GripState::missed), "MISSED");
   EXPECT_EQ(to_string(EventKind::rotation_blocked), "ROTATION_BLOCKED");
 }
 

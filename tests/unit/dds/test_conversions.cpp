@@ -48,7 +48,7 @@ TEST(Conversions, StatusCarriesTheHandStateAndTheServicesAdditions) {
   state.name = "left";
   state.online = true;
   state.initialized = true;
-  state.grip = hand::GripState::caught;
+  state.grip = hand::GripState::grasped;
   state.position = 40;
   state.target_position = 0;
   state.closing_force = 30;
@@ -68,7 +68,7 @@ TEST(Conversions, StatusCarriesTheHandStateAndTheServicesAdditions) {
   EXPECT_EQ(out.name(), "left");
   EXPECT_TRUE(out.online());
   EXPECT_TRUE(out.initialized());
-  EXPECT_EQ(out.grip(), msg::GRIP_CAUGHT);
+  EXPECT_EQ(out.grip(), msg::GRIP_GRASPED);
   EXPECT_EQ(out.position(), 40);
   EXPECT_EQ(out.target_position(), 0);
   EXPECT_EQ(out.closing_force(), 30);
@@ -112,18 +112,24 @@ TEST(Conversions, EventsKeepTheirKindAndNumbers) {
   EXPECT_EQ(out.name(), "right");
   EXPECT_EQ(out.kind(), msg::EVENT_DROPPED);
   EXPECT_EQ(out.position(), 70);
+  EXPECT_TRUE(out.position_known());
   EXPECT_EQ(out.target(), 0);
   EXPECT_EQ(out.value(), 2);
   EXPECT_EQ(out.message(), "object lost");
   EXPECT_EQ(out.event_seq(), 5U);
   EXPECT_EQ(out.timestamp_ns(), 99U);
+  event.kind = hand::EventKind::arrived;
+  event.position.reset();
+  fill_event(out, event, "dh3", "bus1", "right", 6, 100);
+  EXPECT_FALSE(out.position_known()) << "an arrival whose stop was not read yet says so";
+  EXPECT_EQ(out.position(), -1);
 }
 
 TEST(Conversions, EnumsMapOneToOne) {
   EXPECT_EQ(to_msg(hand::GraspOutcome::grasped), msg::GRASPED);
   EXPECT_EQ(to_msg(hand::GraspOutcome::missed), msg::MISSED);
   EXPECT_EQ(to_msg(hand::GraspOutcome::none), msg::GRASP_NONE);
-  EXPECT_EQ(to_msg(hand::GripState::no_object), msg::GRIP_NO_OBJECT);
+  EXPECT_EQ(to_msg(hand::GripState::missed), msg::GRIP_MISSED);
   EXPECT_EQ(to_msg(hand::GripState::dropped), msg::GRIP_DROPPED);
   EXPECT_EQ(to_msg(hand::RotationState::arrived), msg::ROTATION_ARRIVED);
   EXPECT_EQ(to_msg(hand::EventKind::online), msg::EVENT_ONLINE);

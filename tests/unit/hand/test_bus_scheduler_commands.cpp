@@ -93,7 +93,7 @@ TEST(BusSchedulerCommands, MoveIsAnsweredOnEchoAndArrivalFollowsAsAnEvent) {
   EXPECT_EQ(h.state(1)->target_position, 40);
   ASSERT_TRUE(h.run_until([&] { return !h.observer.events_of(EventKind::arrived, 1).empty(); }));
   const auto arrived = h.observer.events_of(EventKind::arrived, 1).front();
-  EXPECT_EQ(arrived.position, 100) << "the position last read: where the motion started";
+  EXPECT_EQ(arrived.position, std::nullopt) << "not read yet; never where the motion started";
   EXPECT_EQ(arrived.target, 40);
   EXPECT_EQ(h.state(1)->grip, GripState::arrived);
   // Where the fingers stopped is read in the next frame.
@@ -272,6 +272,52 @@ TEST(BusSchedulerCommands, StopHoldsTheCurrentPositionAndCancelsTheGrasp) {
   h.sim_bus().with_hand(1, [&](sim::SimHand& hand) { final_position = hand.position(); });
   EXPECT_GT(final_position, 30.0) << "the fingers kept closing after stop";
   EXPECT_NEAR(final_position, stopped->value().value, 3.0);
+}
+
+TEST(BusSchedulerCommands, StopDuringAMotionReportsTheTargetOfTheMotionItEnded) {
+  SchedulerHarness h(sim_hands({1}), configs({1}));
+  h.bring_up({1});
+  ASSERT_TRUE(h.call(1, move(10))->ok());
+  ASSERT_TRUE(h.run_until([&] {
+    double p = 100;
+    h.sim_bus().with_hand(1, [&](sim::SimHand& hand) { p = hand.position(); });
+    return p < 70;
+  }));
+  const auto stopped = h.call(1, cmd(CommandKind::stop));
+  ASSERT_TRUE(stopped && stopped->ok());
+  ASSERT_TRUE(h.run_until([&] { return !h.observer.events_of(EventKind::arrived, 1).empty(); }));
+  const auto arrived = h.observer.events_of(EventKind::arrived, 1);
+  ASSERT_EQ(arrived.size(), 1u) << "one arrival: where the stop held the fingers";
+  EXPECT_EQ(arrived[0].target, 10) << "the target the stop ended, not the held position";
+  EXPECT_NE(arrived[0].message.find("stopped by STOP on the way to 10"), std::string::npos)
+      << arrived[0].message;
+  EXPECT_EQ(h.state(1)->target_position, stopped->value().value) << "the hand holds there";
+}
+
+TEST(BusSchedulerCommands, StopAtRestMovesNothingAndReportsNoArrival) {
+  SchedulerHarness h(sim_hands({1}), configs({1}));
+  h.bring_up({1});
+  ASSERT_TRUE(h.call(1, move(40))->ok());
+  ASSERT_TRUE(h.call(1, cmd(CommandKind::rotate_to, 30))->ok());
+  ASSERT_TRUE(h.run_until([&] {
+    return !h.observer.events_of(EventKind::arrived, 1).empty() &&
+           !h.observer.events_of(EventKind::rotation_arrived, 1).empty();
+  }));
+  h.run_for(200ms);
+  const TimePoint stop_at = h.clock.now();
+  const auto stopped = h.call(1, cmd(CommandKind::stop));
+  ASSERT_TRUE(stopped && stopped->ok());
+  EXPECT_EQ(stopped->value().value, 40);
+  h.run_for(1s);
+  EXPECT_EQ(h.observer.events_of(EventKind::arrived, 1).size(), 1u);
+  EXPECT_EQ(h.observer.events_of(EventKind::rotation_arrived, 1).size(), 1u);
+  for (const auto& s : h.sent_to(1)) {
+    if (s.at >= stop_at) {
+      EXPECT_EQ(s.message.access, protocol::Access::read) << "nothing to hold";
+    }
+  }
+  EXPECT_EQ(h.state(1)->target_position, 40);
+  EXPECT_EQ(h.state(1)->rotation_target, 30);
 }
 
 TEST(BusSchedulerCommands, StopBeforeInitializationSucceedsWithoutMoving) {

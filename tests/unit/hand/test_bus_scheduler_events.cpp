@@ -1,8 +1,9 @@
 // The states a user cares about, detected from what the hand reports: grasped,
 // missed, dropped, arrived, rotation arrived and blocked, initialized (with the
 // unsolicited frame), and faults. Each event carries the values that explain it.
-// An event goes out on the status read that shows it, with the position (the
-// rotation) last read; a status sample with where the motion stopped follows.
+// An event goes out on the status read that shows it; where the motion stopped
+// is read in the next frame, so the event says it is not read yet, and a status
+// sample with where the motion stopped follows.
 
 #include <gtest/gtest.h>
 
@@ -39,12 +40,13 @@ TEST(BusSchedulerEvents, GraspOnAnObjectEndsGraspedWithWhereTheFingersStopped) {
   ASSERT_EQ(grasped.size(), 1u);
   EXPECT_EQ(grasped[0].value, 60) << "a grasp is explained by its force";
   EXPECT_EQ(grasped[0].target, 0);
-  EXPECT_EQ(grasped[0].position, 100) << "the position last read, before the motion";
+  EXPECT_EQ(grasped[0].position, std::nullopt)
+      << "not read yet, and never the position before the motion";
   const auto stopped = sample_at(h.observer, 1, grasped[0].time, 35);
   ASSERT_TRUE(stopped) << "a sample says where the fingers stopped";
-  EXPECT_EQ(stopped->grip, GripState::caught);
+  EXPECT_EQ(stopped->grip, GripState::grasped);
   EXPECT_LE(stopped->updated_at - grasped[0].time, 2 * test_options().command_interval);
-  EXPECT_EQ(h.state(1)->grip, GripState::caught);
+  EXPECT_EQ(h.state(1)->grip, GripState::grasped);
   EXPECT_EQ(h.state(1)->closing_force, 60);
   EXPECT_TRUE(h.observer.events_of(EventKind::missed, 1).empty());
 }
@@ -57,7 +59,7 @@ TEST(BusSchedulerEvents, GraspWithNothingThereEndsMissedAtTheClosedPosition) {
   EXPECT_EQ(result->value().grasp, GraspOutcome::missed);
   EXPECT_EQ(result->value().value, 0);
   EXPECT_EQ(h.observer.events_of(EventKind::missed, 1).size(), 1u);
-  EXPECT_EQ(h.state(1)->grip, GripState::no_object);
+  EXPECT_EQ(h.state(1)->grip, GripState::missed);
 }
 
 TEST(BusSchedulerEvents, ObjectLostWithNoCommandIsADrop) {
@@ -105,26 +107,24 @@ TEST(BusSchedulerEvents, MoveArrivalIsReportedOncePerMotion) {
   EXPECT_EQ(h.observer.events_of(EventKind::arrived, 1).back().target, 20);
 }
 
-TEST(BusSchedulerEvents, AnArrivalCarriesThePositionLastReadAndASampleWithTheStopFollows) {
+TEST(BusSchedulerEvents, AnArrivalSaysWhereItStoppedIsNotReadYetAndASampleWithTheStopFollows) {
   auto sim = sim_hands({1});
   sim[0].position_speed = 400.0;  // 8 % per 20 ms: no motion ends within one read
   SchedulerHarness h(sim, configs({1}));
   h.bring_up({1});
-  std::int32_t last_read = 100;  // fully open after initialization
   for (std::int32_t target : {30, 90, 10}) {
     const std::size_t before = h.observer.events_of(EventKind::arrived, 1).size();
     ASSERT_TRUE(h.call(1, move(target))->ok());
     ASSERT_TRUE(
         h.run_until([&] { return h.observer.events_of(EventKind::arrived, 1).size() > before; }));
     const auto arrived = h.observer.events_of(EventKind::arrived, 1).back();
-    EXPECT_EQ(arrived.position, last_read) << "to " << target << ": not read during the motion";
+    EXPECT_EQ(arrived.position, std::nullopt) << "to " << target << ": not read yet";
     EXPECT_EQ(arrived.target, target);
     ASSERT_TRUE(
         h.run_until([&] { return sample_at(h.observer, 1, arrived.time, target).has_value(); }));
     const auto stopped = sample_at(h.observer, 1, arrived.time, target);
     EXPECT_EQ(stopped->grip, GripState::arrived);
     EXPECT_LE(stopped->updated_at - arrived.time, 2 * test_options().command_interval);
-    last_read = target;
   }
 }
 
@@ -137,7 +137,7 @@ TEST(BusSchedulerEvents, RotationArrivesOrIsBlocked) {
   ASSERT_TRUE(
       h.run_until([&] { return !h.observer.events_of(EventKind::rotation_arrived, 1).empty(); }));
   const auto arrived = h.observer.events_of(EventKind::rotation_arrived, 1).front();
-  EXPECT_EQ(arrived.position, 0) << "the rotation last read, at home";
+  EXPECT_EQ(arrived.position, std::nullopt) << "not the rotation at home, where it started";
   EXPECT_EQ(arrived.target, 30);
   ASSERT_TRUE(
       h.run_until([&] { return sample_at(h.observer, 1, arrived.time, 30, true).has_value(); }));
@@ -145,7 +145,7 @@ TEST(BusSchedulerEvents, RotationArrivesOrIsBlocked) {
   ASSERT_TRUE(
       h.run_until([&] { return !h.observer.events_of(EventKind::rotation_blocked, 1).empty(); }));
   const auto blocked = h.observer.events_of(EventKind::rotation_blocked, 1).front();
-  EXPECT_EQ(blocked.position, 30);
+  EXPECT_EQ(blocked.position, std::nullopt) << "not 30, where it started";
   EXPECT_EQ(blocked.target, 90);
   ASSERT_TRUE(
       h.run_until([&] { return sample_at(h.observer, 1, blocked.time, 40, true).has_value(); }));

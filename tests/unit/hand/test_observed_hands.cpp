@@ -116,7 +116,7 @@ TEST(ObservedHands, KnowsWhatThePrimaryKnowsAfterItsCommands) {
     expect_same_hand(*primary, *standby);
     EXPECT_TRUE(standby->initialized);
   }
-  EXPECT_EQ(to_string(w.watcher.state(1)->grip), to_string(GripState::caught));
+  EXPECT_EQ(to_string(w.watcher.state(1)->grip), to_string(GripState::grasped));
   EXPECT_EQ(w.watcher.state(1)->closing_force, 70);
   EXPECT_EQ(w.watcher.state(2)->position, 30);
   EXPECT_EQ(w.watcher.state(2)->rotation, 60);

@@ -38,7 +38,7 @@ GripReading ends(GripState grip, EventKind event) {
 std::vector<GripCase> grip_cases() {
   using G = GripState;
   using E = EventKind;
-  GripReading caught_ends = ends(G::caught, E::grasped);
+  GripReading caught_ends = ends(G::grasped, E::grasped);
   caught_ends.hold_starts = true;
   return {
       // status 3
@@ -54,19 +54,19 @@ std::vector<GripCase> grip_cases() {
       {"caught_at_rest_starts_a_hold",
        kCaught,
        {G::arrived, std::nullopt, false, 40, 0},
-       GripReading{.grip = G::caught, .hold_starts = true}},
+       GripReading{.grip = G::grasped, .hold_starts = true}},
       {"caught_again_while_holding_keeps_the_hold",
        kCaught,
-       {G::caught, std::nullopt, true, 40, 0},
-       GripReading{.grip = G::caught, .hold_starts = true}},
+       {G::grasped, std::nullopt, true, 40, 0},
+       GripReading{.grip = G::grasped, .hold_starts = true}},
       // drops
       {"arrived_while_holding_untouched_is_a_drop",
        kArrived,
-       {G::caught, std::nullopt, true, 40, 0},
+       {G::grasped, std::nullopt, true, 40, 0},
        GripReading{.grip = G::dropped, .event = E::dropped}},
       {"moving_while_holding_untouched_is_a_drop",
        kMoving,
-       {G::caught, std::nullopt, true, 40, 0},
+       {G::grasped, std::nullopt, true, 40, 0},
        GripReading{.grip = G::dropped, .event = E::dropped}},
       {"after_a_drop_nothing_changes",
        kArrived,
@@ -74,7 +74,7 @@ std::vector<GripCase> grip_cases() {
        GripReading{}},
       {"caught_then_commanded_is_no_drop",
        kArrived,
-       {G::caught, kOpening, false, 89, 0},
+       {G::grasped, kOpening, false, 89, 0},
        ends(G::arrived, E::arrived)},
       // status 2
       {"arrived_near_the_target_ends_a_move",
@@ -92,14 +92,14 @@ std::vector<GripCase> grip_cases() {
       {"arrived_at_the_end_of_a_grasp_is_a_miss",
        kArrived,
        {G::moving, kGrasp, false, 0, 0},
-       ends(G::no_object, E::missed)},
+       ends(G::missed, E::missed)},
       {"arrived_at_rest_says_arrived",
        kArrived,
        {G::unknown, std::nullopt, false, 50, 0},
        GripReading{.grip = G::arrived}},
       {"arrived_at_rest_after_a_miss_stays_a_miss",
        kArrived,
-       {G::no_object, std::nullopt, false, 0, 0},
+       {G::missed, std::nullopt, false, 0, 0},
        GripReading{}},
       // status 0
       {"moving_during_a_motion_says_moving",

@@ -67,14 +67,17 @@ struct CommandSuccess {
 
 using CommandResult = Result<CommandSuccess, CommandError>;
 
-/// What the fingers are doing, as the service reports it.
+/// What the fingers are doing, as the service reports it. The grip outcomes
+/// have the names the GRASP command's result and the events use (grasped,
+/// missed, dropped); the hand's document calls status 3 "caught", a word
+/// kept to the protocol layer.
 enum class GripState : std::uint8_t {
-  unknown,    ///< not read yet
-  moving,     ///< status 0
-  arrived,    ///< status 2, and the target was not a closing one
-  caught,     ///< status 3: holding an object
-  no_object,  ///< closed to the target without catching anything
-  dropped,    ///< was caught, status left 3 with no command sent
+  unknown,  ///< not read yet
+  moving,   ///< status 0
+  arrived,  ///< status 2, and the target was not a closing one
+  grasped,  ///< status 3: holding an object
+  missed,   ///< closed to the target without catching anything
+  dropped,  ///< was grasped, status left 3 with no command sent
 };
 
 enum class RotationState : std::uint8_t { unknown, moving, arrived, blocked };
@@ -127,11 +130,18 @@ struct HandEvent {
   EventKind kind = EventKind::fault;
   std::uint8_t can_id = 0;
   TimePoint time{};
-  /// The position (the rotation, for the rotation events) as last read when
-  /// the event went out: for an ending motion, where it started (the state
-  /// published after the next read says where it stopped).
-  std::int32_t position = -1;
-  std::int32_t target = -1;  ///< the target in force
+  /// ARRIVED, GRASPED, MISSED: where the fingers stopped; the rotation
+  /// events: where the rotation stopped; empty when that was not read yet as
+  /// the event went out (it goes out on the status read that shows the end,
+  /// and the position is read in the next frame: the state published then
+  /// says it). Read after the end when a rechecked arrival was confirmed by
+  /// it, or when a read during the motion found the axis at its target.
+  /// DROPPED: where the fingers held. Other events: the position as last
+  /// read, empty before the first read.
+  std::optional<std::int32_t> position;
+  /// The target in force; for the end of a stop's hold, the target of the
+  /// motion the stop ended.
+  std::int32_t target = -1;
   std::int32_t value = 0;    ///< status value, force, or similar that explains it
   std::string message;
 };
