@@ -596,16 +596,23 @@ int main(int argc, char** argv) {
   int cycles = 20;
   int many_cycles = 40;
   std::string moving_ms;
+  std::string position_moving_ms;
   app.add_option("--cycles", cycles, "drop / release / grasp cycles with 1 hand");
   app.add_option("--many-cycles", many_cycles, "cycles with 32 hands");
   app.add_option("--poll-interval-moving-ms", moving_ms,
                  "poll_interval_moving_ms for the buses (default: the service's)");
+  app.add_option("--poll-interval-position-moving-ms", position_moving_ms,
+                 "poll_interval_position_moving_ms for the buses (default: the service's; 0: no "
+                 "position read during a motion)");
   CLI11_PARSE(app, argc, argv);
   spdlog::set_level(spdlog::level::warn);
   if (common.role == "client") return run_client(common);
 
-  const std::string extra =
+  std::string extra =
       moving_ms.empty() ? std::string() : "    poll_interval_moving_ms: " + moving_ms + "\n";
+  if (!position_moving_ms.empty()) {
+    extra += "    poll_interval_position_moving_ms: " + position_moving_ms + "\n";
+  }
   std::printf("\nEvent latency: simulated change -> event at a client process, ms\n");
   int lost = 0;
   std::string violation_count;

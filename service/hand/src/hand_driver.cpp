@@ -377,9 +377,10 @@ PollPlan HandDriver::poll_plan() const {
   }
   activity.rotating = rotation_.motion().has_value();
   activity.initializing = initializing() != nullptr;
-  return plan_polls(activity,
-                    PollIntervals{options_.poll_interval_watch, options_.poll_interval_moving,
-                                  options_.poll_interval_idle});
+  return plan_polls(activity, PollIntervals{.watch = options_.poll_interval_watch,
+                                            .moving = options_.poll_interval_moving,
+                                            .idle = options_.poll_interval_idle,
+                                            .during_motion = options_.poll_interval_position_moving});
 }
 
 void HandDriver::on_answer(TimePoint now) {

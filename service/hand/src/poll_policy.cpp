@@ -45,6 +45,14 @@ PollPlan plan_polls(const PollActivity& activity, const PollIntervals& intervals
   plan.period.fill(std::nullopt);
   if (fingers_watched) plan.period[grip_status] = std::min(intervals.watch, intervals.idle);
   if (activity.rotating) plan.period[rotation_status] = std::min(intervals.watch, intervals.idle);
+  // Where a motion is, now and then, for whoever watches it move; the watched
+  // status keeps every other frame (next_poll puts it first after a slower read).
+  if (intervals.during_motion > Duration::zero()) {
+    const bool fingers_move = activity.fingers == FingerActivity::closing ||
+                              activity.fingers == FingerActivity::opening;
+    if (fingers_move) plan.period[position] = intervals.during_motion;
+    if (activity.rotating) plan.period[rotation] = intervals.during_motion;
+  }
   return plan;
 }
 

@@ -214,6 +214,10 @@ std::vector<ConfigKey> declare_bus() {
        .field = of_scheduler(&S::poll_interval_watch)},
       {.path = "buses[].poll_interval_moving_ms", .type = milliseconds, .min = 1, .max = kDay,
        .doc = "the registers of an initializing hand", .field = of_scheduler(&S::poll_interval_moving)},
+      {.path = "buses[].poll_interval_position_moving_ms", .type = milliseconds, .max = kDay,
+       .doc = "the position of fingers that move, the rotation while rotating, so statuses show "
+              "the motion; 0: only once it ended (each read delays an event due in its frame by one frame)",
+       .field = of_scheduler(&S::poll_interval_position_moving)},
       {.path = "buses[].poll_interval_idle_ms", .type = milliseconds, .min = 1, .max = kDay,
        .doc = "every register of a hand at rest that holds nothing",
        .field = of_scheduler(&S::poll_interval_idle)},

@@ -44,6 +44,11 @@ struct SchedulerOptions {
   Duration poll_interval_watch = std::chrono::milliseconds(20);
   Duration poll_interval_moving = std::chrono::milliseconds(50);
   Duration poll_interval_idle = std::chrono::milliseconds(500);
+  /// While fingers move (rotation rotates), their position (the rotation) is
+  /// read this often too, so status samples show the motion under way; zero:
+  /// only once it ended. Such a read delays an event that falls due in its
+  /// frame by one frame (BENCHMARKS.md section 7).
+  Duration poll_interval_position_moving = std::chrono::milliseconds(200);
   /// Deadline for one frame's reply before it is re-sent or fails.
   Duration reply_timeout = std::chrono::milliseconds(150);
   /// Deadline for CAN ID and baud-rate writes, which reply after storing (reading 6).

@@ -4,9 +4,10 @@
 // dh3 hears of a catch, a slip or an arrival only by reading a status, so the
 // floor for hearing of one is one interval. Fingers that hold an object or
 // move, and a rotation in progress, have their status read in every frame
-// the hand gets and nothing else polled (an event goes out on that read; the
-// driver reads where the motion stopped afterwards); a hand at rest reads its
-// round now and then. Pure: it is told the time and what was read when; the
+// the hand gets and nothing else polled but, every `during_motion`, the
+// position (rotation) of the axis under way (an event goes out on that read;
+// the driver reads where the motion stopped afterwards); a hand at rest reads
+// its round now and then. Pure: it is told the time and what was read when; the
 // driver keeps those.
 
 #include <array>
@@ -50,6 +51,11 @@ struct PollIntervals {
   Duration moving = std::chrono::milliseconds(50);
   /// Everything else, and all of a hand at rest.
   Duration idle = std::chrono::milliseconds(500);
+  /// The position of fingers that move, the rotation while it rotates, so a
+  /// status sample shows the motion under way; zero: not read until the motion
+  /// ends. Each such read takes a frame the watched status would have had: an
+  /// event that falls due in that frame waits one frame more.
+  Duration during_motion = std::chrono::milliseconds(200);
 };
 
 /// Per register of kPolledRegisters (same index): how often it is read, or
