@@ -12,6 +12,12 @@ std::string number_or_dash(std::int32_t value) {
   return value < 0 ? std::string("-") : std::to_string(value);
 }
 
+/// Why a hand is offline, as far as its status tells.
+std::string offline_as_text(const HandStatus& s) {
+  if (s.service_lost) return "service lost";
+  return s.read_at_ns == 0 ? "never answered" : "no answer";
+}
+
 /// "14:03:07.250" (local time) of a wall-clock time in ns, "-" for 0 (never).
 std::string time_of_day_or_dash(std::uint64_t ns) {
   if (ns == 0) return "-";
@@ -46,7 +52,7 @@ std::string status_table(const std::vector<HandStatus>& hands) {
       if (!s.last_error_message.empty()) error += ": " + s.last_error_message;
     }
     rows.push_back(Row{{s.address.to_string(), s.name.empty() ? "-" : s.name,
-                        s.online ? "yes" : (s.service_lost ? "lost" : "no"),
+                        s.online ? "yes" : offline_as_text(s),
                         s.initialized ? "yes" : "no", number_or_dash(s.position),
                         number_or_dash(s.target_position), std::string(to_string(s.grip)),
                         number_or_dash(s.closing_force) + "/" + number_or_dash(s.opening_force),
@@ -75,7 +81,7 @@ std::string status_table(const std::vector<HandStatus>& hands) {
 std::string status_line(const HandStatus& s) {
   std::string out = s.address.to_string();
   if (!s.name.empty()) out += " (" + s.name + ")";
-  out += s.online ? " online" : (s.service_lost ? " offline (service lost)" : " offline");
+  out += s.online ? " online" : " offline (" + offline_as_text(s) + ")";
   out += s.initialized ? " initialized" : " not-initialized";
   out += " position " + number_or_dash(s.position) + " target " +
          number_or_dash(s.target_position) + " grip " + std::string(to_string(s.grip)) + " force " +

@@ -385,6 +385,10 @@ PollPlan HandDriver::poll_plan() const {
 
 void HandDriver::on_answer(TimePoint now) {
   consecutive_timeouts_ = 0;
+  if (state_.read_at == TimePoint{} && state_.last_error == CommandError::timeout) {
+    set_error(CommandError::timeout, {});  // "never answered" is over
+    state_.last_error.reset();
+  }
   state_.read_at = now;
   if (online() || anonymous_) return;
   Online fresh;
@@ -486,6 +490,14 @@ void HandDriver::on_timeout(const FrameSlot::Expired& expired, TimePoint now) {
     on_position_confirmed();  // with the position as last read
   } else if (lost.purpose == Purpose::confirm_rotation) {
     rotation_.read_lost();
+  } else if (lost.purpose == Purpose::probe && state_.read_at == TimePoint{} && !anonymous_ &&
+             !state_.last_error) {
+    // Configured, and silent since the service started: said once, as the
+    // hand's error, until it answers (on_answer).
+    const std::string why = "never answered (powered? on this bus? this CAN ID and baud rate?)";
+    spdlog::warn("{}: configured hand {} on bus {} {}", label(), state_.can_id, context_.bus_name,
+                 why);
+    set_error(CommandError::timeout, why);
   }
   // Polls and probes are simply read again later.
   if (online() && !anonymous_ && consecutive_timeouts_ >= options_.offline_after_timeouts) {

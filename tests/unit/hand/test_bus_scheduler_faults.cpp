@@ -74,6 +74,20 @@ TEST(BusSchedulerFaults, AnOfflineHandIsProbedAndComesBackWithItsStateReadAfresh
   EXPECT_TRUE(h.call(1, cmd(CommandKind::initialize))->ok());
 }
 
+TEST(BusSchedulerFaults, AConfiguredHandThatNeverAnswersSaysSoUntilItDoes) {
+  SchedulerHarness h(sim_hands({1, 2}), configs({1, 2}));
+  h.sim_bus().with_hand(2, [](sim::SimHand& hand) { hand.set_muted(true); });
+  ASSERT_TRUE(h.run_until([&] { return h.state(1) && h.state(1)->online; }));
+  ASSERT_TRUE(h.run_until([&] { return h.state(2) && h.state(2)->last_error.has_value(); }));
+  EXPECT_FALSE(h.state(2)->online);
+  EXPECT_EQ(h.state(2)->read_at, TimePoint{});
+  EXPECT_NE(h.state(2)->last_error_message.find("never answered"), std::string::npos)
+      << h.state(2)->last_error_message;
+  h.sim_bus().with_hand(2, [](sim::SimHand& hand) { hand.set_muted(false); });
+  ASSERT_TRUE(h.run_until([&] { return h.state(2)->online; }));
+  EXPECT_FALSE(h.state(2)->last_error.has_value()) << h.state(2)->last_error_message;
+}
+
 TEST(BusSchedulerFaults, LinkLossEndsEveryPendingCommandWithBusDownAndRecovers) {
   auto sim = sim_hands({1, 2});
   sim[0].reply_delay = 50ms;  // so that commands are pending when the link drops
