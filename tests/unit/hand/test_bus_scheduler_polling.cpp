@@ -104,10 +104,42 @@ TEST(BusSchedulerPolling, ASlipIsSeenWithinOneCommandInterval) {
   }
 }
 
-TEST(BusSchedulerPolling, ClosingFingersReadTheGripStatusInEveryFrameAndNothingElse) {
+/// The floor: no position (rotation) read while a motion runs.
+SchedulerOptions no_position_during_motion() {
+  SchedulerOptions options = test_options();
+  options.poll_interval_position_moving = Duration::zero();
+  return options;
+}
+
+TEST(BusSchedulerPolling, ByDefaultAMovingHandsPositionIsPublishedFiveTimesASecond) {
   auto sim = sim_hands({1});
   sim[0].position_speed = 10.0;  // 100 % takes 10 s
   SchedulerHarness h(sim, configs({1}));
+  h.bring_up({1});
+  h.scheduler->submit(1, grasp(50), [](const CommandResult&) {});
+  h.run_for(100ms);
+  const TimePoint from = h.clock.now();
+  h.run_for(1s);
+  const auto positions = reads_of(h, 1, reg::kPosition, from);
+  EXPECT_GE(positions.size(), 4u);
+  EXPECT_LE(positions.size(), 6u);
+  // Each read shows as a status sample with the fingers further closed.
+  std::set<std::int32_t> published;
+  for (const HandState& state : h.observer.states) {
+    if (state.can_id == 1 && state.updated_at >= from && state.grip == GripState::moving) {
+      published.insert(state.position);
+    }
+  }
+  EXPECT_GE(published.size(), 4u);
+  // The grip status still gets every other frame at least.
+  const auto grip = reads_of(h, 1, reg::kGripStatus, from);
+  EXPECT_LE(longest_gap(grip), 2 * test_options().command_interval);
+}
+
+TEST(BusSchedulerPolling, ClosingFingersReadTheGripStatusInEveryFrameAndNothingElse) {
+  auto sim = sim_hands({1});
+  sim[0].position_speed = 10.0;  // 100 % takes 10 s
+  SchedulerHarness h(sim, configs({1}), no_position_during_motion());
   h.bring_up({1});
   h.scheduler->submit(1, grasp(50), [](const CommandResult&) {});
   h.run_for(200ms);
@@ -124,7 +156,7 @@ TEST(BusSchedulerPolling, ClosingFingersReadTheGripStatusInEveryFrameAndNothingE
 TEST(BusSchedulerPolling, ARotationReadsTheRotationStatusInEveryFrameAndNothingElse) {
   auto sim = sim_hands({1});
   sim[0].rotation_speed = 10.0;
-  SchedulerHarness h(sim, configs({1}));
+  SchedulerHarness h(sim, configs({1}), no_position_during_motion());
   h.bring_up({1});
   h.run_for(1s);
   ASSERT_TRUE(h.call(1, cmd(CommandKind::rotate_to, 100))->ok());
@@ -142,7 +174,7 @@ TEST(BusSchedulerPolling, AnArrivalIsReportedWithinOneCommandInterval) {
   // event goes out on that read; where the fingers stopped is read after it.
   auto sim = sim_hands({1});
   sim[0].position_speed = 100.0;
-  SchedulerHarness h(sim, configs({1}));
+  SchedulerHarness h(sim, configs({1}), no_position_during_motion());
   h.bring_up({1});
   for (const std::int32_t target : {30, 70, 45, 90}) {
     ASSERT_TRUE(h.call(1, move(target))->ok());
@@ -171,7 +203,7 @@ TEST(BusSchedulerPolling, AShortMotionsArrivalIsCheckedWithOneReadOfThePosition)
   // of the position tells; the event goes out on it, with that position.
   auto sim = sim_hands({1});
   sim[0].position_speed = 10000.0;
-  SchedulerHarness h(sim, configs({1}));
+  SchedulerHarness h(sim, configs({1}), no_position_during_motion());
   h.bring_up({1});
   for (const std::int32_t target : {30, 70}) {
     const std::size_t before = h.observer.events_of(EventKind::arrived, 1).size();

@@ -68,32 +68,6 @@ TEST(PollPolicy, EachStateReadsWhatCanChangeOftenAndTheRestAtRest) {
   }
 }
 
-TEST(PollPolicy, ByDefaultAMotionsPositionIsReadFiveTimesASecondBesideItsStatus) {
-  const PollIntervals defaults{};
-  EXPECT_EQ(defaults.during_motion, 200ms);
-  const PollPlan closing = plan_polls({FingerActivity::closing, false, false}, defaults);
-  EXPECT_EQ(closing.period[position], 200ms);
-  EXPECT_EQ(closing.period[grip_status], 20ms);
-  const PollPlan opening = plan_polls({FingerActivity::opening, false, false}, defaults);
-  EXPECT_EQ(opening.period[position], 200ms);
-  const PollPlan rotating = plan_polls({FingerActivity::idle, true, false}, defaults);
-  EXPECT_EQ(rotating.period[rotation], 200ms);
-  EXPECT_EQ(rotating.period[position], kNever) << "the fingers do not move";
-  const PollPlan holding = plan_polls({FingerActivity::holding, false, false}, defaults);
-  EXPECT_EQ(holding.period[position], kNever) << "fingers at rest on an object do not move";
-
-  // One second of closing with a frame every 20 ms: five positions, and the
-  // grip status never waits more than the one frame a position read takes.
-  const auto reads = sequence(closing, 50, 20ms, true);
-  int positions = 0;
-  for (std::size_t i = 0; i < reads.size(); ++i) {
-    if (reads[i] != position) continue;
-    ++positions;
-    if (i > 0) EXPECT_EQ(reads[i - 1], grip_status) << "two reads in a row took the status's frames";
-  }
-  EXPECT_EQ(positions, 5);
-}
-
 TEST(PollPolicy, AnIntervalShorterThanTheWatchOneIsNeverMadeLonger) {
   // Polls always due (tests and benchmarks set the idle period to 0).
   const PollPlan plan = plan_polls({FingerActivity::holding, true, false}, {20ms, 50ms, 0ms});
@@ -117,6 +91,34 @@ std::vector<Index> sequence(const PollPlan& plan, int count, Duration step, bool
     }
   }
   return out;
+}
+
+TEST(PollPolicy, ByDefaultAMotionsPositionIsReadFiveTimesASecondBesideItsStatus) {
+  const PollIntervals defaults{};
+  EXPECT_EQ(defaults.during_motion, 200ms);
+  const PollPlan closing = plan_polls({FingerActivity::closing, false, false}, defaults);
+  EXPECT_EQ(closing.period[position], 200ms);
+  EXPECT_EQ(closing.period[grip_status], 20ms);
+  const PollPlan opening = plan_polls({FingerActivity::opening, false, false}, defaults);
+  EXPECT_EQ(opening.period[position], 200ms);
+  const PollPlan rotating = plan_polls({FingerActivity::idle, true, false}, defaults);
+  EXPECT_EQ(rotating.period[rotation], 200ms);
+  EXPECT_EQ(rotating.period[position], kNever) << "the fingers do not move";
+  const PollPlan holding = plan_polls({FingerActivity::holding, false, false}, defaults);
+  EXPECT_EQ(holding.period[position], kNever) << "fingers at rest on an object do not move";
+
+  // One second of closing with a frame every 20 ms: five positions, and the
+  // grip status never waits more than the one frame a position read takes.
+  const auto reads = sequence(closing, 50, 20ms, true);
+  int positions = 0;
+  for (std::size_t i = 0; i < reads.size(); ++i) {
+    if (reads[i] != position) continue;
+    ++positions;
+    if (i > 0) {
+      EXPECT_EQ(reads[i - 1], grip_status) << "two reads in a row took the status's frames";
+    }
+  }
+  EXPECT_EQ(positions, 5);
 }
 
 TEST(PollPolicy, AHandAtRestReadsItsRoundInOrderThenWaitsTheIdlePeriod) {
