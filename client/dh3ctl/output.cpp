@@ -15,7 +15,7 @@ std::string number_or_dash(std::int32_t value) {
 /// Why a hand is offline, as far as its status tells.
 std::string offline_as_text(const HandStatus& s) {
   if (s.service_lost) return "service lost";
-  return s.read_at_ns == 0 ? "never answered" : "no answer";
+  return s.read_at_ns == 0 ? "never answered" : "no";
 }
 
 /// "14:03:07.250" (local time) of a wall-clock time in ns, "-" for 0 (never).
@@ -52,7 +52,7 @@ std::string status_table(const std::vector<HandStatus>& hands) {
       if (!s.last_error_message.empty()) error += ": " + s.last_error_message;
     }
     rows.push_back(Row{{s.address.to_string(), s.name.empty() ? "-" : s.name,
-                        s.online ? "yes" : offline_as_text(s),
+                        s.online ? "yes" : (s.service_lost ? "lost" : offline_as_text(s)),
                         s.initialized ? "yes" : "no", number_or_dash(s.position),
                         number_or_dash(s.target_position), std::string(to_string(s.grip)),
                         number_or_dash(s.closing_force) + "/" + number_or_dash(s.opening_force),

@@ -48,7 +48,7 @@ TEST(JsonTest, ReplyObjectSaysCodeMessageAndWhatTheCommandReturned) {
   grasp.value = 0;
   EXPECT_EQ(json_text(reply_json("grasp", "cell/bus0/1", grasp)),
             R"({"type":"reply","command":"grasp","hand":"cell/bus0/1","ok":true,"code":"OK",)"
-            R"("message":"","value":0,"grasp":"MISSED"})");
+            R"("message":"","value":0,"grasp":"MISSED","position":0})");
 
   Reply denied;
   denied.code = Code::denied;
@@ -173,6 +173,11 @@ TEST(TextTest, StatusTableAlignsColumnsUnderTheHeader) {
   EXPECT_THAT(lines[1], HasSubstr("40/50"));
   EXPECT_THAT(lines[2], HasSubstr("lost"));
   EXPECT_THAT(lines[2], HasSubstr("TIMEOUT: no answer"));
+  // A configured hand that never answered says so, not just "no".
+  second.service_lost = false;
+  second.read_at_ns = 0;
+  EXPECT_THAT(status_table({second}), HasSubstr("never answered"));
+  EXPECT_THAT(status_line(second), HasSubstr("offline (never answered)"));
 }
 
 TEST(TextTest, EventAndServiceLines) {
