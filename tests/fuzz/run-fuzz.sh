@@ -81,8 +81,9 @@ build_request_validation() {
     "$root"/service/dds/src/hand_directory.cpp "$root"/service/hand/src/command_validation.cpp \
     "$root"/service/hand/src/hand_types.cpp "${protocol[@]}" "${libs[@]}" \
     -o "$work/fuzz_request_validation" || return 1
-  "$cxx" -std=c++20 -O1 "${idl[@]}" "$here/make_request_seeds.cpp" "${idl_sources[@]}" \
-    "${libs[@]}" -o "$work/make_request_seeds" || return 1
+  # The contract's sources include base's headers (Result).
+  "$cxx" -std=c++20 -O1 -I "$root/service/base/include" "${idl[@]}" "$here/make_request_seeds.cpp" \
+    "${idl_sources[@]}" "${libs[@]}" -o "$work/make_request_seeds" || return 1
   fresh_corpus request_validation
   "$work/make_request_seeds" "$work/request_validation/corpus" || return 1
 }
