@@ -164,7 +164,7 @@ TEST_F(WebServiceTest, RefusesEveryBadInputAndNothingReachesTheBus) {
   ASSERT_EQ(init->status, 200) << init->body;
   auto before = http_.Get(("/api/hands/" + hand_spec(2)).c_str());
   ASSERT_TRUE(before);
-  ASSERT_THAT(before->body, HasSubstr(R"("target_position":-1)"));
+  ASSERT_THAT(before->body, HasSubstr(R"("target_position":null)"));
   const std::uint64_t written = requests_written();
 
   struct Bad {
@@ -219,7 +219,7 @@ TEST_F(WebServiceTest, RefusesEveryBadInputAndNothingReachesTheBus) {
   EXPECT_EQ(requests_written(), written) << "a refused request left dh3-web";
   auto after = http_.Get(hand.c_str());
   ASSERT_TRUE(after);
-  EXPECT_THAT(after->body, HasSubstr(R"("target_position":-1)"));
+  EXPECT_THAT(after->body, HasSubstr(R"("target_position":null)"));
   EXPECT_THAT(after->body, HasSubstr(R"("last_error":"OK")"));
 }
 
