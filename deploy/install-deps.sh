@@ -25,7 +25,6 @@ build_pkgs=(
   prometheus-cpp-dev
   libcpp-httplib-dev nlohmann-json3-dev   # dh3-web: HTTP server, JSON request bodies
   pybind11-dev python3-dev   # the Python module dh3 (client/python); skipped when missing
-  ccache   # a rebuild compiles only what changed, also across clones and in the image's build stage
 )
 # deploy/packages/build-debs.sh (and so the package test): debhelper packs
 # the built tree, dh-python computes python3-dh3's dependencies, help2man
@@ -42,6 +41,7 @@ test_pkgs=(
   # (the build machines' kernel has no CAN), insmod, and candump/cangen.
   user-mode-linux kmod can-utils
   universal-ctags   # tests/style: function lengths for the size check of product code
+  ccache   # tests/run-all.sh: the plain, ASan and TSan builds share compiled objects across runs
   nftables   # tests/scale: the plant's bridge counts discovery and data bytes apart
   python3-matplotlib   # tests/scale/plot.py: the plant's figures as PNG (BENCHMARKS.md)
   chromium chromium-driver python3-selenium   # tests/web: dh3-web's page in a headless browser

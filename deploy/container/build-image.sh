@@ -3,7 +3,7 @@
 # Debian's packages alone (no image registry needed):
 #
 #   deploy/container/build-image.sh [--tag NAME] [--remake-base] [--base-only]
-#                                   [--ccache DIR] [--werror]
+#                                   [--prebuilt STAGE_DIR]
 #
 # 1. installs podman and what it needs here (runc, uidmap, slirp4netns,
 #    fuse-overlayfs), mmdebstrap, and docker-compose (for the Compose file);
@@ -15,10 +15,10 @@
 #    Docker's image format: the OCI format has no HEALTHCHECK and podman would
 #    drop it. --base-only stops after step 2: the package test
 #    (tests/package) builds its systemd image on the same base.
-#    --ccache DIR lends the build stage the compiler cache DIR (podman build
-#    --volume): what this machine compiled with the same flags is not compiled
-#    again; --werror builds with the development build's -Werror, the flags
-#    tests/run-all.sh compiles with (the image test passes both).
+#    --prebuilt STAGE_DIR takes the build stage's result from STAGE_DIR, as
+#    deploy/container/build-in-image.sh made it on this machine, instead of
+#    compiling in the build stage (the image test: the test command has
+#    compiled everything already).
 #
 # Podman runs with deploy/container/containers.conf (CONTAINERS_CONF; set it
 # yourself to use another). Runs as root (re-runs itself through sudo).
@@ -28,17 +28,13 @@ src=$(cd "$here/../.." && pwd -P)
 tag=dh3:latest
 remake_base=0
 base_only=0
-build_opts=()
+prebuilt=
 while (($#)); do
   case $1 in
     --tag) tag=$2; shift 2 ;;
     --remake-base) remake_base=1; shift ;;
     --base-only) base_only=1; shift ;;
-    --ccache)
-      [[ -d ${2:-} ]] || { echo "build-image: --ccache needs a directory" >&2; exit 2; }
-      build_opts+=(--volume "$(cd "$2" && pwd -P):/ccache" --build-arg DH3_CCACHE_DIR=/ccache)
-      shift 2 ;;
-    --werror) build_opts+=(--build-arg DH3_WERROR=ON); shift ;;
+    --prebuilt) prebuilt=${2:?--prebuilt needs a directory}; shift 2 ;;
     -h | --help) sed -n '2,27s/^# \{0,1\}//p' "$0"; exit 0 ;;
     *) echo "build-image: unknown argument $1" >&2; exit 2 ;;
   esac
@@ -165,6 +161,17 @@ fi
 # machine does.
 say "podman build --format docker -t $tag"
 start=$(date +%s)
+# --prebuilt: a build context named after the build stage replaces that stage
+# (podman and BuildKit alike); the runtime stage copies its /stage/.
+build_opts=()
+if [[ -n $prebuilt ]]; then
+  [[ -d $prebuilt/usr/local/bin ]] || { echo "build-image: $prebuilt is not a staged tree" >&2; exit 2; }
+  context=$(mktemp -d)
+  trap 'rm -rf "$context"' EXIT
+  cp -a "$prebuilt" "$context/stage"
+  build_opts=(--build-context "build=$context")
+  say "the build stage from $prebuilt"
+fi
 podman build --format docker --network=host --ignorefile "$here/Dockerfile.dockerignore" \
   "${build_opts[@]}" -f "$here/Dockerfile" -t "$tag" "$src"
 say "built $tag in $(($(date +%s) - start)) s: $(podman image inspect --format '{{.Size}}' "$tag") bytes"

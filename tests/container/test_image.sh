@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The image, built for real: deploy/container/build-image.sh (installs podman
 # and mmdebstrap if missing, makes the Debian base images from this machine's
-# apt sources unless podman has them, builds deploy/container/Dockerfile), then
+# apt sources unless podman has them, builds deploy/container/Dockerfile with
+# the build stage's script run on this machine: --prebuilt), then
 # what a user of the image relies on: the health check survived the build, the
 # user is the unprivileged 10001, every program the Compose file and the
 # Kubernetes manifests run is in it and starts, apt left no cache behind.
@@ -13,17 +14,41 @@ SRC=$1 check_config=$2
 source "$(dirname "$0")/lib.sh"
 [[ $(id -u) -eq 0 ]] || skip "needs root (rootful podman; CI runs as root)"
 
+# The build stage's context: a tree of only what its COPY lines copy configures.
+mkdir -p "$work/context"
+awk '/^FROM / && ++stages > 1 { exit }
+     { line = line $0 } /\\$/ { sub(/\\$/, " ", line); next }
+     { if (line ~ /^COPY / && line !~ /--from/) { n = split(line, w, /[ \t]+/)
+         for (i = 2; i < n; i++) print w[i] }
+       line = "" }' "$SRC/deploy/container/Dockerfile" >"$work/copied"
+while read -r path; do
+  mkdir -p "$work/context/$(dirname "$path")" && cp -a "$SRC/$path" "$work/context/$path"
+done <"$work/copied"
+if cmake -S "$work/context" -B "$work/context/build" -G Ninja -DDH3_BUILD_TESTS=OFF \
+  -DDH3_BUILD_PYTHON=OFF >"$work/configure.log" 2>&1; then
+  ok "the build stage's $(wc -l <"$work/copied") COPY sources configure the project"
+else
+  tail -n 20 "$work/configure.log"
+  fail "the build stage's COPY lines leave out what the build needs"
+fi
+
+start=$SECONDS
+# The build stage's script, run here: with the test command's compiler cache
+# and flags (tests/run-all.sh) and its build tree beside the test command's,
+# it compiles nothing again. The image is built around what it staged.
+if DH3_WERROR=ON JOBS=2 "$SRC/deploy/container/build-in-image.sh" "$SRC/build-image" "$work/stage" \
+  >"$work/stage.log" 2>&1; then
+  ok "build-in-image.sh staged the image's programs in $((SECONDS - start)) s"
+else
+  tail -n 40 "$work/stage.log"
+  fail "build-in-image.sh failed"
+  finish image
+fi
 start=$SECONDS
 # build-image.sh installs podman itself; only then can we ask whether it runs.
-# With this machine's compiler cache and the test command's flags, the image's
-# build stage reuses what the test command's build compiled.
-cache_opts=()
-if command -v ccache >/dev/null && cache_dir=$(ccache -k cache_dir) && mkdir -p "$cache_dir"; then
-  cache_opts=(--ccache "$cache_dir" --werror)
-fi
-"$SRC/deploy/container/build-image.sh" --tag "$image" "${cache_opts[@]}" >"$work/build.log" 2>&1
+"$SRC/deploy/container/build-image.sh" --tag "$image" --prebuilt "$work/stage" >"$work/build.log" 2>&1
 status=$?
-grep -E '^build-image:|^build-in-image: (compiler|[0-9]+ of)|STEP [0-9]+/' "$work/build.log"
+grep -E '^build-image:|STEP [0-9]+/' "$work/build.log"
 if ((status != 0)); then
   # build-image.sh installs podman itself; only then can one ask whether it runs.
   if ! podman info >"$work/info" 2>&1; then
@@ -33,7 +58,7 @@ if ((status != 0)); then
   fail "build-image.sh failed (exit $status)"
   finish image
 fi
-ok "build-image.sh built $image in $((SECONDS - start)) s (base images and build)"
+ok "build-image.sh built $image in $((SECONDS - start)) s (base images, runtime stage)"
 
 healthcheck=$(podman image inspect --format '{{json .Config.Healthcheck}}' "$image")
 [[ $healthcheck == '{"Test":["CMD","dh3-healthcheck"]'* ]] &&
