@@ -271,6 +271,12 @@ class SchedulerHarness {
   }
 
   sim::SimBus& sim_bus() { return *sim_bus_; }
+  /// Where the simulated hand `id`'s fingers are now (0-100).
+  double sim_position(std::uint8_t id) {
+    double position = 0;
+    sim_bus_->with_hand(id, [&](sim::SimHand& hand) { position = hand.position(); });
+    return position;
+  }
   RecordingBus& recorder() { return *bus_; }
   [[nodiscard]] const RecordingBus& recorder() const { return *bus_; }
 

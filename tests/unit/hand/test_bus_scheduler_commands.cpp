@@ -258,18 +258,13 @@ TEST(BusSchedulerCommands, StopHoldsTheCurrentPositionAndCancelsTheGrasp) {
   std::optional<CommandResult> grasp_result;
   h.scheduler->submit(1, grasp(50), [&](const CommandResult& r) { grasp_result = r; });
   // Let the fingers close a little, then stop.
-  ASSERT_TRUE(h.run_until([&] {
-    double p = 100;
-    h.sim_bus().with_hand(1, [&](sim::SimHand& hand) { p = hand.position(); });
-    return p < 70;
-  }));
+  ASSERT_TRUE(h.run_until([&] { return h.sim_position(1) < 70; }));
   const auto stopped = h.call(1, cmd(CommandKind::stop));
   ASSERT_TRUE(stopped && stopped->ok());
   ASSERT_TRUE(grasp_result);
   EXPECT_EQ(grasp_result->error(), CommandError::cancelled);
   h.run_for(1s);
-  double final_position = 0;
-  h.sim_bus().with_hand(1, [&](sim::SimHand& hand) { final_position = hand.position(); });
+  const double final_position = h.sim_position(1);
   EXPECT_GT(final_position, 30.0) << "the fingers kept closing after stop";
   EXPECT_NEAR(final_position, stopped->value().value, 3.0);
 }
@@ -278,11 +273,7 @@ TEST(BusSchedulerCommands, StopDuringAMotionReportsTheTargetOfTheMotionItEnded) 
   SchedulerHarness h(sim_hands({1}), configs({1}));
   h.bring_up({1});
   ASSERT_TRUE(h.call(1, move(10))->ok());
-  ASSERT_TRUE(h.run_until([&] {
-    double p = 100;
-    h.sim_bus().with_hand(1, [&](sim::SimHand& hand) { p = hand.position(); });
-    return p < 70;
-  }));
+  ASSERT_TRUE(h.run_until([&] { return h.sim_position(1) < 70; }));
   const auto stopped = h.call(1, cmd(CommandKind::stop));
   ASSERT_TRUE(stopped && stopped->ok());
   ASSERT_TRUE(h.run_until([&] { return !h.observer.events_of(EventKind::arrived, 1).empty(); }));
