@@ -332,8 +332,7 @@ void HandDriver::finger_motion_sent(std::int32_t target, bool gripping,
 void HandDriver::rotation_motion_sent(std::int32_t target,
                                       std::optional<std::int32_t> stopped_target) {
   if (active()) active()->motion_sent = true;
-  rotation_.start(
-      RotationMotion{.target = target, .stopped_target = stopped_target});
+  rotation_.start(RotationMotion{.target = target, .stopped_target = stopped_target});
   state_.rotation_target = target;
   state_.rotation_state = RotationState::moving;
 }
@@ -377,10 +376,11 @@ PollPlan HandDriver::poll_plan() const {
   }
   activity.rotating = rotation_.motion().has_value();
   activity.initializing = initializing() != nullptr;
-  return plan_polls(activity, PollIntervals{.watch = options_.poll_interval_watch,
-                                            .moving = options_.poll_interval_moving,
-                                            .idle = options_.poll_interval_idle,
-                                            .during_motion = options_.poll_interval_position_moving});
+  return plan_polls(activity,
+                    PollIntervals{.watch = options_.poll_interval_watch,
+                                  .moving = options_.poll_interval_moving,
+                                  .idle = options_.poll_interval_idle,
+                                  .during_motion = options_.poll_interval_position_moving});
 }
 
 void HandDriver::on_answer(TimePoint now) {
@@ -548,21 +548,14 @@ void HandDriver::set_error(CommandError error, std::string message) {
   state_.last_error_message = std::move(message);
 }
 
-void HandDriver::emit_motion_end(EventKind kind, TimePoint now, std::int32_t value,
-                                 std::string message, std::optional<std::int32_t> stopped_at,
-                                 std::int32_t target) {
-  emit_event(kind, now, value, std::move(message), stopped_at, target);
-}
-
 void HandDriver::emit(EventKind kind, TimePoint now, std::int32_t value, std::string message) {
   const std::optional<std::int32_t> last_read =
       state_.position >= 0 ? std::optional(state_.position) : std::nullopt;
   emit_event(kind, now, value, std::move(message), last_read, state_.target_position);
 }
 
-void HandDriver::emit_event(EventKind kind, TimePoint now, std::int32_t value,
-                            std::string message, std::optional<std::int32_t> position,
-                            std::int32_t target) {
+void HandDriver::emit_event(EventKind kind, TimePoint now, std::int32_t value, std::string message,
+                            std::optional<std::int32_t> position, std::int32_t target) {
   if (anonymous_) return;
   HandEvent event;
   event.kind = kind;

@@ -160,7 +160,6 @@ class HandDriver {
   void on_position_confirmed();
   void finger_motion_ended(GripState grip, EventKind event, TimePoint now);
 
-
   // Lifecycle and time (hand_driver.cpp).
   void on_answer(TimePoint now);
   /// A frame went unanswered: re-sent (FrameSlot decides), or what it was for fails.
@@ -182,10 +181,9 @@ class HandDriver {
   // Reporting (hand_driver.cpp).
   /// An event with the position as last read and the target in force.
   void emit(EventKind kind, TimePoint now, std::int32_t value = 0, std::string message = {});
-  /// The end of a motion: `stopped_at` where the axis stopped, if read after
-  /// the end; `target` the one the event reports (reported_target()).
-  void emit_motion_end(EventKind kind, TimePoint now, std::int32_t value, std::string message,
-                       std::optional<std::int32_t> stopped_at, std::int32_t target);
+  /// An event with the position and target given; for the end of a motion,
+  /// `position` where the axis stopped if read after the end, `target` the one
+  /// the event reports (reported_target()).
   void emit_event(EventKind kind, TimePoint now, std::int32_t value, std::string message,
                   std::optional<std::int32_t> position, std::int32_t target);
   void set_error(CommandError error, std::string message);

@@ -287,9 +287,9 @@ void HandDriver::finger_motion_ended(GripState grip, EventKind event, TimePoint 
   const FingerMotion motion = *fingers_.motion();
   fingers_.end(stopped_at_target);
   // A grasp is explained by the force it holds with; an arrival by its status.
-  emit_motion_end(event, now, event == EventKind::grasped ? state_.closing_force : 2,
-                  hold_message(motion), known ? std::optional(state_.position) : std::nullopt,
-                  motion.reported_target());
+  emit_event(event, now, event == EventKind::grasped ? state_.closing_force : 2,
+             hold_message(motion), known ? std::optional(state_.position) : std::nullopt,
+             motion.reported_target());
   if (MotionWaiter* waiter = ledger_.motion_waiter();
       waiter && waiter->epoch == finger_epoch_ && !waiter->outcome) {
     // The result carries where the fingers stopped, after the same read.
@@ -312,8 +312,8 @@ void HandDriver::on_rotation_status(std::int32_t status, TimePoint now) {
   if (reading.motion_ended) {
     // Reported now; where it stopped is read next unless a read during the
     // rotation found it at its target (or the read rechecking it is this one).
-    const bool at_target = *reading.event == EventKind::rotation_arrived &&
-                           rotation_.read_at_target(state_.rotation);
+    const bool at_target =
+        *reading.event == EventKind::rotation_arrived && rotation_.read_at_target(state_.rotation);
     const bool known = at_target || rotation_.rechecking();
     const RotationMotion motion = *rotation_.motion();
     rotation_.end(at_target);
@@ -321,9 +321,8 @@ void HandDriver::on_rotation_status(std::int32_t status, TimePoint now) {
         *reading.event == EventKind::rotation_blocked
             ? fmt::format("rotation blocked on the way to {}", motion.reported_target())
             : hold_message(motion);
-    emit_motion_end(*reading.event, now, status, std::move(message),
-                    known ? std::optional(state_.rotation) : std::nullopt,
-                    motion.reported_target());
+    emit_event(*reading.event, now, status, std::move(message),
+               known ? std::optional(state_.rotation) : std::nullopt, motion.reported_target());
   } else if (reading.event == EventKind::fault) {
     rotation_.undefined_reported(status);
     emit(EventKind::fault, now, status,
