@@ -6,6 +6,8 @@
 
 #include <cstdlib>
 
+#include "dh3/base/host_port.hpp"
+
 namespace dh3::contract {
 
 namespace {
@@ -42,6 +44,8 @@ bool is_host_name(std::string_view name) {
          std::string_view::npos;
 }
 
+constexpr std::string_view kExpected = "expected IPV4[:PORT] or HOST[:PORT], e.g. 192.168.1.10:11811";
+
 /// One "HOST[:PORT]" entry for server `id`, or what is wrong with it.
 Result<DiscoveryServer, std::string> parse_server_entry(std::string_view entry, int id) {
   const std::string text(entry);
@@ -52,31 +56,23 @@ Result<DiscoveryServer, std::string> parse_server_entry(std::string_view entry, 
     return malformed("more than " + std::to_string(kMaxDiscoveryServerId + 1) +
                      " server positions (ids 0-" + std::to_string(kMaxDiscoveryServerId) + ")");
   }
-  std::string_view address = entry;
-  std::uint16_t port = kDefaultDiscoveryServerPort;
-  if (const auto colon = entry.rfind(':'); colon != std::string_view::npos) {
-    address = entry.substr(0, colon);
-    const auto digits = entry.substr(colon + 1);
-    if (digits.empty() || digits.size() > 5 ||
-        digits.find_first_not_of("0123456789") != std::string_view::npos) {
-      return malformed("the port must be a number, 1-65535");
-    }
-    const long value = std::strtol(std::string(digits).c_str(), nullptr, 10);
-    if (value < 1 || value > 65535) return malformed("the port must be a number, 1-65535");
-    port = static_cast<std::uint16_t>(value);
-  }
-  std::string ipv4(address);
-  in_addr parsed{};
-  if (inet_pton(AF_INET, ipv4.c_str(), &parsed) != 1) {
+  HostPortRules rules;
+  rules.default_port = kDefaultDiscoveryServerPort;
+  auto parsed = parse_host_port(entry, rules);
+  if (!parsed) return malformed(parsed.error() + "; " + std::string(kExpected));
+  const std::string_view host = parsed->host;
+  std::string ipv4 = parsed->host;
+  in_addr literal{};
+  if (inet_pton(AF_INET, ipv4.c_str(), &literal) != 1) {
     // Dotted digits that are no address are a typo, not a host name.
-    if (!is_host_name(address) ||
-        address.find_first_not_of("0123456789.") == std::string_view::npos) {
-      return malformed("expected IPV4[:PORT] or HOST[:PORT], e.g. 192.168.1.10:11811");
+    if (parsed->bracketed || !is_host_name(host) ||
+        host.find_first_not_of("0123456789.") == std::string_view::npos) {
+      return malformed(std::string(kExpected));
     }
-    ipv4 = resolve_ipv4(std::string(address));
+    ipv4 = resolve_ipv4(parsed->host);
     if (ipv4.empty()) return malformed("the host name has no IPv4 address");
   }
-  return DiscoveryServer{id, ipv4, port};
+  return DiscoveryServer{id, ipv4, parsed->port};
 }
 
 }  // namespace

@@ -8,11 +8,12 @@
 #include <prometheus/text_serializer.h>
 
 #include <array>
-#include <charconv>
 #include <exception>
 #include <initializer_list>
 #include <limits>
 #include <tuple>
+
+#include "dh3/base/host_port.hpp"
 
 namespace dh3::metrics {
 namespace {
@@ -273,37 +274,24 @@ class Collector final : public prometheus::Collectable {
   Source source_;
 };
 
-struct ListenAddress {
-  std::string host;  ///< as given, brackets included for IPv6
-  int port = 0;
-};
-
-Result<ListenAddress, std::string> parse_listen_address(std::string_view address) {
+/// HOST:PORT with an IP address literal (IPv6 in brackets); port 0 is any free port.
+Result<HostPort, std::string> parse_listen_address(std::string_view address) {
   const auto bad = [&](const std::string& why) {
-    return fail("metrics address '" + std::string(address) + "' " + why);
+    return fail("metrics address '" + std::string(address) + "': " + why +
+                " (expected HOST:PORT: an IPv4 address or a bracketed IPv6 address and a port "
+                "in 0-65535, e.g. 127.0.0.1:9464, 0.0.0.0:9464 or [::1]:9464)");
   };
-  const auto colon = address.rfind(':');
-  if (colon == std::string_view::npos || colon == 0) {
-    return bad("is not HOST:PORT (e.g. 127.0.0.1:9464, 0.0.0.0:9464 or [::1]:9464)");
+  HostPortRules listening;
+  listening.port_zero = true;
+  auto parsed = parse_host_port(address, listening);
+  if (!parsed) return bad(parsed.error());
+  in6_addr literal{};
+  const int family = parsed->bracketed ? AF_INET6 : AF_INET;
+  if (inet_pton(family, parsed->host.c_str(), &literal) != 1) {
+    // Appended: GCC 12 warns falsely (-Wrestrict) about "literal" + std::string at -O3.
+    return bad(std::string("'").append(parsed->written_host()).append("' is not an IP address"));
   }
-  const std::string_view host = address.substr(0, colon);
-  const std::string_view port_text = address.substr(colon + 1);
-  int port = -1;
-  const auto [end, error] =
-      std::from_chars(port_text.data(), port_text.data() + port_text.size(), port);
-  if (port_text.empty() || error != std::errc{} || end != port_text.data() + port_text.size() ||
-      port < 0 || port > 65535) {
-    return bad("has no port in 0-65535 after the last ':'");
-  }
-  in6_addr parsed{};
-  const bool ipv6 =
-      host.size() > 2 && host.front() == '[' && host.back() == ']' &&
-      inet_pton(AF_INET6, std::string(host.substr(1, host.size() - 2)).c_str(), &parsed) == 1;
-  const bool ipv4 = inet_pton(AF_INET, std::string(host).c_str(), &parsed) == 1;
-  if (!ipv4 && !ipv6) {
-    return bad("does not start with an IPv4 address or a bracketed IPv6 address");
-  }
-  return ListenAddress{std::string(host), port};
+  return parsed;
 }
 
 }  // namespace
@@ -395,7 +383,7 @@ Result<std::unique_ptr<Exporter>, std::string> Exporter::start(const std::string
   const auto ports = impl->exposer->GetListeningPorts();
   if (ports.empty()) return fail("cannot serve metrics on " + address + ": no port was bound");
   impl->exposer->RegisterCollectable(impl->collector);
-  impl->address = parsed->host + ":" + std::to_string(ports.front());
+  impl->address = parsed->written_host() + ":" + std::to_string(ports.front());
   return std::unique_ptr<Exporter>(new Exporter(std::move(impl)));
 }
 

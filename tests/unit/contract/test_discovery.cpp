@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "contract_participant.hpp"
@@ -74,6 +75,20 @@ TEST(ContractDiscoveryServers, MalformedEntriesAreNamedInTheError) {
   ASSERT_FALSE(port.ok());
   EXPECT_NE(port.error().find("'10.0.0.1:99999'"), std::string::npos) << port.error();
   EXPECT_NE(port.error().find("1-65535"), std::string::npos) << port.error();
+}
+
+TEST(ContractDiscoveryServers, TheErrorSaysWhatIsWrongWithTheEntry) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {":11811", "discovery server ':11811': missing host"},
+      {"10.0.0.1:http", "discovery server '10.0.0.1:http': port 'http' is not a number"},
+      {"[::1]:11811", "discovery server '[::1]:11811': expected IPV4[:PORT] or HOST[:PORT]"},
+      {"::1:11811", "discovery server '::1:11811': an IPv6 address must be in brackets"},
+  };
+  for (const auto& [entry, expected] : cases) {
+    const auto list = dh3::contract::parse_discovery_server_list(entry);
+    ASSERT_FALSE(list.ok()) << entry;
+    EXPECT_NE(list.error().find(expected), std::string::npos) << list.error();
+  }
 }
 
 // As Fast DDS reads ROS_DISCOVERY_SERVER: a host name stands for its address.

@@ -240,6 +240,17 @@ TEST(MetricsAddress, OnlyIpLiteralsWithAPortAreAccepted) {
   EXPECT_THAT(check_listen_address("::1:9464").error(), HasSubstr("bracketed IPv6"));
 }
 
+TEST(MetricsAddress, TheErrorNamesTheAddressAndWhatIsWrongWithIt) {
+  EXPECT_THAT(check_listen_address(":9464").error(),
+              HasSubstr("metrics address ':9464': missing host"));
+  EXPECT_THAT(check_listen_address("[::1:9464").error(),
+              HasSubstr("metrics address '[::1:9464': missing ']'"));
+  EXPECT_THAT(check_listen_address("[127.0.0.1]:9464").error(),
+              HasSubstr("'[127.0.0.1]' is not an IP address"));
+  EXPECT_THAT(check_listen_address("127.0.0.1:http").error(),
+              HasSubstr("port 'http' is not a number"));
+}
+
 TEST(MetricsEndpoint, ServesTheFiguresOfEachScrapeOnTheBoundPort) {
   std::atomic<int> scrapes{0};
   auto exporter = Exporter::start("127.0.0.1:0", [&] {
