@@ -3,11 +3,8 @@
 #include <CLI/CLI.hpp>
 
 #include "client_options_cli.hpp"
+#include "dh3/base/version.hpp"
 #include "ros_names.hpp"
-
-#ifndef DH3_VERSION
-#define DH3_VERSION "0.0.0"
-#endif
 
 namespace dh3::ros2 {
 
@@ -41,7 +38,7 @@ std::optional<int> parse_ros2_options(int argc, const char* const* argv, Ros2Opt
       "on a joint_states topic and a control_msgs/action/GripperCommand action per hand, "
       "without linking ROS 2 (docs/ros2.md)."};
   app.name("dh3-ros2");
-  app.set_version_flag("--version", DH3_VERSION);
+  app.set_version_flag("--version", kVersion);
   app.add_option("--namespace", options.ros_namespace,
                  "the ROS namespace relative names resolve in (default /)");
   app.add_option("--joint-states", options.joint_states,

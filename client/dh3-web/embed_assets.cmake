@@ -1,6 +1,7 @@
 # Writes OUTPUT, a C++ file whose web_assets() returns the files of the page:
-# cmake -DOUTPUT=... -DPAGE_DIR=... -P embed_assets.cmake
+# cmake -DOUTPUT=... -DPAGE_DIR=... -DVERSION=... -P embed_assets.cmake
 # Each file becomes a raw string literal; the delimiter must not occur in them.
+# @PROJECT_VERSION@ in a file becomes VERSION (openapi.json's info.version).
 # path|file|type (UTF-8 text, all of them; "; charset=utf-8" is added below:
 # a semicolon would split a CMake list).
 set(assets
@@ -17,6 +18,7 @@ foreach(asset IN LISTS assets)
   list(GET fields 1 file)
   list(GET fields 2 type)
   file(READ "${PAGE_DIR}/${file}" content)
+  string(REPLACE "@PROJECT_VERSION@" "${VERSION}" content "${content}")
   string(FIND "${content}" ")dh3asset\"" clash)
   if(NOT clash EQUAL -1)
     message(FATAL_ERROR "${file} contains the raw string delimiter )dh3asset\"")

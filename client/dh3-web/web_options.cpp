@@ -4,10 +4,7 @@
 
 #include "client_options_cli.hpp"
 #include "dh3/base/host_port.hpp"
-
-#ifndef DH3_VERSION
-#define DH3_VERSION "0.0.0"
-#endif
+#include "dh3/base/version.hpp"
 
 namespace dh3::web {
 
@@ -32,7 +29,7 @@ std::optional<int> parse_web_options(int argc, const char* const* argv, WebOptio
       "dh3-web: a web console and an HTTP API for DH-3 hands on a DDS domain.\n"
       "Serves the page at / and the JSON API at /api/ (described at /api/openapi.json)."};
   app.name("dh3-web");
-  app.set_version_flag("--version", DH3_VERSION);
+  app.set_version_flag("--version", kVersion);
   std::string listen = "127.0.0.1:8080";
   app.add_option("--listen", listen,
                  "ADDR:PORT to serve on (default 127.0.0.1:8080: this machine only; port 0: any "

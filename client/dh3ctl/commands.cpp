@@ -17,14 +17,11 @@
 
 #include "client_json.hpp"
 #include "client_options_cli.hpp"
+#include "dh3/base/version.hpp"
 #include "dh3/client.hpp"
 #include "dh3/registers.hpp"
 #include "motion_end.hpp"
 #include "output.hpp"
-
-#ifndef DH3_VERSION
-#define DH3_VERSION "0.0.0"
-#endif
 
 namespace dh3::ctl {
 namespace {
@@ -592,7 +589,7 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err,
   app.fallthrough();  // global options after the command too: dh3ctl list --json
   Globals g;
   declare_global_options(app, g);
-  app.set_version_flag("--version", DH3_VERSION);
+  app.set_version_flag("--version", kVersion);
 
   Args a;
   auto* open_opt = declare_commands(app, a);

@@ -12,6 +12,7 @@
 #include "api_error.hpp"
 #include "bearer_token.hpp"
 #include "client_json.hpp"
+#include "dh3/base/version.hpp"
 #include "dh3/registers.hpp"
 #include "hand_api.hpp"
 #include "support/test_domain.hpp"
@@ -92,6 +93,14 @@ TEST(WebCommand, TheOpenApiDescriptionListsEveryCommand) {
   std::set<std::string> shapes;
   for (const auto& shape : command_shapes()) shapes.insert(std::string(shape.name));
   EXPECT_EQ(described, shapes);
+}
+
+TEST(WebCommand, TheOpenApiDescriptionCarriesTheProjectVersion) {
+  const WebAsset* asset = find_asset("/api/openapi.json");
+  ASSERT_NE(asset, nullptr);
+  const auto doc = nlohmann::json::parse(asset->body, nullptr, false);
+  ASSERT_FALSE(doc.is_discarded()) << "openapi.json is not JSON";
+  EXPECT_EQ(doc["info"]["version"], kVersion);
 }
 
 /// The openapi.json description's copy of the schema `name`.

@@ -4,6 +4,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "dh3/base/version.hpp"
 #include "service_fixture.hpp"
 
 namespace dh3::test {
@@ -190,6 +191,12 @@ TEST(ServiceLifecycle, HelpExitsWithZero) {
   EXPECT_EQ(code, 0);
   EXPECT_THAT(output, HasSubstr("--bus"));
   EXPECT_THAT(output, HasSubstr("--allow-admin"));
+}
+
+TEST(ServiceLifecycle, VersionPrintsTheProjectVersion) {
+  const auto [code, output] = run_to_exit("--version");
+  EXPECT_EQ(code, 0);
+  EXPECT_EQ(output, std::string(kVersion) + "\n");
 }
 
 // --help and the refusal say the same: the simulator runs with neither a

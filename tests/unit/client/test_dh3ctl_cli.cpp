@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "dh3/base/version.hpp"
 #include "support/test_domain.hpp"
 
 namespace dh3::ctl {
@@ -43,6 +44,12 @@ CtlRun dh3ctl(std::vector<std::string> args) {
   result.out = out.str();
   result.err = err.str();
   return result;
+}
+
+TEST(Dh3ctlCliTest, VersionPrintsTheProjectVersion) {
+  const CtlRun run = dh3ctl({"--version"});
+  EXPECT_EQ(run.code, kExitOk);
+  EXPECT_EQ(run.out, std::string(kVersion) + "\n");
 }
 
 TEST(Dh3ctlCliTest, HelpListsEveryCommandAndExitsZero) {
