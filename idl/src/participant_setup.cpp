@@ -5,6 +5,8 @@
 #include <mutex>
 #include <utility>
 
+#include "dh3/contract/network_reach.hpp"
+
 namespace dh3::contract {
 
 bool has_property(const eprosima::fastdds::dds::DomainParticipantQos& qos,
@@ -81,6 +83,14 @@ Result<eprosima::fastdds::dds::DomainParticipantQos, std::string> make_participa
                   options.security_dir + "')");
     }
     enable_security(qos, files);
+  }
+  if (!options.is_client && !has_property(qos, "dds.sec.auth.plugin") &&
+      reaches_other_hosts(qos)) {
+    report.warnings.emplace_back(
+        "DDS Security is off and this service is reachable from other machines: anyone on "
+        "that network can drive every hand (move, grip, take free leases, stop, and change "
+        "CAN IDs and baud rates where allow_admin is on) and read every status. Give "
+        "dds.security, or keep dds.interfaces on loopback (docs/security.md)");
   }
   return qos;
 }

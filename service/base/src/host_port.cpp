@@ -1,5 +1,7 @@
 #include "dh3/base/host_port.hpp"
 
+#include <arpa/inet.h>
+
 namespace dh3 {
 
 namespace {
@@ -56,6 +58,15 @@ Result<HostPort, std::string> parse_host_port(std::string_view text, const HostP
   if (!port) return fail(std::move(port).error());
   address.port = *port;
   return address;
+}
+
+bool is_loopback_host(std::string_view host) {
+  if (host == "localhost" || host == "::1") return true;
+  const std::string text(host);
+  in_addr v4{};
+  if (inet_pton(AF_INET, text.c_str(), &v4) == 1) return (ntohl(v4.s_addr) >> 24) == 127;
+  in6_addr v6{};
+  return inet_pton(AF_INET6, text.c_str(), &v6) == 1 && IN6_IS_ADDR_LOOPBACK(&v6);
 }
 
 }  // namespace dh3

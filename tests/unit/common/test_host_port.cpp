@@ -74,5 +74,15 @@ TEST(HostPort, TheCallerMayLetThePortOrTheHostBeLeftOut) {
   EXPECT_THAT(error_of("[]:9000", {.empty_host = true}), HasSubstr("missing host"));
 }
 
+TEST(HostPort, OnlyLoopbackAddressesStayOnThisMachine) {
+  for (const char* host : {"127.0.0.1", "127.1.2.3", "::1", "localhost"}) {
+    EXPECT_TRUE(is_loopback_host(host)) << host;
+  }
+  for (const char* host : {"0.0.0.0", "::", "10.0.0.2", "169.254.1.1", "128.0.0.1", "fe80::1",
+                           "localhost.example.com", "", "127.0.0.1:80"}) {
+    EXPECT_FALSE(is_loopback_host(host)) << host;
+  }
+}
+
 }  // namespace
 }  // namespace dh3

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "contract_participant.hpp"
+#include "dh3/contract/participant_setup.hpp"
 #include "dh3/contract/security.hpp"
 #include "support/process.hpp"
 
@@ -89,6 +90,19 @@ TEST_F(ContractSecurity, PropertiesSwitchOnTheThreeBuiltinPlugins) {
   EXPECT_EQ(value("dds.sec.crypto.plugin"), "builtin.AES-GCM-GMAC");
   EXPECT_EQ(value("dds.sec.auth.builtin.PKI-DH.private_key"),
             "file://" + (fs::path(dir_) / "operator" / "key.pem").string());
+}
+
+// A service on every interface under DDS Security: only holders of the
+// cell's certificates can drive the hands, so start-up warns of nothing.
+TEST_F(ContractSecurity, ASecuredServiceOnEveryInterfaceIsNotWarnedAbout) {
+  dh3::contract::ParticipantOptions options;
+  options.interfaces = {"*"};
+  options.security_dir = dir_;
+  options.security_identity = "service";
+  dh3::contract::SetupReport report;
+  const auto made = dh3::contract::make_participant_qos(options, report);
+  ASSERT_TRUE(made.has_value()) << made.error();
+  EXPECT_TRUE(report.warnings.empty()) << report.warnings.front();
 }
 
 // Credentials that do not belong together: Fast DDS refuses the participant

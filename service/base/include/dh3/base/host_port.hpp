@@ -42,4 +42,9 @@ struct HostPortRules {
 [[nodiscard]] Result<HostPort, std::string> parse_host_port(std::string_view text,
                                                             const HostPortRules& rules = {});
 
+/// True for an address that only this machine reaches: 127.0.0.0/8, ::1, and
+/// the name "localhost". False for anything else, the wildcards 0.0.0.0 and
+/// :: (every interface) included.
+[[nodiscard]] bool is_loopback_host(std::string_view host);
+
 }  // namespace dh3
