@@ -1,7 +1,9 @@
 #include "bearer_token.hpp"
 
 #include <openssl/crypto.h>
+#include <sys/stat.h>
 
+#include <cstdio>
 #include <fstream>
 
 namespace dh3::web {
@@ -16,11 +18,27 @@ std::string_view trimmed(std::string_view text) {
   return text.substr(first, last - first + 1);
 }
 
+/// Why the file's owner and mode let someone else than dh3-web read or
+/// change the token; empty if they do not.
+std::string shared_token_file(const std::string& path, const struct stat& file) {
+  const mode_t others = file.st_mode & (S_IRWXG | S_IRWXO);
+  const bool root_group_reads = file.st_uid == 0 && others == S_IRGRP;
+  if (others == 0 || root_group_reads) return {};
+  char mode[8];
+  std::snprintf(mode, sizeof mode, "%04o", static_cast<unsigned>(file.st_mode & 07777));
+  return "the token file " + path + " has mode " + mode + ": " +
+         ((file.st_mode & S_IRWXO) != 0 ? "other users" : "its group") +
+         " may read or change the token; refused. chmod 600 " + path +
+         " (or 640 owned by root with the group dh3-web runs as)";
+}
+
 }  // namespace
 
 Result<BearerToken, std::string> BearerToken::from_file(const std::string& path) {
   std::ifstream in(path);
-  if (!in) return fail("cannot read the token file " + path);
+  struct stat file {};
+  if (!in || ::stat(path.c_str(), &file) != 0) return fail("cannot read the token file " + path);
+  if (auto shared = shared_token_file(path, file); !shared.empty()) return fail(std::move(shared));
   std::string line;
   std::getline(in, line);
   const std::string token(trimmed(line));

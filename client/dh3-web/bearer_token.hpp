@@ -12,7 +12,9 @@ namespace dh3::web {
 class BearerToken {
  public:
   /// The file's first line, surrounding white space removed. Refused: a
-  /// missing or unreadable file, an empty token, or one shorter than 16
+  /// missing or unreadable file; one that others may read or change, or
+  /// its group (unless root owns it and gives its group reading only, as a
+  /// packaged service's token is kept); an empty token, or one shorter than 16
   /// characters (a guessable secret is worse than none: it looks safe).
   static Result<BearerToken, std::string> from_file(const std::string& path);
   static BearerToken from_text(std::string token) { return BearerToken(std::move(token)); }

@@ -44,6 +44,9 @@ int main(int argc, char** argv) {
     return *exit_code;
   }
   spdlog::set_level(spdlog::level::from_str(options.log_level));
+  if (const auto warning = dh3::web::exposure_warning(options); !warning.empty()) {
+    spdlog::warn("{}", warning);
+  }
 
   dh3::web::AccessPolicy access;
   access.view_needs_token = options.view_needs_token;
@@ -65,7 +68,8 @@ int main(int argc, char** argv) {
   const auto* openapi = dh3::web::find_asset("/api/openapi.json");
   dh3::web::HandApi api(client, access, client.default_timeout(),
                         openapi == nullptr ? "{}" : std::string(openapi->body));
-  dh3::web::WebServer server(api, stream, options.threads);
+  dh3::web::WebServer server(api, stream, options.threads,
+                             dh3::web::AllowedHosts(options.listen.host, options.allowed_hosts));
   auto port = server.bind(options.listen);
   if (!port) {
     std::cerr << "dh3-web: " << port.error() << "\n";

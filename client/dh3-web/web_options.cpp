@@ -23,6 +23,14 @@ Result<ListenAddress, std::string> parse_listen(const std::string& text) {
   return listen;
 }
 
+std::string exposure_warning(const WebOptions& options) {
+  if (is_loopback_host(options.listen.host) || !options.token_file.empty()) return {};
+  return "dh3-web listens on " + options.listen.host +
+         " without --token-file: anyone on that network can watch every hand (status, "
+         "position, events) and see who holds its lease; commands are off. Listen on "
+         "127.0.0.1 behind a TLS proxy, or give --token-file (docs/security.md)";
+}
+
 std::optional<int> parse_web_options(int argc, const char* const* argv, WebOptions& options,
                                      std::ostream& out, std::ostream& err) {
   CLI::App app{
@@ -34,6 +42,10 @@ std::optional<int> parse_web_options(int argc, const char* const* argv, WebOptio
   app.add_option("--listen", listen,
                  "ADDR:PORT to serve on (default 127.0.0.1:8080: this machine only; port 0: any "
                  "free port)");
+  app.add_option("--allow-host", options.allowed_hosts,
+                 "a name browsers reach dh3-web by besides its --listen address and, on "
+                 "loopback, localhost (repeatable): a proxy's, a DNS name. Requests for "
+                 "other names are refused (421)");
   app.add_option("--token-file", options.token_file,
                  "file whose first line is the bearer token that commands need; without it "
                  "dh3-web only shows the hands")

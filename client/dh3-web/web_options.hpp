@@ -6,6 +6,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "dh3/base/result.hpp"
 #include "dh3/client.hpp"
@@ -20,6 +21,8 @@ struct ListenAddress {
 struct WebOptions {
   ClientOptions client;
   ListenAddress listen;
+  /// Further names a browser may reach dh3-web by (AllowedHosts).
+  std::vector<std::string> allowed_hosts;
   std::string token_file;  ///< empty: commands are refused (viewing only)
   bool view_needs_token = false;
   double timeout_s = 10.0;  ///< each command's reply
@@ -29,6 +32,11 @@ struct WebOptions {
 
 /// "ADDR:PORT", "[v6addr]:PORT" or ":PORT" (loopback).
 [[nodiscard]] Result<ListenAddress, std::string> parse_listen(const std::string& text);
+
+/// What anyone who reaches dh3-web over the network may do with these
+/// options, when that is more than this machine's users and nothing guards
+/// it (a listening address beyond loopback without a token); empty otherwise.
+[[nodiscard]] std::string exposure_warning(const WebOptions& options);
 
 /// Fills `options` from the command line. nullopt: go on; a number: exit with
 /// it (after --help, --version, or a bad option reported on `err`).

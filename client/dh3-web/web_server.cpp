@@ -4,6 +4,7 @@
 
 #include <httplib.h>
 
+#include "log_text.hpp"
 #include "web_assets.hpp"
 
 namespace dh3::web {
@@ -14,6 +15,8 @@ namespace {
 constexpr std::chrono::seconds kKeepAlive{15};
 /// Bodies are a few numbers; anything larger is a mistake or an attack.
 constexpr std::size_t kMaxBody = 64 * 1024;
+/// A request for a Host name dh3-web does not answer to.
+constexpr int kMisdirected = 421;
 
 void add_common_headers(httplib::Response& res) {
   res.set_header("X-Content-Type-Options", "nosniff");
@@ -38,15 +41,32 @@ ApiRequest to_api_request(const httplib::Request& req) {
 
 }  // namespace
 
-WebServer::WebServer(HandApi& api, EventStream& stream, int threads)
-    : api_(api), stream_(stream), server_(std::make_unique<httplib::Server>()) {
+WebServer::WebServer(HandApi& api, EventStream& stream, int threads, AllowedHosts hosts)
+    : api_(api),
+      stream_(stream),
+      hosts_(std::move(hosts)),
+      server_(std::make_unique<httplib::Server>()) {
   const auto pool_size = static_cast<std::size_t>(threads);
   server_->new_task_queue = [pool_size] { return new httplib::ThreadPool(pool_size); };
   server_->set_payload_max_length(kMaxBody);
   server_->set_keep_alive_timeout(2);
   server_->set_logger([](const httplib::Request& req, const httplib::Response& res) {
-    // The path without its query and never a header: the token stays out.
-    spdlog::info("{} {} {} {}", req.remote_addr, req.method, req.path, res.status);
+    // The path without its query and no header but a refused Host: the token
+    // stays out. What the sender wrote is escaped: it cannot start a line.
+    spdlog::info("{} {} {} {}{}", req.remote_addr, escaped_for_log(req.method),
+                 escaped_for_log(req.path), res.status,
+                 res.status == kMisdirected
+                     ? " Host: " + escaped_for_log(req.get_header_value("Host"))
+                     : std::string());
+  });
+  server_->set_pre_routing_handler([this](const httplib::Request& req, httplib::Response& res) {
+    if (hosts_.allows(req.get_header_value("Host"))) {
+      return httplib::Server::HandlerResponse::Unhandled;
+    }
+    send(res, error_response({kMisdirected, "MISDIRECTED_REQUEST",
+                              "dh3-web does not answer to this Host name (a page of another "
+                              "site?); give dh3-web --allow-host NAME to serve under it"}));
+    return httplib::Server::HandlerResponse::Handled;
   });
   // httplib's own refusals (a POST without Content-Length, a body over the
   // limit, a request it cannot parse) come without a body: say it in JSON too.

@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 
+#include "allowed_hosts.hpp"
 #include "dh3/base/result.hpp"
 #include "event_stream.hpp"
 #include "hand_api.hpp"
@@ -19,7 +20,8 @@ namespace dh3::web {
 class WebServer {
  public:
   /// `threads`: the worker pool; each open stream holds one worker.
-  WebServer(HandApi& api, EventStream& stream, int threads);
+  /// Requests for a host `hosts` does not allow are answered 421.
+  WebServer(HandApi& api, EventStream& stream, int threads, AllowedHosts hosts);
   ~WebServer();
   WebServer(const WebServer&) = delete;
   WebServer& operator=(const WebServer&) = delete;
@@ -36,6 +38,7 @@ class WebServer {
 
   HandApi& api_;
   EventStream& stream_;
+  AllowedHosts hosts_;
   std::unique_ptr<httplib::Server> server_;
 };
 

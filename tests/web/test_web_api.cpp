@@ -1,20 +1,26 @@
 // dh3-web's API without a server or a service: how commands and bodies are
-// parsed, the token, --listen, and HandApi's routing and refusals with a
-// client on an empty domain (nothing may be sent for any of them).
+// parsed, the token and its file's mode, --listen, the Host names served, the
+// access log's escaping, and HandApi's routing and refusals with a client on
+// an empty domain (nothing may be sent for any of them).
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <sstream>
 
+#include "allowed_hosts.hpp"
 #include "api_error.hpp"
 #include "bearer_token.hpp"
 #include "client_json.hpp"
 #include "dh3/base/version.hpp"
 #include "dh3/registers.hpp"
 #include "hand_api.hpp"
+#include "log_text.hpp"
 #include "support/test_domain.hpp"
 #include "web_assets.hpp"
 #include "web_command.hpp"
@@ -23,7 +29,10 @@
 namespace dh3::web {
 namespace {
 
+using ::testing::AllOf;
+using ::testing::ElementsAre;
 using ::testing::HasSubstr;
+using ::testing::IsEmpty;
 
 constexpr const char* kToken = "a-test-token-of-some-length";
 
@@ -189,6 +198,7 @@ TEST(BearerToken, RefusesAMissingEmptyOrShortFile) {
   const std::string path = "/tmp/dh3-web-token-" + std::to_string(::getpid());
   EXPECT_THAT(BearerToken::from_file(path).error(), HasSubstr("cannot read"));
   std::ofstream(path) << "\n";
+  ::chmod(path.c_str(), 0600);
   EXPECT_THAT(BearerToken::from_file(path).error(), HasSubstr("empty"));
   std::ofstream(path) << "short\n";
   EXPECT_THAT(BearerToken::from_file(path).error(), HasSubstr("too short"));
@@ -197,6 +207,96 @@ TEST(BearerToken, RefusesAMissingEmptyOrShortFile) {
   ASSERT_TRUE(token.ok()) << token.error();
   EXPECT_TRUE(token->accepts(std::string("Bearer ") + kToken));
   std::remove(path.c_str());
+}
+
+TEST(BearerToken, RefusesAFileOthersOrItsGroupMayReadOrChange) {
+  const std::string path = "/tmp/dh3-web-token-mode-" + std::to_string(::getpid());
+  std::ofstream(path) << kToken << "\n";
+  const auto refusal_at = [&](mode_t mode) {
+    ::chmod(path.c_str(), mode);
+    auto token = BearerToken::from_file(path);
+    return token.ok() ? std::string() : token.error();
+  };
+  const std::string world = refusal_at(0644);
+  EXPECT_THAT(world, HasSubstr("the token file " + path + " has mode 0644"));
+  EXPECT_THAT(world, HasSubstr("other users may read or change the token"));
+  EXPECT_THAT(world, HasSubstr("chmod 600 " + path));
+  EXPECT_THAT(refusal_at(0602), HasSubstr("mode 0602: other users"));
+  EXPECT_THAT(refusal_at(0660), HasSubstr("mode 0660: its group may read or change"));
+  EXPECT_THAT(refusal_at(0600), IsEmpty());
+  EXPECT_THAT(refusal_at(0400), IsEmpty());
+  // Group reading only is the packaged layout (0640 root:dh3-web), and only
+  // when root owns the file: another owner's group is nobody's decision.
+  const std::string group_reads = refusal_at(0640);
+  if (::geteuid() == 0) {
+    EXPECT_THAT(group_reads, IsEmpty());
+  } else {
+    EXPECT_THAT(group_reads, HasSubstr("mode 0640: its group"));
+  }
+  std::remove(path.c_str());
+}
+
+TEST(AllowedHosts, OnLoopbackServesItsAddressAndTheLocalNamesOnly) {
+  const AllowedHosts hosts("127.0.0.1", {});
+  for (const char* host : {"127.0.0.1:8080", "localhost:8080", "LocalHost", "localhost.:8080",
+                           "[::1]:8080", "127.0.0.1", ""}) {
+    EXPECT_TRUE(hosts.allows(host)) << host;
+  }
+  // A rebinding page's own name, however it resolves, and other addresses.
+  for (const char* host : {"attacker.example:8080", "attacker.example", "127.0.0.1.nip.io:8080",
+                           "10.0.0.5:8080", "localhost.attacker.example", "[::2]:8080"}) {
+    EXPECT_FALSE(hosts.allows(host)) << host;
+  }
+}
+
+TEST(AllowedHosts, BeyondLoopbackServesTheListenAddressAndTheNamesGiven) {
+  const AllowedHosts hosts("10.0.0.5", {"cell-pc.example", "Proxy.Example:443"});
+  EXPECT_TRUE(hosts.allows("10.0.0.5:8080"));
+  EXPECT_TRUE(hosts.allows("CELL-PC.example:8080"));
+  EXPECT_TRUE(hosts.allows("proxy.example"));
+  EXPECT_FALSE(hosts.allows("localhost:8080"));
+  EXPECT_FALSE(hosts.allows("10.0.0.6:8080"));
+  EXPECT_FALSE(hosts.allows("attacker.example"));
+}
+
+TEST(AllowedHosts, OnEveryInterfaceServesAnyAddressButNoOtherName) {
+  const AllowedHosts hosts("0.0.0.0", {"cell-pc.example"});
+  EXPECT_TRUE(hosts.allows("10.0.0.6:8080"));  // an address cannot be rebound to another site
+  EXPECT_TRUE(hosts.allows("[fe80::1]:8080"));
+  EXPECT_TRUE(hosts.allows("localhost"));
+  EXPECT_TRUE(hosts.allows("cell-pc.example"));
+  EXPECT_FALSE(hosts.allows("attacker.example:8080"));
+  EXPECT_TRUE(AllowedHosts("::", {}).allows("192.168.1.2"));
+}
+
+TEST(AccessLog, EscapesWhatCouldForgeALineOrDriveATerminal) {
+  EXPECT_EQ(escaped_for_log("/api/hands"), "/api/hands");
+  EXPECT_EQ(escaped_for_log("/x\n127.0.0.1 GET /forged\r"), "/x\\x0a127.0.0.1 GET /forged\\x0d");
+  EXPECT_EQ(escaped_for_log("\x1b[2J\x7f\xc3\xa9"), "\\x1b[2J\\x7f\\xc3\\xa9");
+  EXPECT_EQ(escaped_for_log("back\\slash"), "back\\x5cslash");
+}
+
+TEST(WebOptions, WarnsWhenItListensBeyondLoopbackWithoutAToken) {
+  WebOptions options;
+  EXPECT_THAT(exposure_warning(options), IsEmpty());  // 127.0.0.1
+  options.listen.host = "0.0.0.0";
+  EXPECT_THAT(exposure_warning(options),
+              AllOf(HasSubstr("dh3-web listens on 0.0.0.0 without --token-file"),
+                    HasSubstr("anyone on that network can watch every hand")));
+  options.listen.host = "::1";
+  EXPECT_THAT(exposure_warning(options), IsEmpty());
+  options.listen.host = "10.0.0.5";
+  options.token_file = "/etc/dh3/web.token";
+  EXPECT_THAT(exposure_warning(options), IsEmpty());
+}
+
+TEST(WebOptions, TakesFurtherHostNames) {
+  const char* argv[] = {"dh3-web", "--allow-host", "cell-pc.example", "--allow-host", "proxy"};
+  WebOptions options;
+  std::ostringstream out;
+  std::ostringstream err;
+  EXPECT_EQ(parse_web_options(5, argv, options, out, err), std::nullopt) << err.str();
+  EXPECT_THAT(options.allowed_hosts, ElementsAre("cell-pc.example", "proxy"));
 }
 
 TEST(WebOptions, ParsesListenAddresses) {

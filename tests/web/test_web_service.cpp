@@ -1,11 +1,14 @@
 // dh3-web as a user runs it: a child process serving HTTP against dh3-service
 // on the simulator (three hands, hand 1 with an object at 40), driven with
 // plain HTTP requests. Commands, every bad input and the missing token, the
-// push stream, viewing behind the token.
+// push stream, viewing behind the token, requests for another Host name (DNS
+// rebinding), an access log that a request cannot forge lines in, and a token
+// file others may read.
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <httplib.h>
+#include <sys/stat.h>
 
 #include <atomic>
 #include <thread>
@@ -16,6 +19,7 @@ namespace dh3::test {
 namespace {
 
 using ::testing::HasSubstr;
+using ::testing::Not;
 using ::testing::StartsWith;
 
 constexpr const char* kToken = "integration-token-0123456789";
@@ -23,11 +27,12 @@ constexpr const char* kToken = "integration-token-0123456789";
 /// dh3-web on this test's domain and a free port.
 class WebProcess {
  public:
-  explicit WebProcess(std::vector<std::string> extra = {})
+  explicit WebProcess(std::vector<std::string> extra = {}, const std::string& log_level = "warn")
       : token_(std::string(kToken) + "\n", ".token") {
+    ::chmod(token_.path().c_str(), 0600);
     std::vector<std::string> args = {"--domain", std::to_string(test_domain()), "--listen",
                                      "127.0.0.1:0", "--token-file", token_.path(),
-                                     "--timeout", "20", "--log-level", "warn"};
+                                     "--timeout", "20", "--log-level", log_level};
     args.insert(args.end(), extra.begin(), extra.end());
     process_ = std::make_unique<Process>(DH3_WEB_PATH, args, Process::Stdin::dev_null);
     if (auto line = process_->wait_for_line("dh3-web: serving http://127.0.0.1:",
@@ -37,6 +42,17 @@ class WebProcess {
     }
   }
   [[nodiscard]] int port() const { return port_; }
+  /// The next line of its stdout (the log) that holds `text`; nullopt if none
+  /// comes within the deadline. Lines before it are kept in `passed`.
+  std::optional<std::string> wait_for_log(std::string_view text, std::vector<std::string>& passed) {
+    const auto deadline = std::chrono::steady_clock::now() + kClientDeadline;
+    while (auto line = process_->read_line(std::chrono::duration_cast<std::chrono::milliseconds>(
+               deadline - std::chrono::steady_clock::now()))) {
+      if (line->find(text) != std::string::npos) return line;
+      passed.push_back(*line);
+    }
+    return std::nullopt;
+  }
   /// SIGTERM; the exit code, or nullopt if it did not exit normally in time.
   std::optional<int> stop() {
     process_->send_signal(SIGTERM);
@@ -304,8 +320,59 @@ TEST(WebStartup, RefusesABadListenAddressAndAShortToken) {
   const Finished listen = run_program(DH3_WEB_PATH, {"--listen", "localhost"});
   EXPECT_EQ(listen.exit_code, 2);
   TempFile short_token("short\n", ".token");
+  ::chmod(short_token.path().c_str(), 0600);
   const Finished token = run_program(DH3_WEB_PATH, {"--token-file", short_token.path()});
   EXPECT_EQ(token.exit_code, 2);
+}
+
+TEST(WebStartup, RefusesATokenFileOtherUsersMayRead) {
+  TempFile token(std::string(kToken) + "\n", ".token");
+  ::chmod(token.path().c_str(), 0644);
+  const Finished shared = run_program(
+      DH3_WEB_PATH, {"--domain", std::to_string(test_domain()), "--listen", "127.0.0.1:0",
+                     "--token-file", token.path()});
+  EXPECT_EQ(shared.exit_code, 2);
+  EXPECT_THAT(shared.text(), Not(HasSubstr("dh3-web: serving")));
+}
+
+TEST_F(WebServiceTest, RefusesARequestForAnotherHostName) {
+  // What a DNS-rebinding page sends: its own name, resolved to this machine.
+  const httplib::Headers rebound = {{"Host", "attacker.example:" + std::to_string(web_.port())}};
+  for (const char* path : {"/api/hands", "/api/health", "/api/stream", "/"}) {
+    auto res = http_.Get(path, rebound);
+    ASSERT_TRUE(res) << path;
+    EXPECT_EQ(res->status, 421) << path;
+    EXPECT_THAT(res->body, HasSubstr(R"("code":"MISDIRECTED_REQUEST")")) << path;
+    EXPECT_THAT(res->body, Not(HasSubstr(hand_spec(1)))) << path;
+  }
+  auto moved = command(1, "move", R"({"position":30})",
+                       {{"Authorization", std::string("Bearer ") + kToken},
+                        {"Host", "attacker.example"}});
+  ASSERT_TRUE(moved);
+  EXPECT_EQ(moved->status, 421);
+  auto local = http_.Get("/api/hands", {{"Host", "localhost:" + std::to_string(web_.port())}});
+  ASSERT_TRUE(local);
+  EXPECT_EQ(local->status, 200);
+  EXPECT_THAT(local->body, HasSubstr(hand_spec(1)));
+}
+
+TEST(WebAccessLog, ARequestCannotForgeALine) {
+  RunningService service{sim_config()};
+  ASSERT_TRUE(service.started());
+  WebProcess web({}, "info");
+  ASSERT_GT(web.port(), 0);
+  auto http = web.client();
+  http.set_url_encode(false);  // the path goes out as written, %0a and all
+  auto res = http.Get("/api/hands%0a127.0.0.1%20POST%20/api/hands/cell/bus0/1/move%20200");
+  ASSERT_TRUE(res);
+  std::vector<std::string> passed;
+  const auto line = web.wait_for_log("/api/hands\\x0a127.0.0.1 POST", passed);
+  ASSERT_TRUE(line.has_value()) << "no access log line for the request";
+  EXPECT_THAT(*line, HasSubstr("/api/hands\\x0a127.0.0.1 POST /api/hands/cell/bus0/1/move 200 " +
+                               std::to_string(res->status)));
+  for (const auto& earlier : passed) {
+    EXPECT_THAT(earlier, Not(HasSubstr("POST /api/hands/cell/bus0/1/move"))) << earlier;
+  }
 }
 
 }  // namespace

@@ -63,6 +63,7 @@ def service_and_web(position_speed: int = 100):
             f.write(sim_config(position_speed))
         with open(token, "w") as f:
             f.write(TOKEN + "\n")
+        os.chmod(token, 0o600)  # dh3-web refuses a token others may read
         service = subprocess.Popen(
             [os.environ["DH3_SERVICE"], "--domain", str(DOMAIN), "--name", SERVICE,
              "--config", config, "--log-level", "warn"], stdin=subprocess.DEVNULL)
