@@ -1,13 +1,17 @@
 #!/usr/bin/env bash
 # deploy/systemd/dh3.service: passes `systemd-analyze verify` with no
 # warning, keeps its hardening (`systemd-analyze security` exposure), has what
-# the issue asks for, and dh3-service serves requests under its
-# RestrictAddressFamilies= (emulated with seccomp by restrict_af, as systemd
-# does it: other families fail with EAFNOSUPPORT). The unit under a real
-# systemd, as the Debian package installs it: tests/package/test_install.sh.
+# the issue asks for (memory and task limits, a system-call filter), and
+# dh3-service serves requests under its RestrictAddressFamilies= and the
+# system calls its SystemCallFilter=~ denies (both emulated with seccomp by
+# restrict_af, as systemd does it: other families fail with EAFNOSUPPORT,
+# denied calls with EPERM). The unit under a real systemd, its allow list
+# (@system-service) included, as the Debian package installs it:
+# tests/package/test_install.sh.
 #
-# deploy/systemd/dh3-web.service too: verify, exposure, and dh3-web serving the
-# hands over HTTP under its RestrictAddressFamilies=.
+# deploy/systemd/dh3-web.service too: verify, exposure, limits, an IP address
+# allow list of loopback, and dh3-web serving the hands over HTTP under its
+# RestrictAddressFamilies= and denied system calls.
 #
 #   test_systemd_unit.sh SOURCE_DIR DH3_SERVICE DH3CTL RESTRICT_AF DH3_WEB
 set -uo pipefail
@@ -50,6 +54,53 @@ check_unit() {
 check_unit "$unit" dh3-service "$service_bin"
 
 value() { sed -n "s/^$1=//p" "$unit" | tail -n 1; }
+
+# denied_syscalls UNIT_FILE: the x86-64 numbers of the system calls the unit's
+# SystemCallFilter=~ lines deny, groups expanded, comma-separated.
+unistd=/usr/include/x86_64-linux-gnu/asm/unistd_64.h
+expand_syscalls() {
+  local entry
+  for entry in "$@"; do
+    if [[ $entry == @* ]]; then
+      expand_syscalls $(systemd-analyze syscall-filter "$entry" | sed -e 1d -e '/^ *#/d')
+    else
+      echo "$entry"
+    fi
+  done
+}
+denied_syscalls() {
+  local name numbers=()
+  for name in $(expand_syscalls $(sed -n 's/^SystemCallFilter=~//p' "$1") | sort -u); do
+    numbers+=($(sed -n "s/^#define __NR_$name \([0-9]*\)$/\1/p" "$unistd"))
+  done
+  local IFS=,
+  echo "${numbers[*]}"
+}
+# check_limits UNIT_FILE: the memory and task limits and the deny list are there.
+check_limits() {
+  local file=$1 name
+  name=$(basename "$file")
+  for setting in MemoryMax TasksMax; do
+    grep -qE "^$setting=[0-9]+[KMG]?$" "$file" && ok "$name: $(grep "^$setting=" "$file")" ||
+      fail "$name: no $setting="
+  done
+  grep -qx "SystemCallFilter=@system-service" "$file" && ok "$name: SystemCallFilter=@system-service" ||
+    fail "$name: no SystemCallFilter=@system-service"
+  local deny
+  deny=$(sed -n 's/^SystemCallFilter=~//p' "$file")
+  [[ " $deny " == *" @privileged "* && " $deny " == *" @resources "* ]] &&
+    ok "$name: SystemCallFilter=~$deny" || fail "$name: SystemCallFilter=~ lacks @privileged or @resources"
+}
+[[ -r $unistd ]] || fail "no $unistd: cannot name the system calls the units deny"
+check_limits "$unit"
+denied=$(denied_syscalls "$unit")
+# The emulated deny list bites: chown(2) is one of @privileged's.
+touch "$work/owned"
+if "$restrict" AF_UNIX --deny-syscalls "$denied" -- chown "$(id -u)" "$work/owned" 2>/dev/null; then
+  fail "chown succeeded under dh3.service's denied system calls: the emulation does not bite"
+else
+  ok "chown fails under dh3.service's denied system calls ($(tr -cd , <<<"$denied" | wc -c) + 1 numbers)"
+fi
 [[ $(value User) =~ ^[a-z][a-z0-9_-]*$ && $(value User) != root ]] && ok "User=$(value User)" ||
   fail "no dedicated User="
 for setting in ProtectSystem=strict NoNewPrivileges=yes Restart=on-failure; do
@@ -66,8 +117,8 @@ done
 # The service under the unit's address families, and under those minus
 # AF_NETLINK (the reason the unit has it).
 domain=$((10 + $$ % 200))
-serve() {  # serve FAMILIES: start dh3-service restricted to them
-  "$restrict" "$1" -- "$service_bin" --name unit --domain "$domain" --bus sim:1 \
+serve() {  # serve FAMILIES: start dh3-service restricted to them and the unit's system calls
+  "$restrict" "$1" --deny-syscalls "$denied" -- "$service_bin" --name unit --domain "$domain" --bus sim:1 \
     --interface 127.0.0.1 --log-level info >"$work/service.log" 2>&1 &
   service_pid=$!
 }
@@ -82,9 +133,9 @@ ctl() { "$ctl_bin" --domain "$domain" --interface 127.0.0.1 "$@"; }
 
 serve "${families// /,}"
 if ctl --timeout 20 status unit/bus0/1 >"$work/ctl" 2>&1; then
-  ok "dh3-service answers under RestrictAddressFamilies=$families"
+  ok "dh3-service answers under RestrictAddressFamilies=$families and its denied system calls"
 else
-  fail "dh3-service does not answer under RestrictAddressFamilies=$families"
+  fail "dh3-service does not answer under RestrictAddressFamilies=$families and its denied system calls"
   sed 's/^/  /' "$work/ctl" "$work/service.log"
 fi
 stop && ok "dh3-service stops cleanly on SIGTERM (exit 0)" || fail "dh3-service exit status $? on SIGTERM"
@@ -106,9 +157,14 @@ grep -qx "ExecStart=$web_bin --listen 127.0.0.1:8080 --token-file /etc/dh3/web.t
   ok "dh3-web.service listens on loopback and takes the token from /etc/dh3/web.token" ||
   fail "dh3-web.service: ExecStart is not loopback with /etc/dh3/web.token"
 grep -qx "User=dh3-web" "$web_unit" && ok "dh3-web.service: User=dh3-web" || fail "dh3-web.service: no User=dh3-web"
+check_limits "$web_unit"
+grep -qx "IPAddressDeny=any" "$web_unit" && grep -qx "IPAddressAllow=localhost multicast" "$web_unit" &&
+  ok "dh3-web.service: IPAddressDeny=any, IPAddressAllow=localhost multicast (loopback and DDS discovery)" ||
+  fail "dh3-web.service: no IP address allow list of loopback (and multicast for discovery)"
 web_families=$(sed -n 's/^RestrictAddressFamilies=//p' "$web_unit" | tail -n 1)
+web_denied=$(denied_syscalls "$web_unit")
 serve "${families// /,}"
-"$restrict" "${web_families// /,}" -- "$web_bin" --domain "$domain" --listen 127.0.0.1:0 \
+"$restrict" "${web_families// /,}" --deny-syscalls "$web_denied" -- "$web_bin" --domain "$domain" --listen 127.0.0.1:0 \
   --log-level warn >"$work/web.log" 2>&1 &
 web_pid=$!
 hands=
@@ -123,7 +179,7 @@ for _ in $(seq 200); do
   sleep 0.1
 done
 [[ $hands == *'"hand":"unit/bus0/1"'* ]] &&
-  ok "dh3-web serves the hands under RestrictAddressFamilies=$web_families" ||
+  ok "dh3-web serves the hands under RestrictAddressFamilies=$web_families and its denied system calls" ||
   { fail "dh3-web does not serve hand unit/bus0/1 under RestrictAddressFamilies=$web_families"; sed 's/^/  /' "$work/web.log"; }
 kill -TERM "$web_pid" && wait "$web_pid" && ok "dh3-web stops cleanly on SIGTERM (exit 0)" ||
   fail "dh3-web exit status $? on SIGTERM"

@@ -230,6 +230,8 @@ TEST(BearerToken, RefusesAFileOthersOrItsGroupMayReadOrChange) {
   const std::string group_reads = refusal_at(0640);
   if (::geteuid() == 0) {
     EXPECT_THAT(group_reads, IsEmpty());
+    ASSERT_EQ(::chown(path.c_str(), 65534, static_cast<gid_t>(-1)), 0);  // nobody's file
+    EXPECT_THAT(refusal_at(0640), HasSubstr("mode 0640: its group"));
   } else {
     EXPECT_THAT(group_reads, HasSubstr("mode 0640: its group"));
   }
