@@ -10,6 +10,8 @@
 - what they say about each other agrees: the health check's service name and
   domain are the config's, the discovery server's address is where the server
   listens, the image's user is the manifests' user, containers are UDP only;
+- a file that deploys dh3-service without DDS Security says so in its
+  header and points at docs/security.md, which names the file;
 - with --print-programs, prints "program NAME" for every program the
   Dockerfile, the Compose file and the manifests run (the container tests
   check that the image has each).
@@ -79,6 +81,7 @@ def main():
     check_compose(src, docs, configs, programs)
     check_kubernetes(src, docs, configs, programs, dockerfile_uid)
     check_docs(src)
+    check_exposure(src)
     check_configs(check_config, configs)
     if print_programs:
         for program in sorted(programs):
@@ -89,6 +92,34 @@ def main():
         return 1
     print("manifests: no problems")
     return 0
+
+
+# The files that run dh3-service on a network other machines or containers
+# share: the image (its built-in config serves every interface), Compose and
+# the two Kubernetes Deployments.
+DEPLOYING_FILES = ("deploy/container/Dockerfile", "deploy/container/compose.yaml",
+                   "deploy/kubernetes/dh3-service.yaml",
+                   "deploy/kubernetes/dh3-service-hostnetwork.yaml")
+
+
+def check_exposure(src):
+    """Each deploying file has DDS Security in the config it carries, or its
+    header says plainly that it has none and where what that exposes is told."""
+    with open(os.path.join(src, "docs/security.md"), encoding="utf-8") as f:
+        page = f.read()
+    for rel in DEPLOYING_FILES:
+        with open(os.path.join(src, rel), encoding="utf-8") as f:
+            text = f.read()
+        if re.search(r"^\s+security:\s*$", text, re.MULTILINE) or "--security-dir" in text:
+            continue
+        comments = " ".join(l.lstrip("# ").strip() for l in text.splitlines()
+                            if l.lstrip().startswith("#"))
+        if "Without DDS Security" not in comments or "docs/security.md" not in comments:
+            problem(f"{rel}: deploys dh3-service without DDS Security and its comments do not "
+                    "say so (\"Without DDS Security: ...\", docs/security.md)")
+        if os.path.basename(rel) not in page:
+            problem(f"docs/security.md does not say what {rel} exposes")
+    print(f"exposure: {len(DEPLOYING_FILES)} deploying files state theirs")
 
 
 def config_of(text):
