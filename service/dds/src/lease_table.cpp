@@ -103,12 +103,10 @@ bool LeaseTable::held_by(HandKey hand, std::string_view client) const {
   return lease != nullptr && !wanted.empty() && canonical_client_id(lease->holder) == wanted;
 }
 
-std::vector<EndedLease> LeaseTable::expire() {
-  const TimePoint now = clock_.now();
+std::vector<EndedLease> LeaseTable::end_locked(const std::function<bool(const Lease&)>& ends) {
   std::vector<EndedLease> ended;
-  std::lock_guard lock(mutex_);
   for (auto it = leases_.begin(); it != leases_.end();) {
-    if (it->second.expires <= now) {
+    if (ends(it->second)) {
       ended.push_back({it->first, std::move(it->second.shown), std::move(it->second.holder)});
       it = leases_.erase(it);
     } else {
@@ -119,21 +117,18 @@ std::vector<EndedLease> LeaseTable::expire() {
   return ended;
 }
 
+std::vector<EndedLease> LeaseTable::expire() {
+  const TimePoint now = clock_.now();
+  std::lock_guard lock(mutex_);
+  return end_locked([now](const Lease& lease) { return lease.expires <= now; });
+}
+
 std::vector<EndedLease> LeaseTable::drop_client(std::string_view participant_id) {
   const std::string wanted = canonical_client_id(participant_id);
-  std::vector<EndedLease> ended;
-  if (wanted.empty()) return ended;
+  if (wanted.empty()) return {};
   std::lock_guard lock(mutex_);
-  for (auto it = leases_.begin(); it != leases_.end();) {
-    if (canonical_client_id(it->second.holder) == wanted) {
-      ended.push_back({it->first, std::move(it->second.shown), std::move(it->second.holder)});
-      it = leases_.erase(it);
-    } else {
-      ++it;
-    }
-  }
-  count_.store(leases_.size());
-  return ended;
+  return end_locked(
+      [&wanted](const Lease& lease) { return canonical_client_id(lease.holder) == wanted; });
 }
 
 std::optional<TimePoint> LeaseTable::next_expiry() const {

@@ -15,6 +15,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -99,6 +100,8 @@ class LeaseTable {
   };
   /// The live lease on `hand`, nullopt if none or it ran out (locked).
   [[nodiscard]] const Lease* live_locked(HandKey hand, TimePoint now) const;
+  /// Ends the leases `ends` picks and returns them (locked).
+  std::vector<EndedLease> end_locked(const std::function<bool(const Lease&)>& ends);
 
   const Clock& clock_;
   mutable std::mutex mutex_;
