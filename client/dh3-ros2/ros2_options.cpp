@@ -52,14 +52,9 @@ std::optional<int> parse_ros2_options(int argc, const char* const* argv, Ros2Opt
                  "each hand's control_msgs/action/GripperCommand action, a pattern of {service}, "
                  "{bus} and {id} (default {service}_{bus}_{id}/gripper_cmd)");
   add_unit_options(app, options.units);
-  app.add_option("--log-level", options.log_level, "trace, debug, info, warn, error (default info)")
-      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
+  ctl::add_log_level_option(app, options.log_level);
   ctl::add_client_options(app, options.client);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& error) {
-    return app.exit(error, out, err) == 0 ? 0 : 2;
-  }
+  if (auto code = ctl::parse_command_line(app, argc, argv, out, err)) return code;
   auto topic = resolve_name(options.ros_namespace, options.joint_states);
   if (!topic) {
     err << "dh3-ros2: --joint-states: " << topic.error() << "\n";

@@ -59,14 +59,9 @@ std::optional<int> parse_web_options(int argc, const char* const* argv, WebOptio
   app.add_option("--threads", options.threads,
                  "HTTP worker threads; each open page holds one (default 16)")
       ->check(CLI::Range(2, 1024));
-  app.add_option("--log-level", options.log_level, "trace, debug, info, warn, error (default info)")
-      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
+  ctl::add_log_level_option(app, options.log_level);
   ctl::add_client_options(app, options.client);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& error) {
-    return app.exit(error, out, err) == 0 ? 0 : 2;
-  }
+  if (auto code = ctl::parse_command_line(app, argc, argv, out, err)) return code;
   auto parsed = parse_listen(listen);
   if (!parsed) {
     err << "dh3-web: " << parsed.error() << "\n";

@@ -13,4 +13,19 @@ void add_client_options(CLI::App& app, ClientOptions& options) {
                  "default: every service of the domain");
 }
 
+void add_log_level_option(CLI::App& app, std::string& level) {
+  app.add_option("--log-level", level, "trace, debug, info, warn, error (default info)")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
+}
+
+std::optional<int> parse_command_line(CLI::App& app, int argc, const char* const* argv,
+                                      std::ostream& out, std::ostream& err) {
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& error) {
+    return app.exit(error, out, err) == 0 ? 0 : 2;
+  }
+  return std::nullopt;
+}
+
 }  // namespace dh3::ctl

@@ -594,11 +594,8 @@ int run(int argc, const char* const* argv, std::ostream& out, std::ostream& err,
   Args a;
   auto* open_opt = declare_commands(app, a);
 
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& error) {
-    const int code = app.exit(error, out, err);
-    return code == 0 ? kExitOk : kExitUsage;
+  if (auto code = parse_command_line(app, argc, argv, out, err)) {
+    return *code == 0 ? kExitOk : kExitUsage;
   }
   a.has_second = open_opt->count() > 0;
   const std::string command = app.get_subcommands().front()->get_name();
