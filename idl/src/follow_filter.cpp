@@ -70,7 +70,7 @@ bool FollowFilter::evaluate(const SerializedPayload& payload,
                             const FilterSampleInfo& /*sample_info*/,
                             const GUID_t& /*reader_guid*/) const {
   const bool pass = matches(payload.data, payload.length);
-  (pass ? counts_.passed : counts_.rejected).fetch_add(1, std::memory_order_relaxed);
+  counts_.count(pass);
   return pass;
 }
 
@@ -114,12 +114,6 @@ FollowFilterFactory::ReturnCode_t FollowFilterFactory::create_content_filter(
   if (!follow) return ReturnCode_t::RETCODE_BAD_PARAMETER;
   delete_content_filter(nullptr, filter_instance);
   filter_instance = new FollowFilter(std::move(*follow), counts_);
-  return ReturnCode_t::RETCODE_OK;
-}
-
-FollowFilterFactory::ReturnCode_t FollowFilterFactory::delete_content_filter(
-    const char* /*filter_class_name*/, eprosima::fastdds::dds::IContentFilter* filter_instance) {
-  delete static_cast<FollowFilter*>(filter_instance);
   return ReturnCode_t::RETCODE_OK;
 }
 

@@ -33,7 +33,7 @@ bool ReplyFilter::evaluate(const SerializedPayload& payload,
   // A sample it cannot read goes through: the client checks client_id again.
   const bool pass =
       !serialized_client_id(payload.data, payload.length, client_id) || client_id == client_id_;
-  (pass ? counts_.passed : counts_.rejected).fetch_add(1, std::memory_order_relaxed);
+  counts_.count(pass);
   return pass;
 }
 
@@ -56,12 +56,6 @@ ReplyFilterFactory::ReturnCode_t ReplyFilterFactory::create_content_filter(
   }
   delete_content_filter(nullptr, filter_instance);
   filter_instance = new ReplyFilter(std::move(client_id), counts_);
-  return ReturnCode_t::RETCODE_OK;
-}
-
-ReplyFilterFactory::ReturnCode_t ReplyFilterFactory::delete_content_filter(
-    const char* /*filter_class_name*/, eprosima::fastdds::dds::IContentFilter* filter_instance) {
-  delete static_cast<ReplyFilter*>(filter_instance);
   return ReturnCode_t::RETCODE_OK;
 }
 

@@ -18,17 +18,16 @@
 // written: a follower that joins is sent each hand's last status once), and
 // writers that do not know the class.
 
-#include <atomic>
 #include <cstdint>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/topic/ContentFilteredTopic.hpp>
 #include <fastdds/dds/topic/IContentFilter.hpp>
-#include <fastdds/dds/topic/IContentFilterFactory.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
 
 #include "dh3/base/result.hpp"
+#include "dh3/contract/counting_filter_factory.hpp"
 #include "dh3/contract/dh3.h"
 
 namespace dh3::contract {
@@ -64,10 +63,7 @@ struct Follow {
 /// Counts what the follow filters of one participant decided: on a service,
 /// its writers' (writer-side filtering); on a client, its readers', i.e. the
 /// samples that reached it although a writer did not filter them for it.
-struct FollowFilterCounts {
-  std::atomic<std::uint64_t> passed{0};
-  std::atomic<std::uint64_t> rejected{0};
-};
+using FollowFilterCounts = FilterCounts;
 
 // Fast DDS's filter interfaces have no virtual destructor; a filter is only
 // ever deleted as a FollowFilter (FollowFilterFactory::delete_content_filter).
@@ -92,7 +88,7 @@ class FollowFilter final : public eprosima::fastdds::dds::IContentFilter {
 
 /// Makes FollowFilters; registered under kFollowFilterClass on every dh3
 /// participant (it must outlive the participant).
-class FollowFilterFactory final : public eprosima::fastdds::dds::IContentFilterFactory {
+class FollowFilterFactory final : public CountingFilterFactory<FollowFilter> {
  public:
   /// The Follow a filter expression and its parameters describe; nullopt if
   /// malformed (an unknown expression, parameters that do not fit it, a name
@@ -107,15 +103,6 @@ class FollowFilterFactory final : public eprosima::fastdds::dds::IContentFilterF
       const eprosima::fastdds::dds::TopicDataType* data_type, const char* filter_expression,
       const ParameterSeq& filter_parameters,
       eprosima::fastdds::dds::IContentFilter*& filter_instance) override;
-
-  ReturnCode_t delete_content_filter(
-      const char* filter_class_name,
-      eprosima::fastdds::dds::IContentFilter* filter_instance) override;
-
-  [[nodiscard]] const FollowFilterCounts& counts() const { return counts_; }
-
- private:
-  FollowFilterCounts counts_;
 };
 #pragma GCC diagnostic pop
 

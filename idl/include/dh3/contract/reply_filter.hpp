@@ -21,14 +21,14 @@
 // must know the class: contract::Participant registers it on every dh3
 // participant. Where a writer does not know it, the reader filters alone.
 
-#include <atomic>
 #include <cstdint>
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/topic/ContentFilteredTopic.hpp>
 #include <fastdds/dds/topic/IContentFilter.hpp>
-#include <fastdds/dds/topic/IContentFilterFactory.hpp>
 #include <string>
 #include <string_view>
+
+#include "dh3/contract/counting_filter_factory.hpp"
 
 namespace dh3::contract {
 
@@ -49,10 +49,7 @@ std::string own_replies_topic_name();
 /// for a service, on the reader's side for a client), for tests and
 /// benchmarks: a client whose replies are filtered by the service never
 /// rejects one itself.
-struct ReplyFilterCounts {
-  std::atomic<std::uint64_t> passed{0};
-  std::atomic<std::uint64_t> rejected{0};
-};
+using ReplyFilterCounts = FilterCounts;
 
 // Fast DDS's filter interfaces have no virtual destructor; a filter is only
 // ever deleted as a ReplyFilter (ReplyFilterFactory::delete_content_filter).
@@ -73,22 +70,13 @@ class ReplyFilter final : public eprosima::fastdds::dds::IContentFilter {
 
 /// Makes ReplyFilters; registered under kReplyFilterClass on every dh3
 /// participant (it must outlive the participant).
-class ReplyFilterFactory final : public eprosima::fastdds::dds::IContentFilterFactory {
+class ReplyFilterFactory final : public CountingFilterFactory<ReplyFilter> {
  public:
   ReturnCode_t create_content_filter(
       const char* filter_class_name, const char* type_name,
       const eprosima::fastdds::dds::TopicDataType* data_type, const char* filter_expression,
       const ParameterSeq& filter_parameters,
       eprosima::fastdds::dds::IContentFilter*& filter_instance) override;
-
-  ReturnCode_t delete_content_filter(
-      const char* filter_class_name,
-      eprosima::fastdds::dds::IContentFilter* filter_instance) override;
-
-  [[nodiscard]] const ReplyFilterCounts& counts() const { return counts_; }
-
- private:
-  ReplyFilterCounts counts_;
 };
 #pragma GCC diagnostic pop
 
