@@ -4,7 +4,7 @@
 
 #include <httplib.h>
 
-#include "log_text.hpp"
+#include "dh3/base/log_text.hpp"
 #include "web_assets.hpp"
 
 namespace dh3::web {

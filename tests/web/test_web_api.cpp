@@ -1,6 +1,6 @@
 // dh3-web's API without a server or a service: how commands and bodies are
-// parsed, the token and its file's mode, --listen, the Host names served, the
-// access log's escaping, and HandApi's routing and refusals with a client on
+// parsed, the token and its file's mode, --listen, the Host names served,
+// and HandApi's routing and refusals with a client on
 // an empty domain (nothing may be sent for any of them).
 
 #include <gmock/gmock.h>
@@ -20,7 +20,6 @@
 #include "dh3/base/version.hpp"
 #include "dh3/registers.hpp"
 #include "hand_api.hpp"
-#include "log_text.hpp"
 #include "support/test_domain.hpp"
 #include "web_assets.hpp"
 #include "web_command.hpp"
@@ -269,13 +268,6 @@ TEST(AllowedHosts, OnEveryInterfaceServesAnyAddressButNoOtherName) {
   EXPECT_TRUE(hosts.allows("cell-pc.example"));
   EXPECT_FALSE(hosts.allows("attacker.example:8080"));
   EXPECT_TRUE(AllowedHosts("::", {}).allows("192.168.1.2"));
-}
-
-TEST(AccessLog, EscapesWhatCouldForgeALineOrDriveATerminal) {
-  EXPECT_EQ(escaped_for_log("/api/hands"), "/api/hands");
-  EXPECT_EQ(escaped_for_log("/x\n127.0.0.1 GET /forged\r"), "/x\\x0a127.0.0.1 GET /forged\\x0d");
-  EXPECT_EQ(escaped_for_log("\x1b[2J\x7f\xc3\xa9"), "\\x1b[2J\\x7f\\xc3\\xa9");
-  EXPECT_EQ(escaped_for_log("back\\slash"), "back\\x5cslash");
 }
 
 TEST(WebOptions, WarnsWhenItListensBeyondLoopbackWithoutAToken) {

@@ -2,6 +2,7 @@
 
 #include <fastrtps/utils/IPLocator.h>
 
+#include "dh3/base/log_text.hpp"
 #include "dh3/contract/participant.hpp"
 
 namespace dh3::dds {
@@ -26,7 +27,9 @@ std::string first_address(const rtps::ParticipantProxyData& data) {
 }  // namespace
 
 std::string shown_name(const rtps::ParticipantProxyData& data) {
-  std::string shown = data.m_participantName.to_string();
+  // The participant's own claim: escaped, so that it cannot forge a line of
+  // the service's log (a lease taken) or of a console showing the holder.
+  std::string shown = escaped_for_log(data.m_participantName.to_string());
   if (shown.empty()) {
     const std::string address = first_address(data);
     shown = address.empty() ? "unnamed participant" : "unnamed participant at " + address;
@@ -37,7 +40,7 @@ std::string shown_name(const rtps::ParticipantProxyData& data) {
   if (const std::string* subject =
           rtps::DataHolderHelper::find_property_value(data.identity_token_, "dds.cert.sn");
       subject != nullptr && !subject->empty()) {
-    shown += " (" + *subject + ")";
+    shown += " (" + escaped_for_log(*subject) + ")";
   }
 #endif
   return shown;

@@ -34,7 +34,8 @@ class ParticipantNames {
 
 /// The words a participant is shown by, from its discovery data: its announced
 /// name (else "unnamed participant at <its address>"), and the subject of its
-/// identity certificate when DDS Security authenticated it.
+/// identity certificate when DDS Security authenticated it; control
+/// characters and other bytes outside printable ASCII escaped (escaped_for_log).
 [[nodiscard]] std::string shown_name(const eprosima::fastrtps::rtps::ParticipantProxyData& data);
 
 }  // namespace dh3::dds

@@ -1,8 +1,8 @@
-#include "log_text.hpp"
+#include "dh3/base/log_text.hpp"
 
 #include <cstdio>
 
-namespace dh3::web {
+namespace dh3 {
 
 std::string escaped_for_log(std::string_view text) {
   std::string escaped;
@@ -20,4 +20,4 @@ std::string escaped_for_log(std::string_view text) {
   return escaped;
 }
 
-}  // namespace dh3::web
+}  // namespace dh3
