@@ -5,7 +5,9 @@
 # deploy/dds/secure.xml's profiles (with the test PKI's paths).
 #
 # 0. Control: without security, a capture of the UDP payloads on the
-#    service's link holds a hand's name in plain text (the capture works).
+#    service's link holds a hand's name in plain text (the capture works), and
+#    the service warned once at start that anyone on that network can drive
+#    every hand; the secure service does not warn.
 # 1. The operator drives a hand.
 # 2. The monitor sees the hands' status, but its command never reaches the
 #    service: the hand does not move, and the monitor gets an error or a
@@ -128,6 +130,10 @@ monitor() {
 outsider() {
   ip netns exec "$cli" "$ctl_bin" --domain "$domain" --interface "$cli_addr" --udp-only "$@"
 }
+exposure_warnings() {  # in the last service's log
+  grep -c "DDS Security is off and this service is reachable from other machines: anyone on that network can drive every hand" \
+    "$work/service.log"
+}
 position_of_hand_1() {  # as the operator sees it
   operator --timeout 20 --json status cell/bus0/1 | sed -n 's/.*"position":\(-\{0,1\}[0-9]*\).*/\1/p'
 }
@@ -140,6 +146,9 @@ stop_service
 capture_stop
 echo "   $packets UDP packets, marker in $found"
 ((found > 0)) || fail "control: the capture did not see the hand's name in plain text"
+warned=$(exposure_warnings)
+((warned == 1)) || { show_logs; fail "control: the plain service on $srv_addr warned $warned times (expected once) that anyone on that network can drive every hand"; }
+echo "   the plain service warned once at start: anyone on that network can drive every hand"
 
 echo "== secure service (${service_secure[*]})"
 capture_start
@@ -185,6 +194,8 @@ echo "   nothing seen; hand 1 still at 30"
 
 stop_service
 capture_stop
+warned=$(exposure_warnings)
+((warned == 0)) || { show_logs; fail "the secure service warned that DDS Security is off"; }
 echo "== 4. $packets UDP packets captured on the service's link, marker in $found"
 ((packets > 20)) || fail "too little traffic captured to judge"
 ((found == 0)) || fail "the hand's name crossed the link in plain text $found time(s)"
