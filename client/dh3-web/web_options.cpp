@@ -24,11 +24,18 @@ Result<ListenAddress, std::string> parse_listen(const std::string& text) {
 }
 
 std::string exposure_warning(const WebOptions& options) {
-  if (is_loopback_host(options.listen.host) || !options.token_file.empty()) return {};
+  if (is_loopback_host(options.listen.host)) return {};
+  if (options.token_file.empty()) {
+    return "dh3-web listens on " + options.listen.host +
+           " without --token-file: anyone on that network can watch every hand (status, "
+           "position, events) and see who holds its lease; commands are off. Listen on "
+           "127.0.0.1 behind a TLS proxy, or give --token-file (docs/security.md)";
+  }
   return "dh3-web listens on " + options.listen.host +
-         " without --token-file: anyone on that network can watch every hand (status, "
-         "position, events) and see who holds its lease; commands are off. Listen on "
-         "127.0.0.1 behind a TLS proxy, or give --token-file (docs/security.md)";
+         " over plain HTTP: the bearer token crosses that network in clear text, and "
+         "anyone who reads the traffic can take it and drive every hand" +
+         (options.view_needs_token ? "" : "; anyone there can watch every hand without it") +
+         ". Listen on 127.0.0.1 behind a TLS proxy (docs/security.md)";
 }
 
 std::optional<int> parse_web_options(int argc, const char* const* argv, WebOptions& options,

@@ -34,8 +34,9 @@ struct WebOptions {
 [[nodiscard]] Result<ListenAddress, std::string> parse_listen(const std::string& text);
 
 /// What anyone who reaches dh3-web over the network may do with these
-/// options, when that is more than this machine's users and nothing guards
-/// it (a listening address beyond loopback without a token); empty otherwise.
+/// options: without a token, watch every hand; with one, read it off the
+/// plain-HTTP traffic. Empty on loopback, where a TLS proxy in front is the
+/// only way in from elsewhere.
 [[nodiscard]] std::string exposure_warning(const WebOptions& options);
 
 /// Fills `options` from the command line. nullopt: go on; a number: exit with

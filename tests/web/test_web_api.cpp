@@ -32,6 +32,7 @@ using ::testing::AllOf;
 using ::testing::ElementsAre;
 using ::testing::HasSubstr;
 using ::testing::IsEmpty;
+using ::testing::Not;
 
 constexpr const char* kToken = "a-test-token-of-some-length";
 
@@ -270,7 +271,7 @@ TEST(AllowedHosts, OnEveryInterfaceServesAnyAddressButNoOtherName) {
   EXPECT_TRUE(AllowedHosts("::", {}).allows("192.168.1.2"));
 }
 
-TEST(WebOptions, WarnsWhenItListensBeyondLoopbackWithoutAToken) {
+TEST(WebOptions, WarnsWhenItListensBeyondLoopback) {
   WebOptions options;
   EXPECT_THAT(exposure_warning(options), IsEmpty());  // 127.0.0.1
   options.listen.host = "0.0.0.0";
@@ -281,6 +282,13 @@ TEST(WebOptions, WarnsWhenItListensBeyondLoopbackWithoutAToken) {
   EXPECT_THAT(exposure_warning(options), IsEmpty());
   options.listen.host = "10.0.0.5";
   options.token_file = "/etc/dh3/web.token";
+  EXPECT_THAT(exposure_warning(options),
+              AllOf(HasSubstr("dh3-web listens on 10.0.0.5 over plain HTTP"),
+                    HasSubstr("the bearer token crosses that network in clear text"),
+                    HasSubstr("anyone there can watch every hand without it")));
+  options.view_needs_token = true;
+  EXPECT_THAT(exposure_warning(options), Not(HasSubstr("watch every hand")));
+  options.listen.host = "127.0.0.1";
   EXPECT_THAT(exposure_warning(options), IsEmpty());
 }
 
