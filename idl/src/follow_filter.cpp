@@ -53,8 +53,49 @@ bool serialized_service_bus(const unsigned char* data, std::uint32_t length,
 FollowFilter::FollowFilter(Follow follow, FollowFilterCounts& counts)
     : follow_(std::move(follow)), counts_(counts) {}
 
-void FollowFilter::set_follow(Follow follow) {
-  follow_ = std::move(follow);
+namespace {
+
+/// The Follow a filter expression and its parameters describe; nullopt if
+/// malformed (an unknown expression, parameters that do not fit it, a name
+/// that cannot be followed). `expression` nullptr: new parameters for a
+/// filter made with `with_bus`.
+std::optional<Follow> follow_of(const char* expression, const FilterParameters& parameters,
+                                bool with_bus = false) {
+  if (expression != nullptr) {
+    if (std::strcmp(expression, kFollowBusExpression) == 0) {
+      with_bus = true;
+    } else if (std::strcmp(expression, kFollowServiceExpression) == 0) {
+      with_bus = false;
+    } else {
+      return std::nullopt;
+    }
+  }
+  if (parameters.length() != (with_bus ? 2 : 1)) return std::nullopt;
+  Follow follow;
+  for (FilterParameters::size_type i = 0; i < parameters.length(); ++i) {
+    if (parameters[i] == nullptr) return std::nullopt;
+    std::string name = unquoted(parameters[i]);
+    if (!follow_name_problem(name).empty()) return std::nullopt;
+    (i == 0 ? follow.service : follow.bus) = std::move(name);
+  }
+  return follow;
+}
+
+}  // namespace
+
+std::unique_ptr<FollowFilter> FollowFilter::make(const char* expression,
+                                                 const FilterParameters& parameters,
+                                                 FollowFilterCounts& counts) {
+  auto follow = follow_of(expression, parameters);
+  if (!follow) return nullptr;
+  return std::make_unique<FollowFilter>(std::move(*follow), counts);
+}
+
+bool FollowFilter::set_parameters(const FilterParameters& parameters) {
+  auto follow = follow_of(nullptr, parameters, !follow_.bus.empty());
+  if (!follow) return false;
+  follow_ = std::move(*follow);
+  return true;
 }
 
 bool FollowFilter::matches(const unsigned char* data, std::uint32_t length) const {
@@ -72,49 +113,6 @@ bool FollowFilter::evaluate(const SerializedPayload& payload,
   const bool pass = matches(payload.data, payload.length);
   counts_.count(pass);
   return pass;
-}
-
-std::optional<Follow> FollowFilterFactory::follow_of(const char* expression,
-                                                     const ParameterSeq& parameters,
-                                                     bool with_bus) {
-  if (expression != nullptr) {
-    if (std::strcmp(expression, kFollowBusExpression) == 0) {
-      with_bus = true;
-    } else if (std::strcmp(expression, kFollowServiceExpression) == 0) {
-      with_bus = false;
-    } else {
-      return std::nullopt;
-    }
-  }
-  if (parameters.length() != (with_bus ? 2 : 1)) return std::nullopt;
-  Follow follow;
-  for (ParameterSeq::size_type i = 0; i < parameters.length(); ++i) {
-    if (parameters[i] == nullptr) return std::nullopt;
-    std::string name = unquoted(parameters[i]);
-    if (!follow_name_problem(name).empty()) return std::nullopt;
-    (i == 0 ? follow.service : follow.bus) = std::move(name);
-  }
-  return follow;
-}
-
-FollowFilterFactory::ReturnCode_t FollowFilterFactory::create_content_filter(
-    const char* /*filter_class_name*/, const char* /*type_name*/,
-    const eprosima::fastdds::dds::TopicDataType* /*data_type*/, const char* filter_expression,
-    const ParameterSeq& filter_parameters,
-    eprosima::fastdds::dds::IContentFilter*& filter_instance) {
-  if (filter_expression == nullptr) {  // new parameters for an existing filter
-    if (filter_instance == nullptr) return ReturnCode_t::RETCODE_BAD_PARAMETER;
-    auto* filter = static_cast<FollowFilter*>(filter_instance);
-    auto follow = follow_of(nullptr, filter_parameters, !filter->follow().bus.empty());
-    if (!follow) return ReturnCode_t::RETCODE_BAD_PARAMETER;
-    filter->set_follow(std::move(*follow));
-    return ReturnCode_t::RETCODE_OK;
-  }
-  auto follow = follow_of(filter_expression, filter_parameters);
-  if (!follow) return ReturnCode_t::RETCODE_BAD_PARAMETER;
-  delete_content_filter(nullptr, filter_instance);
-  filter_instance = new FollowFilter(std::move(*follow), counts_);
-  return ReturnCode_t::RETCODE_OK;
 }
 
 eprosima::fastdds::dds::ContentFilteredTopic* create_follow_topic(

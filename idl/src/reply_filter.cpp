@@ -1,12 +1,23 @@
 #include "dh3/contract/reply_filter.hpp"
 
 #include <cstring>
+#include <optional>
 #include <utility>
 
 #include "serialized_string.hpp"
 #include "unquoted.hpp"
 
 namespace dh3::contract {
+
+namespace {
+
+/// The one parameter, unquoted; nullopt if there is not exactly one.
+std::optional<std::string> client_id_of(const FilterParameters& parameters) {
+  if (parameters.length() != 1 || parameters[0] == nullptr) return std::nullopt;
+  return unquoted(parameters[0]);
+}
+
+}  // namespace
 
 std::string own_replies_topic_name() {
   return "dh3/command_reply/own";
@@ -22,8 +33,20 @@ bool serialized_client_id(const unsigned char* data, std::uint32_t length,
 ReplyFilter::ReplyFilter(std::string client_id, ReplyFilterCounts& counts)
     : client_id_(std::move(client_id)), counts_(counts) {}
 
-void ReplyFilter::set_client_id(std::string client_id) {
-  client_id_ = std::move(client_id);
+std::unique_ptr<ReplyFilter> ReplyFilter::make(const char* expression,
+                                               const FilterParameters& parameters,
+                                               ReplyFilterCounts& counts) {
+  if (std::strcmp(expression, kReplyFilterExpression) != 0) return nullptr;
+  auto client_id = client_id_of(parameters);
+  if (!client_id) return nullptr;
+  return std::make_unique<ReplyFilter>(std::move(*client_id), counts);
+}
+
+bool ReplyFilter::set_parameters(const FilterParameters& parameters) {
+  auto client_id = client_id_of(parameters);
+  if (!client_id) return false;
+  client_id_ = std::move(*client_id);
+  return true;
 }
 
 bool ReplyFilter::evaluate(const SerializedPayload& payload,
@@ -35,28 +58,6 @@ bool ReplyFilter::evaluate(const SerializedPayload& payload,
       !serialized_client_id(payload.data, payload.length, client_id) || client_id == client_id_;
   counts_.count(pass);
   return pass;
-}
-
-ReplyFilterFactory::ReturnCode_t ReplyFilterFactory::create_content_filter(
-    const char* /*filter_class_name*/, const char* /*type_name*/,
-    const eprosima::fastdds::dds::TopicDataType* /*data_type*/, const char* filter_expression,
-    const ParameterSeq& filter_parameters,
-    eprosima::fastdds::dds::IContentFilter*& filter_instance) {
-  if (filter_parameters.length() != 1 || filter_parameters[0] == nullptr) {
-    return ReturnCode_t::RETCODE_BAD_PARAMETER;
-  }
-  std::string client_id = unquoted(filter_parameters[0]);
-  if (filter_expression == nullptr) {  // new parameters for an existing filter
-    if (filter_instance == nullptr) return ReturnCode_t::RETCODE_BAD_PARAMETER;
-    static_cast<ReplyFilter*>(filter_instance)->set_client_id(std::move(client_id));
-    return ReturnCode_t::RETCODE_OK;
-  }
-  if (std::strcmp(filter_expression, kReplyFilterExpression) != 0) {
-    return ReturnCode_t::RETCODE_BAD_PARAMETER;
-  }
-  delete_content_filter(nullptr, filter_instance);
-  filter_instance = new ReplyFilter(std::move(client_id), counts_);
-  return ReturnCode_t::RETCODE_OK;
 }
 
 eprosima::fastdds::dds::ContentFilteredTopic* create_own_replies_topic(

@@ -22,6 +22,7 @@
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/topic/ContentFilteredTopic.hpp>
 #include <fastdds/dds/topic/IContentFilter.hpp>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -72,7 +73,13 @@ using FollowFilterCounts = FilterCounts;
 class FollowFilter final : public eprosima::fastdds::dds::IContentFilter {
  public:
   FollowFilter(Follow follow, FollowFilterCounts& counts);
-  void set_follow(Follow follow);
+  /// A filter for kFollowServiceExpression or kFollowBusExpression and the
+  /// names they take; nullptr for anything else.
+  [[nodiscard]] static std::unique_ptr<FollowFilter> make(const char* expression,
+                                                          const FilterParameters& parameters,
+                                                          FollowFilterCounts& counts);
+  /// New names for the same expression; false if they do not fit it.
+  bool set_parameters(const FilterParameters& parameters);
   [[nodiscard]] const Follow& follow() const { return follow_; }
 
   /// Whether the sample is about the followed service (and bus).
@@ -85,26 +92,10 @@ class FollowFilter final : public eprosima::fastdds::dds::IContentFilter {
   Follow follow_;
   FollowFilterCounts& counts_;
 };
-
-/// Makes FollowFilters; registered under kFollowFilterClass on every dh3
-/// participant (it must outlive the participant).
-class FollowFilterFactory final : public CountingFilterFactory<FollowFilter> {
- public:
-  /// The Follow a filter expression and its parameters describe; nullopt if
-  /// malformed (an unknown expression, parameters that do not fit it, a name
-  /// that cannot be followed). `expression` nullptr: new parameters for a
-  /// filter made with `with_bus`.
-  [[nodiscard]] static std::optional<Follow> follow_of(const char* expression,
-                                                       const ParameterSeq& parameters,
-                                                       bool with_bus = false);
-
-  ReturnCode_t create_content_filter(
-      const char* filter_class_name, const char* type_name,
-      const eprosima::fastdds::dds::TopicDataType* data_type, const char* filter_expression,
-      const ParameterSeq& filter_parameters,
-      eprosima::fastdds::dds::IContentFilter*& filter_instance) override;
-};
 #pragma GCC diagnostic pop
+
+/// Registered under kFollowFilterClass on every dh3 participant.
+using FollowFilterFactory = CountingFilterFactory<FollowFilter>;
 
 /// `topic` as a follower of `follow` reads it (named "<topic>/follow"): the
 /// hand topics by service and bus, the service info by service. nullptr if

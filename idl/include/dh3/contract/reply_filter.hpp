@@ -25,6 +25,7 @@
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/topic/ContentFilteredTopic.hpp>
 #include <fastdds/dds/topic/IContentFilter.hpp>
+#include <memory>
 #include <string>
 #include <string_view>
 
@@ -58,7 +59,13 @@ using ReplyFilterCounts = FilterCounts;
 class ReplyFilter final : public eprosima::fastdds::dds::IContentFilter {
  public:
   ReplyFilter(std::string client_id, ReplyFilterCounts& counts);
-  void set_client_id(std::string client_id);
+  /// A filter for kReplyFilterExpression and one client_id; nullptr for
+  /// anything else.
+  [[nodiscard]] static std::unique_ptr<ReplyFilter> make(const char* expression,
+                                                         const FilterParameters& parameters,
+                                                         ReplyFilterCounts& counts);
+  /// A new client_id; false unless there is exactly one.
+  bool set_parameters(const FilterParameters& parameters);
 
   bool evaluate(const SerializedPayload& payload, const FilterSampleInfo& sample_info,
                 const GUID_t& reader_guid) const override;
@@ -67,18 +74,10 @@ class ReplyFilter final : public eprosima::fastdds::dds::IContentFilter {
   std::string client_id_;
   ReplyFilterCounts& counts_;
 };
-
-/// Makes ReplyFilters; registered under kReplyFilterClass on every dh3
-/// participant (it must outlive the participant).
-class ReplyFilterFactory final : public CountingFilterFactory<ReplyFilter> {
- public:
-  ReturnCode_t create_content_filter(
-      const char* filter_class_name, const char* type_name,
-      const eprosima::fastdds::dds::TopicDataType* data_type, const char* filter_expression,
-      const ParameterSeq& filter_parameters,
-      eprosima::fastdds::dds::IContentFilter*& filter_instance) override;
-};
 #pragma GCC diagnostic pop
+
+/// Registered under kReplyFilterClass on every dh3 participant.
+using ReplyFilterFactory = CountingFilterFactory<ReplyFilter>;
 
 /// The reply topic as `client_id` reads it: only the replies to its requests.
 /// nullptr if Fast DDS refused (e.g. no ReplyFilterFactory registered).
