@@ -59,34 +59,21 @@ class ClientEndpoints {
     ClientCore& core_;
   };
 
+  /// Tells the core when a service's reader of one request topic matches or leaves.
   class RequestWriterListener final : public fdds::DataWriterListener {
    public:
-    explicit RequestWriterListener(ClientCore& core) : core_(core) {}
+    RequestWriterListener(ClientCore& core, ServiceTracker::Endpoint reader)
+        : core_(core), reader_(reader) {}
     void on_publication_matched(fdds::DataWriter* /*writer*/,
                                 const fdds::PublicationMatchedStatus& status) override {
       const OnDdsListener on_listener;
-      core_.on_matched(ServiceTracker::Endpoint::request_reader,
-                       contract::client_id_for(status.last_subscription_handle),
+      core_.on_matched(reader_, contract::client_id_for(status.last_subscription_handle),
                        status.current_count_change > 0);
     }
 
    private:
     ClientCore& core_;
-  };
-
-  class GroupRequestWriterListener final : public fdds::DataWriterListener {
-   public:
-    explicit GroupRequestWriterListener(ClientCore& core) : core_(core) {}
-    void on_publication_matched(fdds::DataWriter* /*writer*/,
-                                const fdds::PublicationMatchedStatus& status) override {
-      const OnDdsListener on_listener;
-      core_.on_matched(ServiceTracker::Endpoint::group_request_reader,
-                       contract::client_id_for(status.last_subscription_handle),
-                       status.current_count_change > 0);
-    }
-
-   private:
-    ClientCore& core_;
+    ServiceTracker::Endpoint reader_;
   };
 
   /// One listener for every reader. It tells them apart by topic name, not by
@@ -160,8 +147,8 @@ class ClientEndpoints {
  public:
   explicit ClientEndpoints(ClientCore& core)
       : participant_listener_(core),
-        request_listener_(core),
-        group_request_listener_(core),
+        request_listener_(core, ServiceTracker::Endpoint::request_reader),
+        group_request_listener_(core, ServiceTracker::Endpoint::group_request_reader),
         reader_listener_(core) {}
   ClientEndpoints(const ClientEndpoints&) = delete;
   ClientEndpoints& operator=(const ClientEndpoints&) = delete;
@@ -208,7 +195,7 @@ class ClientEndpoints {
 
   ParticipantListener participant_listener_;
   RequestWriterListener request_listener_;
-  GroupRequestWriterListener group_request_listener_;
+  RequestWriterListener group_request_listener_;
   ReaderListener reader_listener_;
   /// After the listeners: deleted (with every reader and writer) before them.
   std::unique_ptr<contract::Participant> participant_;
