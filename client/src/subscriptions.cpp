@@ -20,32 +20,29 @@ void run_guarded(F&& f) {
 }  // namespace
 
 void Subscriptions::post_status(const HandStatus& status) {
-  std::vector<std::shared_ptr<SubscriptionState>> targets;
   std::lock_guard lock(mutex_);
-  for (const auto& sub : status_subs_) {
-    if (!sub->only || *sub->only == status.address) targets.push_back(sub);
-  }
-  if (targets.empty()) return;
-  // Posted under the lock: two posts keep their order on the dispatcher.
-  dispatcher_.post([targets = std::move(targets), status] {
-    for (const auto& sub : targets) {
-      std::lock_guard run(sub->run_mutex);
-      if (sub->active) run_guarded([&] { sub->on_status(status); });
-    }
-  });
+  post_to(status_subs_, status.address,
+          [status](const SubscriptionState& sub) { sub.on_status(status); });
 }
 
 void Subscriptions::post_event(const HandEvent& event) {
-  std::vector<std::shared_ptr<SubscriptionState>> targets;
   std::lock_guard lock(mutex_);
-  for (const auto& sub : event_subs_) {
-    if (!sub->only || *sub->only == event.hand) targets.push_back(sub);
+  post_to(event_subs_, event.hand, [event](const SubscriptionState& sub) { sub.on_event(event); });
+}
+
+template <typename Deliver>
+void Subscriptions::post_to(const std::vector<std::shared_ptr<SubscriptionState>>& subs,
+                            const HandAddress& about, Deliver deliver) {
+  std::vector<std::shared_ptr<SubscriptionState>> targets;
+  for (const auto& sub : subs) {
+    if (!sub->only || *sub->only == about) targets.push_back(sub);
   }
   if (targets.empty()) return;
-  dispatcher_.post([targets = std::move(targets), event] {
+  // Posted under the lock: two posts keep their order on the dispatcher.
+  dispatcher_.post([targets = std::move(targets), deliver = std::move(deliver)] {
     for (const auto& sub : targets) {
       std::lock_guard run(sub->run_mutex);
-      if (sub->active) run_guarded([&] { sub->on_event(event); });
+      if (sub->active) run_guarded([&] { deliver(*sub); });
     }
   });
 }

@@ -56,6 +56,12 @@ class Subscriptions {
   void stop() { dispatcher_.stop(); }
 
  private:
+  /// Posts `deliver` for each of `subs` that takes samples about `about`
+  /// (it follows that hand, or every hand); mutex_ held.
+  template <typename Deliver>
+  void post_to(const std::vector<std::shared_ptr<SubscriptionState>>& subs,
+               const HandAddress& about, Deliver deliver);
+
   std::mutex mutex_;  ///< guards the two lists
   std::vector<std::shared_ptr<SubscriptionState>> event_subs_;
   std::vector<std::shared_ptr<SubscriptionState>> status_subs_;
