@@ -66,17 +66,8 @@ std::optional<int> parse_ros2_options(int argc, const char* const* argv, Ros2Opt
 }
 
 contract::ParticipantOptions ros_participant_options(const ClientOptions& client) {
-  contract::ParticipantOptions options;
+  auto options = contract::participant_options_of(client);
   options.name = "dh3_ros2";
-  options.domain = client.domain;
-  options.interfaces = client.interfaces;
-  options.udp_only = client.udp_only;
-  options.shared_memory = client.shared_memory;
-  options.discovery_servers = client.discovery_servers;
-  options.xml_profile_file = client.xml_profile_file;
-  options.xml_profile = client.xml_profile;
-  options.security_dir = client.security_dir;
-  options.security_identity = client.security_identity;
   return options;
 }
 

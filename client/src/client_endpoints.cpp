@@ -4,6 +4,7 @@
 #include "client_endpoints.hpp"
 
 #include "dh3/base/host_name.hpp"
+#include "dh3/contract/participant_options.hpp"
 #include "dh3/contract/qos.hpp"
 
 namespace dh3::detail {
@@ -11,22 +12,13 @@ namespace dh3::detail {
 namespace {
 
 contract::ParticipantOptions participant_options(const ClientOptions& options) {
-  contract::ParticipantOptions participant_options;
+  auto participant_options = contract::participant_options_of(options);
   // Lease holders are shown by their participant's name (the service's
   // participant_names.hpp): it says which program on which host.
   participant_options.name = program_at_host(options.participant_name);
-  participant_options.domain = options.domain;
-  participant_options.interfaces = options.interfaces;
-  participant_options.udp_only = options.udp_only;
-  participant_options.shared_memory = options.shared_memory;
   // A client needs services, not the other clients: N clients that find each
   // other cost on the order of N^3 discovery messages.
   participant_options.is_client = true;
-  participant_options.discovery_servers = options.discovery_servers;
-  participant_options.xml_profile_file = options.xml_profile_file;
-  participant_options.xml_profile = options.xml_profile;
-  participant_options.security_dir = options.security_dir;
-  participant_options.security_identity = options.security_identity;
   return participant_options;
 }
 

@@ -46,4 +46,22 @@ struct ParticipantOptions {
   std::string security_identity;
 };
 
+/// A ParticipantOptions with the members it shares with `options` (the
+/// client library's ClientOptions): all but name, cell and is_client, which
+/// keep their defaults.
+template <class Options>
+[[nodiscard]] ParticipantOptions participant_options_of(const Options& options) {
+  ParticipantOptions participant;
+  participant.domain = options.domain;
+  participant.interfaces = options.interfaces;
+  participant.udp_only = options.udp_only;
+  participant.shared_memory = options.shared_memory;
+  participant.discovery_servers = options.discovery_servers;
+  participant.xml_profile_file = options.xml_profile_file;
+  participant.xml_profile = options.xml_profile;
+  participant.security_dir = options.security_dir;
+  participant.security_identity = options.security_identity;
+  return participant;
+}
+
 }  // namespace dh3::contract
