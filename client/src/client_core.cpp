@@ -258,6 +258,14 @@ void ClientCore::io_loop() {
     write_requests(lock);
     if (closed_) break;
 
+    Actions lapsed;
+    for (const auto& outcome : tracker_.confirm_lapses(Clock::now())) apply_locked(outcome, lapsed);
+    if (!lapsed.completions.empty()) {
+      lock.unlock();
+      run(lapsed);
+      lock.lock();
+      continue;
+    }
     auto expiry = calls_.expire(Clock::now());
     if (!expiry.expired.empty()) {
       std::vector<PendingCalls::Completion> singles;
@@ -268,36 +276,22 @@ void ClientCore::io_loop() {
         (call.group ? groups : singles).emplace_back(std::move(call.done), std::move(reply));
       }
       lock.unlock();
-      tell_acknowledgment(singles);
+      PendingCalls::tell_acknowledgment(singles,
+                                        [this] { return endpoints_->requests_acknowledged(); });
       for (auto& [done, reply] : singles) done(std::move(reply));
       for (auto& [done, reply] : groups) done(std::move(reply));
       lock.lock();
       continue;  // state may have changed while unlocked
     }
     io_kick_ = false;
-    calls_.set_next_wake(expiry.next);
+    const auto next = std::min(expiry.next, tracker_.next_lapse());
+    calls_.set_next_wake(next);
     const auto wake = [this] { return closed_ || io_kick_ || !calls_.queue_empty(); };
-    if (expiry.next == Clock::time_point::max()) {
+    if (next == Clock::time_point::max()) {
       io_wake_.wait(lock, wake);
     } else {
-      io_wake_.wait_until(lock, expiry.next, wake);
+      io_wake_.wait_until(lock, next, wake);
     }
-  }
-}
-
-void ClientCore::tell_acknowledgment(std::vector<PendingCalls::Completion>& expired) const {
-  const auto no_reply = [](const auto& call) { return call.second.code == Code::no_reply; };
-  if (std::none_of(expired.begin(), expired.end(), no_reply)) return;
-  // Per writer, not per sample (Fast DDS 2.9 has no per-sample ack status):
-  // "acknowledged" is certain, "not acknowledged" may stem from another
-  // request or another service's reader, so it only says "may not".
-  const bool acknowledged = endpoints_->requests_acknowledged();
-  for (auto& call : expired) {
-    if (!no_reply(call)) continue;
-    call.second.message += acknowledged
-                               ? "; the service acknowledged the request, so it may have run"
-                               : "; the service has not acknowledged the request, so it may "
-                                 "not have received it";
   }
 }
 
@@ -311,10 +305,11 @@ void ClientCore::run(Actions& actions) {
 // From the DDS listeners
 
 void ClientCore::apply_locked(const ServiceTracker::Outcome& outcome, Actions& out) {
+  const std::string& ending = outcome.lost_service ? outcome.lost : outcome.end_calls_of;
+  for (auto& ended : calls_.end_sent_to(outcome.keep_calls ? "" : ending, outcome.why)) {
+    out.completions.push_back(std::move(ended));
+  }
   if (outcome.lost_service) {
-    for (auto& ended : calls_.end_sent_to(outcome.lost, outcome.why)) {
-      out.completions.push_back(std::move(ended));
-    }
     const auto now = std::chrono::system_clock::now().time_since_epoch();
     const auto made_ns =
         static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(now).count());
@@ -322,6 +317,9 @@ void ClientCore::apply_locked(const ServiceTracker::Outcome& outcome, Actions& o
       subscriptions_.post_status(status);
       subscriptions_.post_event(StatusCache::offline_event(status, outcome.why, made_ns));
     }
+  }
+  for (const HandStatus& status : cache_.mark_regained(outcome.regained)) {
+    subscriptions_.post_status(status);
   }
   if (outcome.may_dispatch) dispatch_locked(outcome.service, out);
   changed_.notify_all();
@@ -383,8 +381,39 @@ void ClientCore::on_info(const std::string& prefix, const msg::ServiceInfo& info
     std::lock_guard lock(mutex_);
     if (closed_) return;
     ServiceTracker::Outcome outcome;
-    tracker_.take_info(prefix, to_public(info), outcome);
+    if (!tracker_.take_info(prefix, to_public(info), outcome) &&
+        !tracker_.believed(prefix, info.service())) {
+      not_owner_samples_.fetch_add(1, std::memory_order_relaxed);
+    }
     apply_locked(outcome, out);
+  }
+  run(out);
+}
+
+void ClientCore::on_owner(const std::string& prefix, const msg::ServiceOwner& claim) {
+  if (!followed(claim.service())) return;
+  Actions out;
+  {
+    std::lock_guard lock(mutex_);
+    if (closed_) return;
+    ServiceTracker::Outcome outcome;
+    tracker_.take_claim(contract::to_claim(claim, prefix), outcome);
+    apply_locked(outcome, out);
+  }
+  run(out);
+}
+
+void ClientCore::on_owner_alive(const std::string& prefix, bool alive) {
+  Actions out;
+  {
+    std::lock_guard lock(mutex_);
+    if (closed_) return;
+    if (alive) {
+      apply_locked(tracker_.owner_alive(prefix, true), out);
+    } else {
+      tracker_.owner_lapsed(prefix, Clock::now());  // the io thread confirms it if it stands
+      io_kick_ = out.wake_io = true;
+    }
   }
   run(out);
 }
@@ -399,7 +428,11 @@ void ClientCore::on_status(const std::string& prefix, const msg::HandStatus& sam
     ServiceTracker::Outcome outcome;
     const bool known = tracker_.note_participant(prefix, sample.service(), outcome);
     apply_locked(outcome, out);
-    if (known) take_status_locked(prefix, sample);
+    if (known) {
+      take_status_locked(prefix, sample);
+    } else {
+      not_owner_samples_.fetch_add(1, std::memory_order_relaxed);
+    }
   }
   run(out);
 }
@@ -416,11 +449,15 @@ void ClientCore::on_event(const std::string& prefix, const msg::HandEvent& sampl
   events_taken_.fetch_add(1, std::memory_order_relaxed);
   if (!followed(sample.hand().service(), sample.hand().bus())) return;
   std::lock_guard lock(mutex_);
-  if (closed_ || tracker_.participant_gone(prefix)) return;
+  if (closed_) return;
+  if (!tracker_.believed(prefix, sample.hand().service())) {
+    not_owner_samples_.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
   subscriptions_.post_event(to_public(sample));
 }
 
-void ClientCore::on_reply(const msg::CommandReply& reply) {
+void ClientCore::on_reply(const std::string& prefix, const msg::CommandReply& reply) {
   // The reply reader's filter keeps our client_id; checked again in case
   // Fast DDS refused the filtered topic and we read the plain one.
   if (reply.client_id() != client_id_) {
@@ -433,6 +470,12 @@ void ClientCore::on_reply(const msg::CommandReply& reply) {
     std::lock_guard lock(mutex_);
     const PendingCalls::Call* call = calls_.find(reply.request_seq());
     if (call == nullptr || call->group || call->request.command() != reply.command()) return;
+    // Another service of the name answered too (a duplicate before it saw the
+    // owner): only the one the call went to is believed.
+    if (!call->sent_to.empty() && call->sent_to != prefix) {
+      not_owner_samples_.fetch_add(1, std::memory_order_relaxed);
+      return;
+    }
     // The hand's status as the command left it, cached (and posted) before the
     // call ends; the same sample on the status topic is then not news.
     if (reply.status().update_seq() != 0 && !closed_ && !call->sent_to.empty() &&
@@ -504,6 +547,7 @@ WatchTraffic ClientCore::watch_traffic() const {
   traffic.statuses = statuses_taken_.load(std::memory_order_relaxed);
   traffic.events = events_taken_.load(std::memory_order_relaxed);
   traffic.infos = infos_taken_.load(std::memory_order_relaxed);
+  traffic.not_owner = not_owner_samples_.load(std::memory_order_relaxed);
   if (endpoints_ != nullptr) traffic.dropped_on_arrival = endpoints_->follow_filtered();
   return traffic;
 }

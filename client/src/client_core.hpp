@@ -152,7 +152,11 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   void on_info(const std::string& prefix, const msg::ServiceInfo& info);
   void on_status(const std::string& prefix, const msg::HandStatus& status);
   void on_event(const std::string& prefix, const msg::HandEvent& event);
-  void on_reply(const msg::CommandReply& reply);
+  /// A service's owner claim (dh3/contract/ownership.hpp), and its writer's liveliness.
+  void on_owner(const std::string& prefix, const msg::ServiceOwner& claim);
+  void on_owner_alive(const std::string& prefix, bool alive);
+  /// A reply written by `prefix`: taken only from the service the call went to.
+  void on_reply(const std::string& prefix, const msg::CommandReply& reply);
   void on_group_reply(const msg::GroupReply& reply);
 
  private:
@@ -180,11 +184,6 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   /// Writes one pending request (`mutex_` not held; counted in flight); ends
   /// the call if the write fails.
   void write_request(std::uint64_t seq, const PendingCalls::Outgoing& request);
-  /// Says in each NO_REPLY among `expired` (single calls) whether the
-  /// services' request readers acknowledged every request written, so a
-  /// caller knows whether the service may have run it (`mutex_` not held: it
-  /// asks the writer).
-  void tell_acknowledgment(std::vector<PendingCalls::Completion>& expired) const;
   void run(Actions& actions);
 
   // All *_locked: `mutex_` held.
@@ -228,6 +227,9 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   std::atomic<std::uint64_t> statuses_taken_{0};
   std::atomic<std::uint64_t> events_taken_{0};
   std::atomic<std::uint64_t> infos_taken_{0};
+  /// Statuses, events, infos and replies from a participant that does not own
+  /// the service name they carry (a duplicate, a standby, an outranked owner).
+  std::atomic<std::uint64_t> not_owner_samples_{0};
 
   std::thread io_thread_;
 };

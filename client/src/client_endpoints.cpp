@@ -121,6 +121,13 @@ void ClientEndpoints::create_watch_endpoints(const EndpointCreator& creator,
   info_reader_ =
       creator.create_reader(ClientEndpoint::info_reader, subscriber, view(topics.info, false),
                             contract::reader_qos(TopicRole::service_info), &reader_listener_, data);
+  // Who owns each name, and a death within the owner lease (docs/failover.md).
+  // Without it (permissions that predate it) a death is seen when the
+  // participant lease ends, and the first claimant of a name is believed.
+  owner_reader_ = creator.create_reader(
+      ClientEndpoint::owner_reader, subscriber, topics.owner,
+      contract::reader_qos(TopicRole::service_owner), &reader_listener_,
+      data_and_matches() << fdds::StatusMask::liveliness_changed());
 }
 
 Result<void, std::string> ClientEndpoints::create_participant(const ClientOptions& options) {

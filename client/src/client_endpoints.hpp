@@ -86,8 +86,9 @@ class ClientEndpoints {
       const OnDdsListener on_listener;
       const std::string topic = plain_topic_name(*reader);
       if (topic == own_replies_topic_ || topic == topics::COMMAND_REPLY) {
-        take<msg::CommandReply>(
-            reader, [this](const msg::CommandReply& r, const std::string&) { core_.on_reply(r); });
+        take<msg::CommandReply>(reader, [this](const msg::CommandReply& r, const std::string& from) {
+          core_.on_reply(from, r);
+        });
       } else if (topic == topics::HAND_STATUS) {
         take<msg::HandStatus>(reader, [this](const msg::HandStatus& s, const std::string& from) {
           core_.on_status(from, s);
@@ -104,7 +105,18 @@ class ClientEndpoints {
         take<msg::ServiceInfo>(reader, [this](const msg::ServiceInfo& i, const std::string& from) {
           core_.on_info(from, i);
         });
+      } else if (topic == topics::SERVICE_OWNER) {
+        take<msg::ServiceOwner>(reader, [this](const msg::ServiceOwner& o,
+                                               const std::string& from) { core_.on_owner(from, o); });
       }
+    }
+    /// Only the owner reader asks for it: a service's liveliness.
+    void on_liveliness_changed(fdds::DataReader* /*reader*/,
+                               const fdds::LivelinessChangedStatus& status) override {
+      const OnDdsListener on_listener;
+      if (status.alive_count_change == 0) return;
+      core_.on_owner_alive(contract::client_id_for(status.last_publication_handle),
+                           status.alive_count_change > 0);
     }
     void on_subscription_matched(fdds::DataReader* reader,
                                  const fdds::SubscriptionMatchedStatus& status) override {
@@ -119,6 +131,8 @@ class ClientEndpoints {
         core_.on_matched(Endpoint::group_reply_writer, prefix, matched);
       } else if (topic == topics::HAND_EVENT) {
         core_.on_matched(Endpoint::event_writer, prefix, matched);
+      } else if (topic == topics::SERVICE_OWNER) {
+        core_.on_matched(Endpoint::owner_writer, prefix, matched);
       }
     }
 
@@ -206,6 +220,7 @@ class ClientEndpoints {
   fdds::DataReader* info_reader_ = nullptr;
   fdds::DataWriter* group_request_writer_ = nullptr;
   fdds::DataReader* group_reply_reader_ = nullptr;
+  fdds::DataReader* owner_reader_ = nullptr;
 };
 
 }  // namespace dh3::detail

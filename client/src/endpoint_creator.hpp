@@ -27,7 +27,8 @@ enum class ClientEndpoint {
   event_reader,
   info_reader,
   group_request_writer,
-  group_reply_reader
+  group_reply_reader,
+  owner_reader
 };
 
 /// Creates the client's readers and writers. DDS Security's access control

@@ -67,8 +67,10 @@ std::vector<PendingCalls::Completion> PendingCalls::end_sent_to(const std::strin
     if (it->second.sent_to == incarnation) {
       ended.emplace_back(
           std::move(it->second.done),
-          make_reply(Code::service_lost, why + " while " + it->second.what() +
-                                             " was pending; it may or may not have run"));
+          make_reply(Code::service_lost,
+                     why + " while " + it->second.what() +
+                         " was pending; it had been sent to that service, so it may or may "
+                         "not have reached the hand"));
       it = calls_.erase(it);
     } else {
       ++it;
@@ -124,6 +126,23 @@ Reply PendingCalls::expired_reply(const Call& call, bool service_alive, int doma
   return make_reply(Code::no_service, "no service '" + service + "' found on DDS domain " +
                                           std::to_string(domain) + within + " (" + what +
                                           " not sent)");
+}
+
+void PendingCalls::tell_acknowledgment(std::vector<Completion>& expired,
+                                       const std::function<bool()>& acknowledged) {
+  const auto no_reply = [](const auto& call) { return call.second.code == Code::no_reply; };
+  if (std::none_of(expired.begin(), expired.end(), no_reply)) return;
+  // Per writer, not per sample (Fast DDS 2.9 has no per-sample ack status):
+  // "acknowledged" is certain, "not acknowledged" may stem from another
+  // request or another service's reader, so it only says "may not".
+  const bool all_acknowledged = acknowledged();
+  for (auto& call : expired) {
+    if (!no_reply(call)) continue;
+    call.second.message += all_acknowledged
+                               ? "; the service acknowledged the request, so it may have run"
+                               : "; the service has not acknowledged the request, so it may "
+                                 "not have received it";
+  }
 }
 
 }  // namespace dh3::detail

@@ -100,6 +100,12 @@ class PendingCalls {
 
   /// Why a call ended at its deadline. `service_alive`: its service was found.
   [[nodiscard]] static Reply expired_reply(const Call& call, bool service_alive, int domain);
+  /// Says in each NO_REPLY among `expired` (single calls) whether the
+  /// services' request readers acknowledged every request written, so a
+  /// caller knows whether the service may have run it. `acknowledged` asks
+  /// the request writer (without the client's mutex), only if there is one.
+  static void tell_acknowledgment(std::vector<Completion>& expired,
+                                  const std::function<bool()>& acknowledged);
 
  private:
   std::uint64_t last_seq_ = 0;

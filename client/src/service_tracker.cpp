@@ -2,11 +2,13 @@
 
 #include "service_tracker.hpp"
 
+#include <algorithm>
+
 namespace dh3::detail {
 
 bool ServiceTracker::note_participant(const std::string& prefix, const std::string& service,
                                       Outcome& out) {
-  if (service.empty() || participant_gone(prefix)) return false;
+  if (service.empty() || !believed(prefix, service)) return false;
   auto& participant = participants_[prefix];
   participant.service = service;
   participant.alive = true;
@@ -21,7 +23,8 @@ void ServiceTracker::make_current(const std::string& service, const std::string&
   if (state.incarnation != prefix) {
     state.incarnation = prefix;
     // The info of another incarnation is not this one's.
-    state.info.reset();
+    const auto it = participants_.find(prefix);
+    state.info = it != participants_.end() ? it->second.info : std::nullopt;
   }
   state.alive = true;
   out.service = service;
@@ -40,11 +43,117 @@ void ServiceTracker::lose(const std::string& service, const std::string& why, Ou
   out.lost_service = true;
 }
 
+bool ServiceTracker::believed(const std::string& prefix, std::string_view service) const {
+  if (const auto owner = owners_.owner(service)) return owner->participant == prefix;
+  // A claimant that is not the owner: dead, frozen, outranked or a standby.
+  if (owners_.claim_of(prefix)) return false;
+  return !participant_gone(prefix);
+}
+
+void ServiceTracker::take_claim(const contract::OwnerClaim& claim, Outcome& out) {
+  owners_.claim(claim);
+  follow_owner(claim.service, out);
+  out.service = claim.service;
+  out.may_dispatch = true;  // its calls may go out, if this made it ready
+}
+
+ServiceTracker::Outcome ServiceTracker::owner_alive(const std::string& prefix, bool alive) {
+  Outcome out;
+  lapses_.erase(prefix);
+  owners_.set_alive(prefix, alive);
+  if (const auto claim = owners_.claim_of(prefix)) {
+    follow_owner(claim->service, out);
+    out.service = claim->service;
+    out.may_dispatch = true;  // its calls may go out, if this made it ready
+  }
+  return out;
+}
+
+void ServiceTracker::owner_lapsed(const std::string& prefix,
+                                  std::chrono::steady_clock::time_point now) {
+  Lapse lapse;
+  lapse.confirm_at = now + contract::kOwnerLapseConfirm;
+  lapse.calls_at = now + contract::kOwnerLapseCallConfirm;
+  lapses_.try_emplace(prefix, std::move(lapse));
+}
+
+std::vector<ServiceTracker::Outcome> ServiceTracker::confirm_lapses(
+    std::chrono::steady_clock::time_point now) {
+  std::vector<Outcome> out;
+  for (auto it = lapses_.begin(); it != lapses_.end();) {
+    Lapse& lapse = it->second;
+    if (!lapse.believed && lapse.confirm_at <= now) {
+      // The service is lost for statuses, events and new calls; its calls in
+      // flight wait for calls_at (a lapse the owner overturns ends none).
+      lapse.believed = true;
+      owners_.set_alive(it->first, false);
+      if (const auto claim = owners_.claim_of(it->first)) {
+        Outcome lost;
+        follow_owner(claim->service, lost);
+        lost.keep_calls = true;
+        lapse.incarnation = lost.lost;
+        lapse.why = lost.why;
+        out.push_back(std::move(lost));
+      }
+    }
+    if (lapse.believed && lapse.calls_at <= now) {
+      Outcome calls;
+      calls.end_calls_of = lapse.incarnation;
+      calls.why = lapse.why;
+      out.push_back(std::move(calls));
+      it = lapses_.erase(it);
+      continue;
+    }
+    ++it;
+  }
+  return out;
+}
+
+std::chrono::steady_clock::time_point ServiceTracker::next_lapse() const {
+  auto next = std::chrono::steady_clock::time_point::max();
+  for (const auto& [prefix, lapse] : lapses_) {
+    next = std::min(next, lapse.believed ? lapse.calls_at : lapse.confirm_at);
+  }
+  return next;
+}
+
+void ServiceTracker::follow_owner(const std::string& service, Outcome& out) {
+  const auto owner = owners_.owner(service);
+  auto& state = services_[service];
+  if (owner) {
+    if (state.incarnation == owner->participant && state.alive) return;
+    if (state.alive && !state.incarnation.empty()) {
+      lose(service, "service '" + service + "' is now served by " + owner->describe(), out);
+    }
+    auto& participant = participants_[owner->participant];
+    participant.service = service;
+    if (state.incarnation == owner->participant) out.regained = owner->participant;
+    participant.alive = true;  // again, if its liveliness had lapsed
+    make_current(service, owner->participant, out);
+    return;
+  }
+  // No owner: the current one, if it was a claimant, stopped asserting. One
+  // whose liveliness was never seen is not lost for that: unknown is not dead.
+  const auto lapsed = owners_.claim_of(state.incarnation);
+  if (state.alive && lapsed && owners_.lapsed(state.incarnation)) {
+    lose(service,
+         "service '" + service + "' (" + lapsed->describe() +
+             ") stopped asserting it lives: no "
+             "sign of it for " +
+             std::to_string((contract::kOwnerLease + contract::kOwnerLapseConfirm).count()) +
+             " ms (killed, frozen or cut off)",
+         out);
+  }
+}
+
 ServiceTracker::Outcome ServiceTracker::participant_left(const std::string& prefix) {
   Outcome out;
+  owners_.forget(prefix);
+  lapses_.erase(prefix);
   request_readers_.erase(prefix);
   reply_writers_.erase(prefix);
   event_writers_.erase(prefix);
+  owner_writers_.erase(prefix);
   const auto it = participants_.find(prefix);
   if (it == participants_.end() || !it->second.alive) return out;
   it->second.alive = false;
@@ -54,12 +163,16 @@ ServiceTracker::Outcome ServiceTracker::participant_left(const std::string& pref
     return out;
   }
   lose(service, "service '" + service + "' left the domain", out);
+  if (owners_.owner(service)) {
+    follow_owner(service, out);
+    return out;
+  }
   // Another live participant of that name (a newer instance that was not yet
   // current) takes over; the latest started first.
   const Participant* best = nullptr;
   std::string best_prefix;
   for (const auto& [other, p] : participants_) {
-    if (!p.alive || p.service != service) continue;
+    if (!p.alive || p.service != service || !believed(other, service)) continue;
     if (best == nullptr || (p.has_info && (!best->has_info || p.started_ns > best->started_ns))) {
       best = &p;
       best_prefix = other;
@@ -71,12 +184,18 @@ ServiceTracker::Outcome ServiceTracker::participant_left(const std::string& pref
 
 bool ServiceTracker::take_info(const std::string& prefix, ServiceInfo info, Outcome& out) {
   const std::string service = info.name;
+  if (!service.empty() && !participant_gone(prefix)) {
+    auto& kept = participants_[prefix];
+    kept.service = service;
+    kept.info = info;
+  }
   if (!note_participant(prefix, service, out)) return false;
   auto& participant = participants_[prefix];
   participant.has_info = true;
   participant.started_ns = info.started_ns;
   auto& state = services_[service];
-  if (state.incarnation != prefix) {
+  // The owner rule decides, once claims are known (note_participant kept only the owner).
+  if (state.incarnation != prefix && !owners_.owner(service)) {
     const auto current = participants_.find(state.incarnation);
     const bool newer = current == participants_.end() || !current->second.has_info ||
                        info.started_ns > current->second.started_ns;
@@ -100,6 +219,8 @@ std::multiset<std::string>& ServiceTracker::set_of(Endpoint endpoint) {
       return group_request_readers_;
     case Endpoint::group_reply_writer:
       return group_reply_writers_;
+    case Endpoint::owner_writer:
+      return owner_writers_;
   }
   return event_writers_;
 }
@@ -121,6 +242,7 @@ bool ServiceTracker::ready(const std::string& service) const {
   const auto it = services_.find(service);
   if (it == services_.end() || !it->second.alive || it->second.incarnation.empty()) return false;
   const auto& prefix = it->second.incarnation;
+  if (owner_writers_.count(prefix) > 0 && !owners_.alive(prefix)) return false;
   // Read-only: nothing to send, so ready means its events reach us.
   if (!can_command_) return event_writers_.count(prefix) > 0;
   return request_readers_.count(prefix) > 0 && reply_writers_.count(prefix) > 0 &&

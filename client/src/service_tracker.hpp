@@ -5,13 +5,18 @@
 // Not thread-safe: ClientCore keeps it under its state mutex, with the calls and
 // statuses a loss changes. Knows no DDS: participants are GUID prefixes in hex.
 //
-// When two participants claim one name, the one whose ServiceInfo says it
+// Once a service's owner claims are known (dh3/contract/ownership.hpp), the owner is
+// current and nothing else of that name is believed: its statuses, events,
+// infos and replies are ignored. An owner whose liveliness lapses (killed,
+// frozen, cut off) is lost at once; one that asserts again is current again.
+// Before any claim is known, the participant whose ServiceInfo says it
 // started later is current: discovery order says nothing (the new instance of
 // a killed service may be discovered before the client hears the last of the
 // old one). The service is ready once that participant has matched our request
 // writer, reply reader and event reader (only the event reader for a read-only
 // client).
 
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -21,6 +26,7 @@
 #include <vector>
 
 #include "dh3/types.hpp"
+#include "dh3/contract/ownership.hpp"
 
 namespace dh3::detail {
 
@@ -32,7 +38,8 @@ class ServiceTracker {
     reply_writer,
     event_writer,
     group_request_reader,
-    group_reply_writer
+    group_reply_writer,
+    owner_writer
   };
   /// What a change means for the calls and hands of `service`, in this order:
   /// the incarnation `lost` (if not empty) is gone for `why`, then the calls
@@ -42,6 +49,13 @@ class ServiceTracker {
     std::string lost;
     std::string why;
     bool lost_service = false;  ///< its hands go offline (also when `lost` is empty)
+    /// The calls sent to `lost` stay pending: a lapse ends them only later.
+    bool keep_calls = false;
+    /// The calls sent to this incarnation end now, for `why` (a lapse stood).
+    std::string end_calls_of;
+    /// An incarnation lost for a lapse that asserts again (a frozen service
+    /// continued, a cut-off one reached again): its hands come back.
+    std::string regained;
     bool may_dispatch = false;
   };
 
@@ -58,6 +72,24 @@ class ServiceTracker {
   /// A ServiceInfo from `prefix`. False if ignored (the participant is gone,
   /// or an older instance still around while the newer is current).
   bool take_info(const std::string& prefix, ServiceInfo info, Outcome& out);
+  /// An owner claim written by `prefix` (its sample arrived).
+  void take_claim(const contract::OwnerClaim& claim, Outcome& out);
+  /// The owner writer of `prefix` asserted its liveliness (true) or missed its
+  /// lease (false), taken as final at once.
+  Outcome owner_alive(const std::string& prefix, bool alive);
+  /// The owner writer of `prefix` missed its lease at `now`. If it has not
+  /// asserted again kOwnerLapseConfirm later the service is lost (its hands
+  /// offline, no new call sent to it), and kOwnerLapseCallConfirm later its
+  /// calls in flight end (confirm_lapses); asserting again undoes what is left.
+  void owner_lapsed(const std::string& prefix, std::chrono::steady_clock::time_point now);
+  /// What the lapses that stood until `now` mean.
+  std::vector<Outcome> confirm_lapses(std::chrono::steady_clock::time_point now);
+  /// When the next lapse is to be confirmed; max() if none is.
+  [[nodiscard]] std::chrono::steady_clock::time_point next_lapse() const;
+  /// True if what `prefix` says about `service` is to be believed: it is the
+  /// service's owner, or no owner of the name is known and it is not gone.
+  [[nodiscard]] bool believed(const std::string& prefix, std::string_view service) const;
+
   /// One of our endpoints matched (or unmatched) one of `prefix`'s; returns the
   /// participant's service if it is alive (its waiting calls may go out).
   std::optional<std::string> matched(Endpoint endpoint, const std::string& prefix, bool matched);
@@ -88,6 +120,9 @@ class ServiceTracker {
     bool alive = true;
     bool has_info = false;         ///< its ServiceInfo arrived
     std::uint64_t started_ns = 0;  ///< from its ServiceInfo
+    /// Its ServiceInfo, kept while it is not believed: it is sent once
+    /// (TRANSIENT_LOCAL), and the service may become the owner later.
+    std::optional<ServiceInfo> info;
   };
   struct ServiceState {
     std::string incarnation;  ///< current participant's prefix; empty until known
@@ -96,6 +131,9 @@ class ServiceTracker {
   };
 
   void make_current(const std::string& service, const std::string& prefix, Outcome& out);
+  /// Follows the owner table: the owner of `service` (if any) becomes
+  /// current, a current participant that is no longer the owner is lost.
+  void follow_owner(const std::string& service, Outcome& out);
   void lose(const std::string& service, const std::string& why, Outcome& out);
   [[nodiscard]] ServiceInfo info_of(const std::string& name, const ServiceState& state) const;
   std::multiset<std::string>& set_of(Endpoint endpoint);
@@ -103,11 +141,25 @@ class ServiceTracker {
   bool can_command_ = true;
   std::map<std::string, Participant> participants_;  ///< service participants, by prefix
   std::map<std::string, ServiceState, std::less<>> services_;
+  contract::OwnerTable owners_;
+  /// A lapse reported and not yet final.
+  struct Lapse {
+    std::chrono::steady_clock::time_point confirm_at;  ///< the service is lost then
+    std::chrono::steady_clock::time_point calls_at;    ///< its calls in flight end then
+    bool believed = false;
+    std::string incarnation;  ///< lost, once believed
+    std::string why;
+  };
+  /// Lapsed owner writers whose lapse is not final yet, by prefix.
+  std::map<std::string, Lapse> lapses_;
   std::multiset<std::string> request_readers_;  ///< prefixes of matched request readers
   std::multiset<std::string> reply_writers_;    ///< prefixes of matched reply writers
   std::multiset<std::string> event_writers_;    ///< prefixes of matched event writers
   std::multiset<std::string> group_request_readers_;
   std::multiset<std::string> group_reply_writers_;
+  /// A participant whose owner writer matched ours is ready only once it is
+  /// alive: otherwise a death just after we became ready would go unseen.
+  std::multiset<std::string> owner_writers_;
 };
 
 }  // namespace dh3::detail

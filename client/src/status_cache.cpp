@@ -10,7 +10,12 @@ bool StatusCache::take(const std::string& incarnation, const HandStatus& status)
   const auto origin = origins_.find(status.address);
   if (origin != origins_.end() && origin->second == incarnation) {
     const auto cached = statuses_.find(status.address);
-    if (cached != statuses_.end() && status.update_seq <= cached->second.update_seq) return false;
+    // A hand marked lost with its service takes the same sample again: the
+    // service was frozen or cut off and its refresh says it is back.
+    if (cached != statuses_.end() && !cached->second.service_lost &&
+        status.update_seq <= cached->second.update_seq) {
+      return false;
+    }
   }
   origins_[status.address] = incarnation;
   statuses_[status.address] = status;
@@ -23,6 +28,19 @@ std::vector<HandStatus> StatusCache::mark_lost(const std::string& service) {
     if (address.service != service || !status.online) continue;
     status.online = false;
     status.service_lost = true;
+    changed.push_back(status);
+  }
+  return changed;
+}
+
+std::vector<HandStatus> StatusCache::mark_regained(const std::string& incarnation) {
+  std::vector<HandStatus> changed;
+  if (incarnation.empty()) return changed;
+  for (auto& [address, status] : statuses_) {
+    const auto origin = origins_.find(address);
+    if (!status.service_lost || origin == origins_.end() || origin->second != incarnation) continue;
+    status.online = true;
+    status.service_lost = false;
     changed.push_back(status);
   }
   return changed;

@@ -29,6 +29,9 @@ class StatusCache {
 
   /// Marks `service`'s online hands offline and lost; returns them as changed.
   std::vector<HandStatus> mark_lost(const std::string& service);
+  /// Marks the hands of `incarnation` lost with it online again (it asserts
+  /// again after a lapse, and its statuses are the newest); returns them.
+  std::vector<HandStatus> mark_regained(const std::string& incarnation);
   /// The event a client reports for a hand whose service was lost (`why`).
   [[nodiscard]] static HandEvent offline_event(const HandStatus& status, const std::string& why,
                                                std::uint64_t made_ns);

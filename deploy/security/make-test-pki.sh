@@ -140,6 +140,7 @@ request=dh3/command_request
 reply=dh3/command_reply
 group_request=dh3/group_request
 group_reply=dh3/group_reply
+owner=dh3/service_owner
 
 domains_xml="<domains><id_range><min>$domain_min</min><max>$domain_max</max></id_range></domains>"
 
@@ -216,8 +217,9 @@ EOF
   sign "$dir/$id/permissions.xml"
 }
 
-permissions service "$status $event $info $reply $group_reply" "$request $group_request"
-permissions operator "$request $group_request" "$status $event $info $reply $group_reply"
-permissions monitor "" "$status $event"
+# A service reads the owner topic too: a second service of its name must not serve.
+permissions service "$status $event $info $reply $group_reply $owner" "$request $group_request $owner"
+permissions operator "$request $group_request" "$status $event $info $reply $group_reply $owner"
+permissions monitor "" "$status $event $owner"
 
 echo "make-test-pki: test PKI for domains $domain_min-$domain_max in $dir (identities: service, operator, monitor)"

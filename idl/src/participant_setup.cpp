@@ -197,7 +197,8 @@ Result<void, std::string> Participant::create_contained(const std::string& cell)
       {topics_.request, dh3::topics::COMMAND_REQUEST},
       {topics_.reply, dh3::topics::COMMAND_REPLY},
       {topics_.group_request, dh3::topics::GROUP_REQUEST},
-      {topics_.group_reply, dh3::topics::GROUP_REPLY}};
+      {topics_.group_reply, dh3::topics::GROUP_REPLY},
+      {topics_.owner, dh3::topics::SERVICE_OWNER}};
   for (const auto& [topic, name] : topics) {
     if (topic == nullptr) return fail("cannot create the topic " + name);
   }

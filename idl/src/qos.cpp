@@ -1,5 +1,7 @@
 #include "dh3/contract/qos.hpp"
 
+#include "dh3/contract/ownership.hpp"
+
 namespace dh3::contract {
 
 namespace {
@@ -11,6 +13,11 @@ Qos qos_for(TopicRole role) {
   qos.reliability().kind = dds::RELIABLE_RELIABILITY_QOS;
   qos.history().kind = dds::KEEP_LAST_HISTORY_QOS;
   switch (role) {
+    case TopicRole::service_owner:
+      qos.liveliness().kind = dds::MANUAL_BY_TOPIC_LIVELINESS_QOS;
+      qos.liveliness().lease_duration = eprosima::fastrtps::Duration_t(
+          0, static_cast<std::uint32_t>(std::chrono::nanoseconds(kOwnerLease).count()));
+      [[fallthrough]];
     case TopicRole::hand_status:
     case TopicRole::service_info:
       qos.durability().kind = dds::TRANSIENT_LOCAL_DURABILITY_QOS;
@@ -63,7 +70,13 @@ eprosima::fastdds::dds::DataWriterQos writer_qos(TopicRole role) {
 }
 
 eprosima::fastdds::dds::DataReaderQos reader_qos(TopicRole role) {
-  return qos_for<eprosima::fastdds::dds::DataReaderQos>(role);
+  auto qos = qos_for<eprosima::fastdds::dds::DataReaderQos>(role);
+  if (role == TopicRole::hand_status) {
+    qos.resource_limits().max_instances = kMaxStatusKeys;
+    qos.resource_limits().max_samples_per_instance = 1;
+    qos.resource_limits().max_samples = kMaxStatusKeys;
+  }
+  return qos;
 }
 
 }  // namespace dh3::contract

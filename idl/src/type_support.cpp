@@ -8,7 +8,8 @@ namespace dh3::contract {
 
 bool Topics::complete() const {
   return status != nullptr && event != nullptr && info != nullptr && request != nullptr &&
-         reply != nullptr && group_request != nullptr && group_reply != nullptr;
+         reply != nullptr && group_request != nullptr && group_reply != nullptr &&
+         owner != nullptr;
 }
 
 Topics create_topics(eprosima::fastdds::dds::DomainParticipant& participant) {
@@ -29,6 +30,8 @@ Topics create_topics(eprosima::fastdds::dds::DomainParticipant& participant) {
       topic(dh3::topics::GROUP_REQUEST, new TypeSupport<msg::GroupRequestPubSubType>());
   topics.group_reply =
       topic(dh3::topics::GROUP_REPLY, new TypeSupport<msg::GroupReplyPubSubType>());
+  topics.owner =
+      topic(dh3::topics::SERVICE_OWNER, new TypeSupport<msg::ServiceOwnerPubSubType>());
   return topics;
 }
 

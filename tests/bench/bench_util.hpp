@@ -179,6 +179,8 @@ class ServiceChild {
   ServiceChild& operator=(const ServiceChild&) = delete;
 
   [[nodiscard]] pid_t pid() const { return process_.pid(); }
+  /// Sends `signal_number` (a kill, a freeze); stop() still reaps it.
+  bool signal(int signal_number) { return process_.send_signal(signal_number); }
   void stop() {
     if (stopped_) return;
     stopped_ = true;

@@ -69,11 +69,14 @@ topics = dict(re.findall(r'const string (\w+) = "([^"]+)";', topics_module))
 requests = {t for name, t in topics.items() if name.endswith("_REQUEST")}
 replies = {t for name, t in topics.items() if name.endswith("_REPLY")}
 status, event, info = topics["HAND_STATUS"], topics["HAND_EVENT"], topics["SERVICE_INFO"]
-assert len(topics) == len(requests | replies | {status, event, info}), f"a topic of no known role: {topics}"
+owner = topics["SERVICE_OWNER"]
+assert len(topics) == len(requests | replies | {status, event, info, owner}), f"a topic of no known role: {topics}"
+# Every client reads who owns a name (and sees its death); a service also
+# reads it, to meet any other service of its name.
 want = {
-    "service": ({status, event, info} | replies, requests),
-    "operator": (requests, {status, event, info} | replies),
-    "monitor": (set(), {status, event}),
+    "service": ({status, event, info, owner} | replies, requests | {owner}),
+    "operator": (requests, {status, event, info, owner} | replies),
+    "monitor": (set(), {status, event, owner}),
 }
 bad = 0
 for identity, (pub, sub) in want.items():

@@ -101,10 +101,12 @@ TEST(ServiceKilled, ClientsRunningThroughTheOutageRecoverWithoutRestarting) {
   for (const auto seq : outage) EXPECT_LE(first->reply_count(seq), 1U) << "request " << seq;
 }
 
-// A service that cannot read (stopped, here by SIGSTOP; a starved or wedged
-// process alike) never acknowledges the request: the caller is told so, not
-// just "no reply", and knows the command may not have reached the service.
-TEST(ServiceStopped, ARequestItNeverAcknowledgedIsReportedAsSuch) {
+// A service that cannot run (stopped, here by SIGSTOP; a wedged process
+// alike) stops asserting that it lives: the caller's request, never answered,
+// ends SERVICE_LOST well before the call's own deadline, saying that the
+// command may or may not have reached the hand (the frozen service still holds
+// it). Continued, the same service serves again.
+TEST(ServiceStopped, ARequestItNeverAnsweredIsReportedLostAndItServesAgainWhenContinued) {
   TempFile config(sim_bus_config());
   ServiceProcess service({"--config", config.path(), "--log-level", "warn"});
   ASSERT_TRUE(service.started());
@@ -117,12 +119,16 @@ TEST(ServiceStopped, ARequestItNeverAcknowledgedIsReportedAsSuch) {
   ASSERT_TRUE(hand.read(reg::firmware_version, std::chrono::seconds(20)));
 
   service.process().send_signal(SIGSTOP);
-  const Reply unread = hand.read(reg::position, std::chrono::seconds(2));
+  // The deadline is the participant lease's: only the owner liveliness ends it sooner.
+  const Reply unread = hand.read(reg::position, std::chrono::seconds(15));
   service.process().send_signal(SIGCONT);
-  EXPECT_EQ(unread.code, Code::no_reply) << unread.message;
-  EXPECT_THAT(unread.message, ::testing::HasSubstr("the service has not acknowledged the request"));
-  // Running again, it answers as before.
+  EXPECT_EQ(unread.code, Code::service_lost) << unread.message;
+  EXPECT_THAT(unread.message, ::testing::HasSubstr("killed, frozen or cut off"));
+  EXPECT_THAT(unread.message, ::testing::HasSubstr("may or may not have reached the hand"));
+  // Running again, it answers as before, and its hands are online again.
   EXPECT_TRUE(hand.read(reg::firmware_version, std::chrono::seconds(20)));
+  EXPECT_TRUE(
+      hand.wait_until([](const HandStatus& s) { return s.online; }, std::chrono::seconds(20)));
 }
 
 /// dh3ctl processes are the clients that die: each asks hand 1-3 for its

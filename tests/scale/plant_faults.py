@@ -35,10 +35,11 @@ sys.dont_write_bytecode = True  # nothing written into the source tree
 import plantlib  # noqa: E402
 from plantlib import CtlWatcher, Plant  # noqa: E402
 
-# DDS's participant lease (Fast DDS default 20 s, which dh3 keeps) is what
-# tells a client that a killed service is gone; the bound adds the lease's
-# check period and room for a loaded machine.
-OFFLINE_BOUND_S = 45.0
+# A killed service stops asserting its owner liveliness, which clients see
+# lapse within 850 ms (lease and confirmation, docs/failover.md). The bound is generous for
+# a loaded plant and still well inside Fast DDS's 20 s participant lease,
+# the only thing that told clients before: a client that fell back on it fails.
+OFFLINE_BOUND_S = 10.0
 DEADLINE_S = 120.0  # any other wait: a failure bound, not a figure
 
 

@@ -277,6 +277,10 @@ struct WatchTraffic {
   /// kept statuses as the client joins, the last of each hand, once; a
   /// writer that does not know dh3's filter). 0 for a client that follows nothing.
   std::uint64_t dropped_on_arrival = 0;
+  /// Statuses, events, service infos and replies ignored because their writer
+  /// does not own the service name they carry: a second service of that name,
+  /// a standby, or one another outranked (docs/failover.md). 0 in a healthy cell.
+  std::uint64_t not_owner = 0;
 };
 
 class DH3_CLIENT_API Client {

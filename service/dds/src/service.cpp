@@ -54,6 +54,7 @@ Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups) {
     spdlog::info("DDS Security on: identity '{}' in '{}'", options_.participant.security_identity,
                  options_.participant.security_dir);
   }
+  if (auto claimed = claim_name(); !claimed) return claimed;
   if (auto created = create_writers(); !created) return created;
 
   for (auto& setup : setups) {
@@ -70,6 +71,18 @@ Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups) {
     directory_.add_bus(setup.name, schedulers_.back()->roster());
   }
   return {};
+}
+
+Result<void, std::string> Service::Impl::claim_name() {
+  if (auto created = owner_.create(*participant_); !created) {
+    return fail(cannot_create(created.error()));
+  }
+  const Duration window = options_.claim_window.value_or(contract::kStartClaimWindow);
+  spdlog::info("listening {} ms for another service named '{}' before serving",
+               std::chrono::duration_cast<std::chrono::milliseconds>(window).count(),
+               options_.name);
+  return owner_.claim(own_claim(options_.name, options_.host, statuses_.started_ns()), window,
+                      options_.on_lost_ownership);
 }
 
 std::string Service::Impl::cannot_create(const std::string& what) const {
@@ -198,6 +211,7 @@ void Service::Impl::stop() {
 
 void Service::Impl::destroy_dds() {
   if (participant_ == nullptr) return;
+  owner_.stop();
   if (request_reader_ != nullptr) request_reader_->set_listener(nullptr);
   if (group_request_reader_ != nullptr) group_request_reader_->set_listener(nullptr);
   group_request_reader_ = nullptr;
@@ -217,6 +231,8 @@ void Service::Impl::on_requests(fdds::DataReader& reader) {
   fdds::SampleInfo info;
   while (reader.take_next_sample(&request_, &info) == ReturnCode_t::RETCODE_OK) {
     if (!info.valid_data) continue;
+    // Outranked by another service of this name: that one answers.
+    if (!owner_.owns()) continue;
     if (options_.test_seam_tracer)
       options_.test_seam_tracer(TracePoint::request_taken, request_.request_seq());
     requests_.handle(request_, caller_of(info), stopping_);
@@ -227,7 +243,7 @@ void Service::Impl::on_group_requests(fdds::DataReader& reader) {
   std::lock_guard lock(dispatch_mutex_);
   fdds::SampleInfo info;
   while (reader.take_next_sample(&group_request_, &info) == ReturnCode_t::RETCODE_OK) {
-    if (info.valid_data) groups_.handle(group_request_, caller_of(info), stopping_);
+    if (info.valid_data && owner_.owns()) groups_.handle(group_request_, caller_of(info), stopping_);
   }
 }
 

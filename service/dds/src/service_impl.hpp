@@ -43,6 +43,7 @@
 #include "hand_directory.hpp"
 #include "lease_table.hpp"
 #include "participant_names.hpp"
+#include "owner_beacon.hpp"
 #include "reply_channel.hpp"
 #include "request_handler.hpp"
 #include "status_publisher.hpp"
@@ -164,6 +165,8 @@ class Service::Impl {
   void sweep_expired();
 
   // Set-up: each step names the entity it could not create.
+  /// The owner endpoints, then the claim on the name (owner_beacon.hpp).
+  Result<void, std::string> claim_name();
   Result<void, std::string> create_writers();
   Result<void, std::string> create_request_reader();
   /// The group endpoints; a service whose DDS Security permissions predate
@@ -193,6 +196,8 @@ class Service::Impl {
   /// has made them); the writers and readers below are made on them and
   /// deleted with them.
   std::unique_ptr<contract::Participant> participant_;
+  /// Real time, whatever clock_ is: it waits on DDS discovery and liveliness.
+  OwnerBeacon owner_{SystemClock::instance()};
   fdds::DataWriter* status_writer_ = nullptr;
   fdds::DataWriter* event_writer_ = nullptr;
   fdds::DataWriter* reply_writer_ = nullptr;

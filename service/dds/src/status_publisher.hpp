@@ -62,6 +62,8 @@ class StatusPublisher {
   /// Every hand still published online goes out offline (stop).
   void publish_all_offline();
   void publish_info();
+  /// When the service started (its ServiceInfo's and its owner claim's started_ns).
+  [[nodiscard]] std::uint64_t started_ns() const { return started_ns_; }
 
   /// Copies the hand's last prepared sample (sent or held) into the reply;
   /// leaves the reply's empty (update_seq 0) if the hand has none.

@@ -122,8 +122,8 @@ TEST(GroupCalls, LosingAServiceInstanceEndsOnlyTheCallsSentToItServiceLost) {
   const GroupReply lost = to_old[0];
   EXPECT_EQ(lost.code, Code::service_lost);
   EXPECT_EQ(lost.message,
-            "service 'cell' restarted while GROUP GRASP of 3 hand(s) was pending; it may or may "
-            "not have run");
+            "service 'cell' restarted while GROUP GRASP of 3 hand(s) was pending; it had been sent "
+            "to that service, so it may or may not have reached the hand");
   EXPECT_TRUE(to_other.empty());
   EXPECT_TRUE(calls.take(2));
 }

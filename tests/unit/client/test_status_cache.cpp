@@ -58,11 +58,30 @@ TEST(StatusCache, ALostServiceTakesOnlyItsOnlineHandsOfflineOnce) {
   EXPECT_TRUE(cache.mark_lost("svc").empty());  // already offline
 }
 
+TEST(StatusCache, AServiceThatAssertsAgainBringsBackOnlyTheHandsItSentAndLost) {
+  StatusCache cache;
+  cache.take("A", status_of(kLeft, 3));
+  cache.take("A", status_of(kRight, 1, false));
+  cache.take("C", status_of(kOther, 1));
+  cache.mark_lost("svc");
+  cache.mark_lost("other");
+  EXPECT_TRUE(cache.mark_regained("B").empty()) << "another incarnation's hands stay lost";
+  const auto back = cache.mark_regained("A");
+  ASSERT_EQ(back.size(), 1U) << "hand 2 was offline before its service was lost";
+  EXPECT_EQ(back[0].address, kLeft);
+  EXPECT_TRUE(back[0].online);
+  EXPECT_FALSE(back[0].service_lost);
+  EXPECT_EQ(back[0].update_seq, 3U);
+  EXPECT_TRUE(cache.find(kLeft)->online);
+  EXPECT_FALSE(cache.find(kOther)->online);
+  EXPECT_TRUE(cache.mark_regained("A").empty());  // already back
+}
+
 TEST(StatusCache, TheOfflineEventSaysWhereTheHandWasAndWhy) {
   HandStatus status = status_of(kLeft, 3);
   status.target_position = 500;
-  const HandEvent event =
-      StatusCache::offline_event(status, "service 'svc' left the domain", 1'700'000'000'000'000'000);
+  const HandEvent event = StatusCache::offline_event(status, "service 'svc' left the domain",
+                                                     1'700'000'000'000'000'000);
   EXPECT_EQ(event.hand, kLeft);
   EXPECT_EQ(event.name, "left");
   EXPECT_EQ(event.kind, EventKind::offline);

@@ -16,6 +16,7 @@ enum class TopicRole {
   hand_event,    ///< a stream; only live subscribers get events
   request,       ///< commands from clients
   reply,         ///< answers from services
+  service_owner, ///< who serves a cell name, kept alive by liveliness (ownership.hpp)
 };
 
 /// History depth for the streams (events, requests, replies).
@@ -26,6 +27,10 @@ inline constexpr int kStreamDepth = 64;
 /// lost sample costs seconds, and a writer waiting for acknowledgments before
 /// it leaves (orderly shutdown) waits that long. Not part of matching.
 inline constexpr std::uint32_t kHeartbeatPeriodNs = 100'000'000;
+
+/// The most hands a status reader keeps (64 services of 256 hands): what any
+/// participant, a spoofer too, can make a reader hold is bounded.
+inline constexpr std::int32_t kMaxStatusKeys = 16384;
 
 /// The QoS of dh3's writers and readers of a topic in `role`.
 eprosima::fastdds::dds::DataWriterQos writer_qos(TopicRole role);

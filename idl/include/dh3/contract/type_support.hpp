@@ -33,7 +33,7 @@ class TypeSupport final : public Generated {
   }
 };
 
-/// The contract's seven topics on one participant, each with its type
+/// The contract's eight topics on one participant, each with its type
 /// registered through TypeSupport. A member is nullptr where Fast DDS refused.
 struct Topics {
   eprosima::fastdds::dds::Topic* status = nullptr;
@@ -43,6 +43,7 @@ struct Topics {
   eprosima::fastdds::dds::Topic* reply = nullptr;
   eprosima::fastdds::dds::Topic* group_request = nullptr;
   eprosima::fastdds::dds::Topic* group_reply = nullptr;
+  eprosima::fastdds::dds::Topic* owner = nullptr;
 
   [[nodiscard]] bool complete() const;
 };

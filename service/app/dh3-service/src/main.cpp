@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <atomic>
 #include <csignal>
 #include <cstdio>
 #include <optional>
@@ -31,6 +32,8 @@ namespace {
 
 constexpr int kExitStartFailed = 1;
 constexpr int kExitConfigError = 2;
+/// Another service of the same name outranked this one (docs/failover.md).
+constexpr int kExitLostOwnership = 3;
 
 void set_up_logging(const std::string& level) {
   auto logger = spdlog::stderr_color_mt("dh3-service");
@@ -161,6 +164,13 @@ int run_service(const dh3::app::ServiceConfig& config, const sigset_t& stop_sign
   options.status_refresh = config.status_refresh;
   options.version = DH3_VERSION;
   options.host = dh3::host_name();
+  // Another service of this name outranks ours (docs/failover.md): stop, as
+  // on SIGTERM, and exit non-zero.
+  static std::atomic<bool> lost_ownership{false};
+  options.on_lost_ownership = [](const std::string& /*why*/) {
+    lost_ownership = true;
+    ::kill(::getpid(), SIGTERM);
+  };
   auto service = dh3::dds::Service::create(options, std::move(*buses), clock);
   if (!service) {
     spdlog::critical("{}", service.error());
@@ -186,12 +196,16 @@ int run_service(const dh3::app::ServiceConfig& config, const sigset_t& stop_sign
 
   int signal_number = 0;
   sigwait(&stop_signals, &signal_number);
-  spdlog::info("{} received, stopping", signal_number == SIGINT ? "SIGINT" : "SIGTERM");
+  if (lost_ownership) {
+    spdlog::critical("another service of this name outranks this one: stopping");
+  } else {
+    spdlog::info("{} received, stopping", signal_number == SIGINT ? "SIGINT" : "SIGTERM");
+  }
   exporter.reset();  // it reads the service's figures: gone before the service
   (*service)->stop();
   service->reset();
   spdlog::shutdown();
-  return 0;
+  return lost_ownership ? kExitLostOwnership : 0;
 }
 
 }  // namespace

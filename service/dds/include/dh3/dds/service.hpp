@@ -10,7 +10,9 @@
 // thread ends expired leases.
 
 #include <chrono>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,6 +40,15 @@ struct ServiceOptions {
   /// ms, 2 samples/s per hand to each watcher would go out instead of 0.2.
   /// Zero: every idle read is published.
   Duration status_refresh = std::chrono::seconds(5);
+  /// How long create() listens for another live service of this name before
+  /// it claims the name (docs/failover.md); unset: contract::kStartClaimWindow,
+  /// longer than the owner lease (a service killed just before is seen dead)
+  /// and than discovery takes.
+  std::optional<Duration> claim_window;
+  /// Runs once, on an internal thread, when a service of this name that
+  /// outranks this one appears (two services met after a partition healed):
+  /// from then on this one takes no request; the program should stop.
+  std::function<void(const std::string& why)> on_lost_ownership;
   /// How long stop() waits for subscribers to acknowledge the last samples.
   Duration shutdown_ack_timeout = std::chrono::seconds(2);
   /// Test seam (request_trace_seam.hpp): called at each TracePoint of every
@@ -64,8 +75,11 @@ struct BusSetup {
 
 class Service {
  public:
-  /// Creates the participant, topics and writers; nothing runs yet. Fails with
-  /// a message if DDS cannot be set up (e.g. a bad interface address).
+  /// Creates the participant, claims the service's name (listening for
+  /// options.claim_window first), then the topics and writers; nothing else
+  /// runs yet. Fails with a message if DDS cannot be set up (e.g. a bad
+  /// interface address) or if the name is already served on the domain (the
+  /// message names the other service's host and process).
   [[nodiscard]] static Result<std::unique_ptr<Service>, std::string> create(
       ServiceOptions options, std::vector<BusSetup> buses, const Clock& clock);
   ~Service();

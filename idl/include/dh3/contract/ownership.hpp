@@ -1,0 +1,203 @@
+#pragma once
+// Who owns a cell name: the rule every participant applies to the
+// ServiceOwner samples and their writers' liveliness (dh3.idl, topic
+// SERVICE_OWNER; docs/failover.md). Knows no Fast DDS, only the wire types: a
+// participant is its GUID prefix in hex (client_id_for), so the rule runs the
+// same in a service, a standby and a client, and in tests on a fake clock.
+//
+// Not thread-safe: each user keeps its table under its own lock.
+
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <tuple>
+#include <vector>
+
+#include "dh3/base/clock.hpp"
+#include "dh3_idl/dh3.h"
+
+namespace dh3::contract {
+
+/// The liveliness of a service's owner writer (docs/failover.md says why
+/// these numbers; dh3_qos.hpp applies them). The writer offers, and every
+/// reader requests, MANUAL_BY_TOPIC with this lease: Fast DDS 2.9.1 lets a
+/// live AUTOMATIC or MANUAL_BY_PARTICIPANT writer of another participant keep
+/// a dead one alive until the participant lease ends (eProsima/Fast-DDS
+/// #4373); MANUAL_BY_TOPIC is checked per writer. Fast DDS reports a lapse
+/// between lease - period and lease after the last assertion.
+inline constexpr std::chrono::milliseconds kOwnerLease{700};
+/// How often a service asserts it: six assertions in a row may be lost or
+/// late (a 200 ms network stall, a service starved by busy loops or slowed by
+/// sanitizers) before a reader declares the service dead.
+inline constexpr std::chrono::milliseconds kOwnerAssertPeriod{100};
+/// How long a client waits, after a lease lapsed, for the owner to assert
+/// again before it believes the lapse: a client process stalled itself (32
+/// clients starting in one process, sanitizers) may see the lease lapse before
+/// it reads the assertions queued meanwhile. A death is then seen between
+/// lease - period + this and lease + this after the last assertion.
+inline constexpr std::chrono::milliseconds kOwnerLapseConfirm{150};
+/// How long after its report a lapse must stand before a client ends the
+/// calls in flight to that service SERVICE_LOST: 32 clients started together
+/// in one process on a loaded 2-core machine saw lapses that the service
+/// overturned 230-680 ms after Fast DDS reported them, and some for over 2 s
+/// (docs/failover.md); a call then still gets its reply.
+inline constexpr std::chrono::milliseconds kOwnerLapseCallConfirm{5000};
+/// How long a service listens before it serves: the owner lease (a service
+/// killed just before has then been seen dead) and a second for discovery.
+inline constexpr std::chrono::milliseconds kStartClaimWindow =
+    kOwnerLease + std::chrono::seconds(1);
+
+/// One service process's claim on a cell name, as its owner writer wrote it.
+struct OwnerClaim {
+  std::string participant;  ///< GUID prefix in hex
+  std::string service;
+  std::string host;
+  std::int32_t pid = 0;
+  std::uint64_t started_ns = 0;  ///< wall clock, ns since the epoch
+  bool standby = false;
+  std::uint64_t epoch = 0;
+
+  /// "pid 4711 on host 'cellpc1' (participant 01f2...)", for error messages.
+  [[nodiscard]] std::string describe() const {
+    return "pid " + std::to_string(pid) + " on host '" + host + "' (participant " + participant +
+           ")";
+  }
+};
+
+/// A ServiceOwner sample in these terms, written by `participant`.
+inline OwnerClaim to_claim(const msg::ServiceOwner& sample, const std::string& participant) {
+  OwnerClaim claim;
+  claim.participant = participant;
+  claim.service = sample.service();
+  claim.host = sample.host();
+  claim.pid = sample.pid();
+  claim.started_ns = sample.started_ns();
+  claim.standby = sample.role() == msg::ServiceRole::ROLE_STANDBY;
+  claim.epoch = sample.epoch();
+  return claim;
+}
+
+/// True if `a` rather than `b` owns their name when both are live and active:
+/// the higher epoch (a takeover raised it), then the later start (a restart
+/// supersedes what it replaced), then the higher participant prefix. A total
+/// order on what both sides read, so two services that meet after a
+/// partition agree on which one stops.
+inline bool outranks(const OwnerClaim& a, const OwnerClaim& b) {
+  return std::tie(a.epoch, a.started_ns, a.participant) >
+         std::tie(b.epoch, b.started_ns, b.participant);
+}
+
+/// Every claim seen, and which writers are alive now.
+class OwnerTable {
+ public:
+  /// A claim sample arrived (a participant has one claim; a new one replaces it).
+  void claim(OwnerClaim claim) {
+    auto& entry = entries_[claim.participant];
+    entry.claim = std::move(claim);
+    entry.has_claim = true;
+  }
+  /// The writer of `participant` asserted its liveliness (true) or missed its
+  /// lease (false). May come before or after the claim sample.
+  void set_alive(const std::string& participant, bool alive) {
+    entries_[participant].liveliness = alive ? Liveliness::alive : Liveliness::lapsed;
+  }
+  /// The participant left the domain or its writer was deleted.
+  void forget(const std::string& participant) { entries_.erase(participant); }
+
+  /// The claim of `participant`, if its sample arrived.
+  [[nodiscard]] std::optional<OwnerClaim> claim_of(const std::string& participant) const {
+    const auto it = entries_.find(participant);
+    if (it == entries_.end() || !it->second.has_claim) return std::nullopt;
+    return it->second.claim;
+  }
+  /// Its liveliness was seen asserted and has not lapsed since.
+  [[nodiscard]] bool alive(const std::string& participant) const {
+    const auto it = entries_.find(participant);
+    return it != entries_.end() && it->second.liveliness == Liveliness::alive;
+  }
+  /// Its liveliness was seen and then lapsed (killed, frozen or cut off).
+  [[nodiscard]] bool lapsed(const std::string& participant) const {
+    const auto it = entries_.find(participant);
+    return it != entries_.end() && it->second.liveliness == Liveliness::lapsed;
+  }
+  /// The owner of `service`: the highest-ranking active claim that has not
+  /// lapsed. A claim whose liveliness is not seen yet counts: its sample came
+  /// from a writer alive when it wrote it, and the first assertion may
+  /// arrive after the sample (unknown is not dead).
+  [[nodiscard]] std::optional<OwnerClaim> owner(std::string_view service) const {
+    std::optional<OwnerClaim> best;
+    for (const auto& [participant, entry] : entries_) {
+      if (!entry.has_claim || entry.liveliness == Liveliness::lapsed || entry.claim.standby) {
+        continue;
+      }
+      if (entry.claim.service != service) continue;
+      if (!best || outranks(entry.claim, *best)) best = entry.claim;
+    }
+    return best;
+  }
+  /// The highest epoch any claim on `service` carried, live or not (0: none).
+  [[nodiscard]] std::uint64_t highest_epoch(std::string_view service) const {
+    std::uint64_t highest = 0;
+    for (const auto& [participant, entry] : entries_) {
+      if (entry.has_claim && entry.claim.service == service) {
+        highest = std::max(highest, entry.claim.epoch);
+      }
+    }
+    return highest;
+  }
+
+ private:
+  enum class Liveliness : std::uint8_t { unknown, alive, lapsed };
+  struct Entry {
+    OwnerClaim claim;
+    bool has_claim = false;
+    Liveliness liveliness = Liveliness::unknown;
+  };
+  std::map<std::string, Entry> entries_;
+};
+
+/// A service's decision at start: it serves only once it has listened for a
+/// while without meeting a live active owner of its name. `window` must
+/// exceed the owner lease (a service killed just before is then seen dead)
+/// and the time discovery takes to find the owner.
+class StartClaim {
+ public:
+  enum class Verdict : std::uint8_t { wait, serve, refuse };
+
+  StartClaim(std::string service, std::string self, Duration window, const Clock& clock)
+      : service_(std::move(service)),
+        self_(std::move(self)),
+        deadline_(clock.now() + window),
+        clock_(clock) {}
+
+  /// What to do now, given what `table` holds: refuse as soon as a live
+  /// active owner of the name (not ourselves) is known, serve once the window
+  /// has passed without one.
+  [[nodiscard]] Verdict decide(const OwnerTable& table) {
+    if (const auto owner = table.owner(service_); owner && owner->participant != self_) {
+      other_ = owner;
+      return Verdict::refuse;
+    }
+    return clock_.now() >= deadline_ ? Verdict::serve : Verdict::wait;
+  }
+  /// The owner that made decide() refuse.
+  [[nodiscard]] const std::optional<OwnerClaim>& other() const { return other_; }
+  /// The epoch to claim when serving: above every claim on the name seen.
+  [[nodiscard]] std::uint64_t epoch(const OwnerTable& table) const {
+    return table.highest_epoch(service_) + 1;
+  }
+  [[nodiscard]] TimePoint deadline() const { return deadline_; }
+
+ private:
+  std::string service_;
+  std::string self_;
+  TimePoint deadline_;
+  const Clock& clock_;
+  std::optional<OwnerClaim> other_;
+};
+
+}  // namespace dh3::contract

@@ -1,0 +1,100 @@
+#pragma once
+// The service's claim on its cell name (docs/failover.md): its owner writer,
+// whose liveliness it asserts from a thread of its own (so a frozen or
+// cut-off process stops asserting, and every reader sees it dead within the
+// owner lease), and its owner reader, through which it meets any other
+// service of its name.
+//
+// At start it listens for contract::kStartClaimWindow before it claims the
+// name: a live active owner found meanwhile makes claim() fail, naming that
+// owner's host and process. Once serving it keeps applying the ownership
+// rule (contract::outranks): when a higher-ranking live owner of its name
+// appears (two services that met after a partition healed), owns() turns
+// false at once and `lost` runs once, on the beacon's thread.
+//
+// Threads: Fast DDS listener threads fill the table; the beacon's thread
+// asserts and judges; owns() from any thread. One mutex guards the table.
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <functional>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "dh3/base/clock.hpp"
+#include "dh3/base/result.hpp"
+#include "dh3_idl/dh3.h"
+#include "dh3/contract/ownership.hpp"
+#include "dh3/contract/participant_setup.hpp"
+
+namespace dh3::dds {
+
+class OwnerBeacon {
+ public:
+  using Lost = std::function<void(const std::string& why)>;
+
+  explicit OwnerBeacon(const Clock& clock) : clock_(clock), listener_(*this) {}
+  ~OwnerBeacon();
+  OwnerBeacon(const OwnerBeacon&) = delete;
+  OwnerBeacon& operator=(const OwnerBeacon&) = delete;
+
+  /// Creates the owner writer and reader on `participant` (nothing is written
+  /// yet); fails naming the endpoint it could not create.
+  Result<void, std::string> create(contract::Participant& participant);
+  /// Listens for `window`, then claims the name `self` describes (its epoch
+  /// set above every claim seen) and asserts it from then on; fails, naming
+  /// the other service, if the name has a live active owner.
+  Result<void, std::string> claim(msg::ServiceOwner self, Duration window, Lost lost);
+  /// Still the owner of the name: false once another outranks it.
+  [[nodiscard]] bool owns() const { return owns_.load(); }
+  /// The claim as written (epoch included), once claim() succeeded.
+  [[nodiscard]] const msg::ServiceOwner& self() const { return self_; }
+  /// Stops asserting and lets go of the endpoints; before the participant is deleted.
+  void stop();
+
+ private:
+  class Listener final : public eprosima::fastdds::dds::DataReaderListener {
+   public:
+    explicit Listener(OwnerBeacon& beacon) : beacon_(beacon) {}
+    void on_data_available(eprosima::fastdds::dds::DataReader* reader) override;
+    void on_liveliness_changed(
+        eprosima::fastdds::dds::DataReader* reader,
+        const eprosima::fastdds::dds::LivelinessChangedStatus& status) override;
+    void on_subscription_matched(
+        eprosima::fastdds::dds::DataReader* reader,
+        const eprosima::fastdds::dds::SubscriptionMatchedStatus& status) override;
+
+   private:
+    OwnerBeacon& beacon_;
+  };
+
+  void run();
+  /// The loser's verdict, once; under mutex_.
+  [[nodiscard]] std::string outranked_locked() const;
+
+  const Clock& clock_;
+  Listener listener_;
+  eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
+  eprosima::fastdds::dds::DataReader* reader_ = nullptr;
+  std::string participant_;  ///< our own GUID prefix in hex
+  msg::ServiceOwner self_;
+  Lost lost_;
+
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  contract::OwnerTable table_;  ///< under mutex_
+  bool stopping_ = false;       ///< under mutex_
+  std::atomic<bool> owns_{false};
+  std::thread thread_;
+};
+
+/// The claim a service makes: `service` served by this process on `host`.
+msg::ServiceOwner own_claim(const std::string& service, const std::string& host,
+                            std::uint64_t started_ns);
+
+}  // namespace dh3::dds

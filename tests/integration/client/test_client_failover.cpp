@@ -1,0 +1,163 @@
+// A service killed, frozen or duplicated, as the client library, dh3ctl and a
+// second dh3-service see it (docs/failover.md). Deaths must be seen well
+// before Fast DDS's 20 s participant lease would have told: the deadlines
+// below are generous for a loaded machine and still inside that lease, so a
+// client that fell back on the participant lease fails them.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <future>
+#include <mutex>
+#include <vector>
+
+#include "client_fixture.hpp"
+#include "dh3/registers.hpp"
+
+namespace dh3::test {
+namespace {
+
+using ::testing::AnyOf;
+using ::testing::HasSubstr;
+
+/// Inside the 20 s participant lease, whatever the machine's load.
+constexpr std::chrono::seconds kBeforeParticipantLease{12};
+
+/// The OFFLINE events a hand's subscription got.
+class OfflineLog {
+ public:
+  void add(const HandEvent& event) {
+    if (event.kind != EventKind::offline) return;
+    std::lock_guard lock(mutex_);
+    messages_.push_back(event.message);
+    changed_.notify_all();
+  }
+  std::optional<std::string> wait(std::chrono::milliseconds timeout) {
+    std::unique_lock lock(mutex_);
+    if (!changed_.wait_for(lock, timeout, [this] { return !messages_.empty(); })) return {};
+    return messages_.front();
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::vector<std::string> messages_;
+};
+
+/// Reads lines until one contains `text`; nullopt at end of file or timeout.
+std::optional<std::string> wait_for_text(Process& process, std::string_view text,
+                                         std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  for (;;) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+        deadline - std::chrono::steady_clock::now());
+    auto line = process.read_line(std::max(left, std::chrono::milliseconds(0)));
+    if (!line || line->find(text) != std::string::npos) return line;
+  }
+}
+
+class FailoverTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ASSERT_TRUE(service_->started());
+    auto found = client_.wait_for_hand(hand_spec(2), kClientDeadline);
+    ASSERT_TRUE(found) << found.message();
+    hand_.emplace(*found);
+    ASSERT_TRUE(hand_->wait_until([](const HandStatus& s) { return s.online; }));
+    subscription_ = hand_->subscribe([this](const HandEvent& e) { offline_.add(e); });
+  }
+
+  /// An INITIALIZE that stays in flight (initialization takes ten minutes here).
+  std::future<Reply> command_in_flight() {
+    auto pending = hand_->initialize_async(std::chrono::seconds(120));
+    // Requests from one client arrive in order: once another hand's read is
+    // answered, the service has the INITIALIZE.
+    const Reply probe = client_.hand(hand_address(3)).read(reg::position);
+    EXPECT_TRUE(probe) << probe.message;
+    return pending;
+  }
+
+  /// The call ends SERVICE_LOST and the hand goes OFFLINE, both saying why.
+  void expect_death_seen(std::future<Reply>& pending) {
+    ASSERT_EQ(pending.wait_for(kBeforeParticipantLease), std::future_status::ready)
+        << "the call was not ended within the participant lease";
+    const Reply lost = pending.get();
+    EXPECT_EQ(lost.code, Code::service_lost) << lost.message;
+    EXPECT_THAT(lost.message, HasSubstr("stopped asserting it lives"));
+    EXPECT_THAT(lost.message, HasSubstr("may or may not have reached the hand"));
+    const auto offline = offline_.wait(kBeforeParticipantLease);
+    ASSERT_TRUE(offline) << "no OFFLINE event";
+    EXPECT_THAT(*offline, HasSubstr("killed, frozen or cut off"));
+    const auto status = client_.status(hand_address(2));
+    ASSERT_TRUE(status);
+    EXPECT_FALSE(status->online);
+    EXPECT_TRUE(status->service_lost);
+  }
+
+  std::unique_ptr<RunningService> service_ =
+      std::make_unique<RunningService>(sim_config(/*init_time_ms=*/600000));
+  Client client_{client_options()};
+  std::optional<Hand> hand_;
+  OfflineLog offline_;
+  Subscription subscription_;
+};
+
+TEST_F(FailoverTest, AKilledServiceIsSeenBeforeTheParticipantLease) {
+  auto pending = command_in_flight();
+  service_->process().process().send_signal(SIGKILL);
+  expect_death_seen(pending);
+}
+
+TEST_F(FailoverTest, AFrozenServiceIsSeenAndServesAgainWhenItContinues) {
+  auto pending = command_in_flight();
+  Process& process = service_->process().process();
+  process.send_signal(SIGSTOP);
+  expect_death_seen(pending);
+  EXPECT_FALSE(client_.service(test_service_name())->ready);
+  process.send_signal(SIGCONT);
+  // It asserts again: the same service, its hand online with its next status.
+  EXPECT_TRUE(hand_->wait_until([](const HandStatus& s) { return s.online; }, kClientDeadline));
+  const Reply read = hand_->read(reg::position);
+  EXPECT_TRUE(read) << read.message;
+}
+
+TEST_F(FailoverTest, DhctlEventsReportsAKilledServiceOffline) {
+  Process events(DH3CTL_PATH, ctl_args({"events", hand_spec(2), "--count", "1"}),
+                 Process::Stdin::dev_null);
+  ASSERT_TRUE(events.wait_for_line("watching events", kClientDeadline));
+  service_->process().process().send_signal(SIGKILL);
+  const auto line = events.read_line(kBeforeParticipantLease);
+  ASSERT_TRUE(line) << "dh3ctl events printed nothing within the participant lease";
+  EXPECT_THAT(*line, HasSubstr("OFFLINE"));
+  EXPECT_THAT(*line, HasSubstr("killed, frozen or cut off"));
+}
+
+TEST_F(FailoverTest, ASecondServiceOfTheNameRefusesToStartAndIsNeverSeen) {
+  const pid_t owner_pid = service_->process().process().pid();
+  const TempFile config(sim_config());
+  // Its stderr into the pipe: the error must name the owner's process.
+  Process duplicate("/bin/sh",
+                    {"-c", std::string(DH3_SERVICE_PATH) + " --domain " +
+                               std::to_string(test_domain()) + " --name " + test_service_name() +
+                               " --config " + config.path() + " --log-level warn 2>&1"},
+                    Process::Stdin::dev_null);
+  ASSERT_TRUE(duplicate.started());
+  const auto error = wait_for_text(duplicate, "already served", kClientDeadline);
+  ASSERT_TRUE(error) << "the duplicate did not say why it refused";
+  EXPECT_THAT(*error, HasSubstr("pid " + std::to_string(owner_pid)));
+  EXPECT_THAT(*error, HasSubstr("on host '"));
+  const auto status = duplicate.wait_exit(kClientDeadline);
+  ASSERT_TRUE(status && WIFEXITED(*status));
+  EXPECT_NE(WEXITSTATUS(*status), 0);
+
+  // The owner serves on, and nothing of the duplicate reached the client.
+  const Reply read = hand_->read(reg::position);
+  EXPECT_TRUE(read) << read.message;
+  EXPECT_TRUE(client_.service(test_service_name())->ready);
+  EXPECT_EQ(client_.watch_traffic().not_owner, 0U);
+  EXPECT_TRUE(client_.status(hand_address(2))->online);
+}
+
+}  // namespace
+}  // namespace dh3::test

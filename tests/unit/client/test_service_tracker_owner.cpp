@@ -1,0 +1,205 @@
+// ServiceTracker with owner claims (idl/include/dh3/contract/ownership.hpp), without DDS: the
+// owner is believed and nothing else of its name; an owner whose liveliness
+// lapses is lost at once, and found again when it asserts again.
+
+#include <gtest/gtest.h>
+
+#include "service_tracker.hpp"
+
+namespace dh3::detail {
+namespace {
+
+using Endpoint = ServiceTracker::Endpoint;
+using Outcome = ServiceTracker::Outcome;
+
+contract::OwnerClaim claim(const std::string& participant, std::uint64_t epoch,
+                           std::uint64_t started_ns) {
+  contract::OwnerClaim c;
+  c.participant = participant;
+  c.service = "svc";
+  c.host = "pc-" + participant;
+  c.pid = 42;
+  c.started_ns = started_ns;
+  c.epoch = epoch;
+  return c;
+}
+
+/// `prefix` serves svc: its claim arrived and it asserts its liveliness.
+void serve(ServiceTracker& tracker, const std::string& prefix, std::uint64_t epoch,
+           std::uint64_t started_ns) {
+  Outcome ignored;
+  tracker.take_claim(claim(prefix, epoch, started_ns), ignored);
+  tracker.owner_alive(prefix, true);
+}
+
+TEST(TrackerOwner, ALapsedLivelinessLosesTheServiceAtOnceSayingWhy) {
+  ServiceTracker tracker;
+  Outcome ignored;
+  tracker.note_participant("A", "svc", ignored);
+  serve(tracker, "A", 1, 10);
+  EXPECT_EQ(tracker.incarnation("svc"), "A");
+  EXPECT_TRUE(tracker.alive("svc"));
+  const Outcome lapsed = tracker.owner_alive("A", false);
+  EXPECT_TRUE(lapsed.lost_service);
+  EXPECT_EQ(lapsed.lost, "A");
+  EXPECT_NE(lapsed.why.find("stopped asserting it lives"), std::string::npos) << lapsed.why;
+  EXPECT_NE(lapsed.why.find("killed, frozen or cut off"), std::string::npos) << lapsed.why;
+  EXPECT_NE(lapsed.why.find("pc-A"), std::string::npos) << lapsed.why;
+  EXPECT_FALSE(tracker.alive("svc"));
+  // What it still sends (it is frozen, or cut off and back) is not believed.
+  Outcome late;
+  EXPECT_FALSE(tracker.note_participant("A", "svc", late));
+  EXPECT_FALSE(tracker.believed("A", "svc"));
+}
+
+TEST(TrackerOwner, AClaimWhoseLivelinessIsNotSeenYetIsNotLost) {
+  // The claim sample may arrive before the first assertion (a client that
+  // starts beside a busy service): unknown is not dead.
+  ServiceTracker tracker;
+  Outcome first;
+  tracker.note_participant("A", "svc", first);
+  Outcome claimed;
+  tracker.take_claim(claim("A", 1, 10), claimed);
+  EXPECT_FALSE(claimed.lost_service) << claimed.why;
+  EXPECT_TRUE(tracker.alive("svc"));
+  EXPECT_TRUE(tracker.believed("A", "svc"));
+  const Outcome alive = tracker.owner_alive("A", true);
+  EXPECT_FALSE(alive.lost_service);
+  EXPECT_TRUE(alive.regained.empty()) << "it was never lost";
+  EXPECT_TRUE(tracker.owner_alive("A", false).lost_service) << "a lapse after it was seen is";
+}
+
+TEST(TrackerOwner, ALapseLosesTheServiceIfItStandsAndItsCallsIfItStandsLonger) {
+  using namespace std::chrono_literals;
+  ServiceTracker tracker;
+  serve(tracker, "A", 1, 10);
+  const auto t0 = std::chrono::steady_clock::time_point{} + 1h;
+  EXPECT_EQ(tracker.next_lapse(), std::chrono::steady_clock::time_point::max());
+  // A lapse the owner's next assertion overturns (this client was stalled).
+  tracker.owner_lapsed("A", t0);
+  EXPECT_TRUE(tracker.alive("svc")) << "not believed yet";
+  EXPECT_EQ(tracker.next_lapse(), t0 + contract::kOwnerLapseConfirm);
+  EXPECT_TRUE(tracker.confirm_lapses(t0 + contract::kOwnerLapseConfirm - 1ms).empty());
+  EXPECT_FALSE(tracker.owner_alive("A", true).lost_service);
+  EXPECT_TRUE(tracker.confirm_lapses(t0 + 10s).empty()) << "overturned";
+  EXPECT_TRUE(tracker.alive("svc"));
+
+  // A lapse that stands: the service is lost, its calls in flight not yet.
+  const auto t1 = t0 + 20s;
+  tracker.owner_lapsed("A", t1);
+  tracker.owner_lapsed("A", t1 + 100ms);  // reported again: the first one counts
+  auto lost = tracker.confirm_lapses(t1 + contract::kOwnerLapseConfirm);
+  ASSERT_EQ(lost.size(), 1U);
+  EXPECT_TRUE(lost[0].lost_service);
+  EXPECT_TRUE(lost[0].keep_calls);
+  EXPECT_EQ(lost[0].lost, "A");
+  EXPECT_NE(lost[0].why.find("killed, frozen or cut off"), std::string::npos) << lost[0].why;
+  EXPECT_FALSE(tracker.alive("svc"));
+  EXPECT_EQ(tracker.next_lapse(), t1 + contract::kOwnerLapseCallConfirm);
+  EXPECT_TRUE(tracker.confirm_lapses(t1 + contract::kOwnerLapseCallConfirm - 1ms).empty());
+  // Standing still: the calls end too.
+  const auto calls = tracker.confirm_lapses(t1 + contract::kOwnerLapseCallConfirm);
+  ASSERT_EQ(calls.size(), 1U);
+  EXPECT_FALSE(calls[0].lost_service) << "already lost";
+  EXPECT_EQ(calls[0].end_calls_of, "A");
+  EXPECT_EQ(calls[0].why, lost[0].why);
+  EXPECT_EQ(tracker.next_lapse(), std::chrono::steady_clock::time_point::max());
+}
+
+TEST(TrackerOwner, AnOwnerBackBeforeItsCallsEndedKeepsThem) {
+  using namespace std::chrono_literals;
+  ServiceTracker tracker;
+  serve(tracker, "A", 1, 10);
+  const auto t0 = std::chrono::steady_clock::time_point{} + 1h;
+  tracker.owner_lapsed("A", t0);
+  ASSERT_EQ(tracker.confirm_lapses(t0 + contract::kOwnerLapseConfirm).size(), 1U);
+  const Outcome back = tracker.owner_alive("A", true);
+  EXPECT_EQ(back.regained, "A");
+  EXPECT_TRUE(tracker.alive("svc"));
+  EXPECT_TRUE(tracker.confirm_lapses(t0 + 1h).empty()) << "no call ends";
+}
+
+TEST(TrackerOwner, AnOwnerThatAssertsAgainIsServedAgain) {
+  ServiceTracker tracker;
+  serve(tracker, "A", 1, 10);
+  tracker.owner_alive("A", false);
+  const Outcome back = tracker.owner_alive("A", true);
+  EXPECT_FALSE(back.lost_service);
+  EXPECT_EQ(back.regained, "A") << "its hands come back";
+  EXPECT_TRUE(back.may_dispatch);
+  EXPECT_TRUE(tracker.alive("svc"));
+  EXPECT_EQ(tracker.incarnation("svc"), "A");
+  EXPECT_TRUE(tracker.believed("A", "svc"));
+}
+
+TEST(TrackerOwner, ADuplicateIsNeverBelievedNorMadeCurrent) {
+  ServiceTracker tracker;
+  serve(tracker, "A", 1, 10);
+  Outcome dup;
+  // A second service of the name in its claim window: a participant, no claim.
+  EXPECT_FALSE(tracker.note_participant("B", "svc", dup));
+  EXPECT_FALSE(tracker.believed("B", "svc"));
+  ServiceInfo info;
+  info.name = "svc";
+  info.started_ns = 999;  // started later: before claims, that was a restart
+  EXPECT_FALSE(tracker.take_info("B", info, dup));
+  EXPECT_FALSE(dup.lost_service);
+  EXPECT_EQ(tracker.incarnation("svc"), "A");
+  // Even once the owner died, the refused one does not become the service.
+  tracker.owner_alive("A", false);
+  EXPECT_FALSE(tracker.note_participant("A", "svc", dup));
+  EXPECT_NE(tracker.incarnation("svc"), "B");
+}
+
+TEST(TrackerOwner, AHigherEpochTakesOverAndTheOldOwnersCallsAreLost) {
+  ServiceTracker tracker;
+  serve(tracker, "A", 1, 10);
+  // Its claim alone decides: the sample came from a live writer.
+  Outcome taken;
+  tracker.take_claim(claim("B", 2, 5), taken);
+  EXPECT_TRUE(taken.lost_service);
+  EXPECT_EQ(taken.lost, "A");
+  EXPECT_NE(taken.why.find("now served by"), std::string::npos) << taken.why;
+  EXPECT_EQ(tracker.incarnation("svc"), "B");
+  EXPECT_FALSE(tracker.believed("A", "svc"));
+  EXPECT_TRUE(tracker.believed("B", "svc"));
+  EXPECT_FALSE(tracker.owner_alive("B", true).lost_service)
+      << "its first assertion changes nothing";
+  EXPECT_EQ(tracker.incarnation("svc"), "B");
+}
+
+TEST(TrackerOwner, AStandbyIsNotBelievedWhileItStandsBy) {
+  ServiceTracker tracker;
+  serve(tracker, "A", 1, 10);
+  auto standby = claim("S", 1, 20);
+  standby.standby = true;
+  Outcome ignored;
+  tracker.take_claim(standby, ignored);
+  tracker.owner_alive("S", true);
+  EXPECT_EQ(tracker.incarnation("svc"), "A");
+  EXPECT_FALSE(tracker.believed("S", "svc"));
+  // The primary dies: nobody serves until the standby claims as active.
+  tracker.owner_alive("A", false);
+  EXPECT_FALSE(tracker.alive("svc"));
+  standby.standby = false;
+  standby.epoch = 2;
+  Outcome takeover;
+  tracker.take_claim(standby, takeover);
+  EXPECT_TRUE(takeover.may_dispatch);
+  EXPECT_EQ(tracker.incarnation("svc"), "S");
+  EXPECT_TRUE(tracker.alive("svc"));
+}
+
+TEST(TrackerOwner, TheOwnerLeavingHandsTheNameToTheNextLiveOwner) {
+  ServiceTracker tracker;
+  serve(tracker, "A", 2, 10);
+  serve(tracker, "B", 1, 10);
+  EXPECT_EQ(tracker.incarnation("svc"), "A");
+  const Outcome left = tracker.participant_left("A");
+  EXPECT_TRUE(left.lost_service);
+  EXPECT_EQ(tracker.incarnation("svc"), "B");
+  EXPECT_TRUE(tracker.alive("svc"));
+}
+
+}  // namespace
+}  // namespace dh3::detail
