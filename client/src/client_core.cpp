@@ -257,7 +257,6 @@ void ClientCore::io_loop() {
     // about to go out.
     write_requests(lock);
     if (closed_) break;
-
     Actions lapsed;
     for (const auto& outcome : tracker_.confirm_lapses(Clock::now())) apply_locked(outcome, lapsed);
     if (!lapsed.completions.empty()) {
@@ -399,6 +398,7 @@ void ClientCore::on_owner(const std::string& prefix, const msg::ServiceOwner& cl
     ServiceTracker::Outcome outcome;
     tracker_.take_claim(contract::to_claim(claim, prefix), outcome);
     apply_locked(outcome, out);
+    io_kick_ = out.wake_io = true;  // it may have a lapse to confirm (next_lapse)
   }
   run(out);
 }

@@ -50,8 +50,12 @@ bool ServiceTracker::believed(const std::string& prefix, std::string_view servic
   return !participant_gone(prefix);
 }
 
-void ServiceTracker::take_claim(const contract::OwnerClaim& claim, Outcome& out) {
+void ServiceTracker::take_claim(const contract::OwnerClaim& claim, Outcome& out,
+                                std::chrono::steady_clock::time_point now) {
   owners_.claim(claim);
+  if (!owners_.alive(claim.participant) && !owners_.lapsed(claim.participant)) {
+    owner_lapsed(claim.participant, now + contract::kOwnerLease);  // undone by its first assertion
+  }
   follow_owner(claim.service, out);
   out.service = claim.service;
   out.may_dispatch = true;  // its calls may go out, if this made it ready

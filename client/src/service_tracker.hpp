@@ -72,8 +72,11 @@ class ServiceTracker {
   /// A ServiceInfo from `prefix`. False if ignored (the participant is gone,
   /// or an older instance still around while the newer is current).
   bool take_info(const std::string& prefix, ServiceInfo info, Outcome& out);
-  /// An owner claim written by `prefix` (its sample arrived).
-  void take_claim(const contract::OwnerClaim& claim, Outcome& out);
+  /// An owner claim written by `prefix` (its sample arrived at `now`). A
+  /// claimant whose liveliness is never seen is taken as lapsed a lease after
+  /// its claim: a service killed before its first assertion reached us.
+  void take_claim(const contract::OwnerClaim& claim, Outcome& out,
+                  std::chrono::steady_clock::time_point now = std::chrono::steady_clock::now());
   /// The owner writer of `prefix` asserted its liveliness (true) or missed its
   /// lease (false), taken as final at once.
   Outcome owner_alive(const std::string& prefix, bool alive);

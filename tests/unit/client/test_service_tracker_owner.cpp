@@ -106,6 +106,27 @@ TEST(TrackerOwner, ALapseLosesTheServiceIfItStandsAndItsCallsIfItStandsLonger) {
   EXPECT_EQ(tracker.next_lapse(), std::chrono::steady_clock::time_point::max());
 }
 
+TEST(TrackerOwner, AClaimantNeverSeenAssertingIsLostALeaseAfterItsClaim) {
+  using namespace std::chrono_literals;
+  const auto t0 = std::chrono::steady_clock::time_point{} + 1h;
+  ServiceTracker tracker;
+  Outcome ignored;
+  tracker.take_claim(claim("A", 1, 10), ignored, t0);
+  EXPECT_TRUE(tracker.alive("svc")) << "unknown is not dead";
+  EXPECT_TRUE(tracker.confirm_lapses(t0 + contract::kOwnerLease).empty());
+  const auto lost =
+      tracker.confirm_lapses(t0 + contract::kOwnerLease + contract::kOwnerLapseConfirm);
+  ASSERT_EQ(lost.size(), 1U) << "killed before its first assertion reached us";
+  EXPECT_TRUE(lost[0].lost_service);
+  EXPECT_FALSE(tracker.alive("svc"));
+
+  ServiceTracker seen;
+  seen.take_claim(claim("A", 1, 10), ignored, t0);
+  seen.owner_alive("A", true);
+  EXPECT_TRUE(seen.confirm_lapses(t0 + 1h).empty()) << "it asserted: nothing to confirm";
+  EXPECT_TRUE(seen.alive("svc"));
+}
+
 TEST(TrackerOwner, AnOwnerBackBeforeItsCallsEndedKeepsThem) {
   using namespace std::chrono_literals;
   ServiceTracker tracker;
