@@ -25,8 +25,8 @@
 #include <string_view>
 #include <vector>
 
-#include "dh3/types.hpp"
 #include "dh3/contract/ownership.hpp"
+#include "dh3/types.hpp"
 
 namespace dh3::detail {
 
