@@ -64,7 +64,7 @@ Result<void, std::string> ClientCore::set_up(const EndpointCreator& creator) {
   has_info_reader_ = endpoints_->has_info_reader();
   {
     std::lock_guard lock(mutex_);
-    tracker_.set_commands(can_command_);
+    tracker_.set_endpoints(can_command_, endpoints_->has_owner_reader());
   }
   if (!can_command_) denied_message_ = ClientEndpoints::denied_message(options_);
   return {};
@@ -89,8 +89,7 @@ void ClientCore::close() {
   }
   io_wake_.notify_all();
   changed_.notify_all();
-  // The io thread is the only writer: once it is gone no write can race the
-  // deletion below.
+  // The io thread is the only writer: once it is gone no write races the deletion below.
   if (io_thread_.joinable()) io_thread_.join();
   {
     // Callers writing their own requests finish before the writer goes.
@@ -253,8 +252,7 @@ void ClientCore::write_requests(std::unique_lock<std::mutex>& lock) {
 void ClientCore::io_loop() {
   std::unique_lock lock(mutex_);
   while (!closed_) {
-    // Requests first: a deadline check must not end a call whose request was
-    // about to go out.
+    // Requests first: a deadline must not end a call whose request was about to go out.
     write_requests(lock);
     if (closed_) break;
     Actions lapsed;
@@ -325,7 +323,10 @@ void ClientCore::apply_locked(const ServiceTracker::Outcome& outcome, Actions& o
 }
 
 void ClientCore::dispatch_locked(const std::string& service, Actions& out) {
-  if (!tracker_.ready(service)) return;
+  if (!tracker_.ready(service)) {
+    io_kick_ = out.wake_io = true;  // it may wait for its owner (next_lapse)
+    return;
+  }
   if (calls_.assign(service, tracker_.incarnation(service), tracker_.group_ready(service))) {
     out.wake_io = true;
   }
@@ -594,8 +595,7 @@ bool ClientCore::wait_for_statuses(Timeout timeout) {
 Found<HandAddress> ClientCore::wait_for_hand(const HandSpec& spec, Timeout timeout) {
   std::unique_lock lock(mutex_);
   std::optional<Found<HandAddress>> answer;
-  // Refused as soon as the live services' own lists rule the hand out, rather
-  // than at the end of the wait.
+  // Refused once the live services' own lists rule the hand out, not at the wait's end.
   const auto ruled_out = [&] {
     std::vector<ServiceInfo> live;
     for (auto& info : tracker_.infos()) {

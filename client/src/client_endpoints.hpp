@@ -184,6 +184,7 @@ class ClientEndpoints {
     return group_request_writer_ != nullptr && group_reply_reader_ != nullptr;
   }
   [[nodiscard]] bool has_info_reader() const { return info_reader_ != nullptr; }
+  [[nodiscard]] bool has_owner_reader() const { return owner_reader_ != nullptr; }
   /// Why commands end DENIED on a read-only client.
   [[nodiscard]] static std::string denied_message(const ClientOptions& options);
 

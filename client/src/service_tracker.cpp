@@ -7,14 +7,36 @@
 namespace dh3::detail {
 
 bool ServiceTracker::note_participant(const std::string& prefix, const std::string& service,
-                                      Outcome& out) {
+                                      Outcome& out, std::chrono::steady_clock::time_point now) {
   if (service.empty() || !believed(prefix, service)) return false;
   auto& participant = participants_[prefix];
   participant.service = service;
   participant.alive = true;
   const auto& state = services_[service];
   if (state.incarnation.empty() || !state.alive) make_current(service, prefix, out);
+  start_owner_wait(prefix, now);
   return true;
+}
+
+void ServiceTracker::set_endpoints(bool can_command, bool has_owner_reader,
+                                   std::chrono::steady_clock::time_point now) {
+  can_command_ = can_command;
+  owner_reader_ = has_owner_reader;
+  for (const auto& [prefix, participant] : participants_) start_owner_wait(prefix, now);
+}
+
+bool ServiceTracker::endpoints_matched(const std::string& prefix) const {
+  // Read-only: nothing to send, so its events reaching us is all.
+  if (!can_command_) return event_writers_.count(prefix) > 0;
+  return request_readers_.count(prefix) > 0 && reply_writers_.count(prefix) > 0 &&
+         event_writers_.count(prefix) > 0;
+}
+
+void ServiceTracker::start_owner_wait(const std::string& prefix,
+                                      std::chrono::steady_clock::time_point now) {
+  const auto it = participants_.find(prefix);
+  if (!owner_reader_ || it == participants_.end() || it->second.owner_wait_until) return;
+  if (endpoints_matched(prefix)) it->second.owner_wait_until = now + kOwnerWait;
 }
 
 void ServiceTracker::make_current(const std::string& service, const std::string& prefix,
@@ -84,6 +106,17 @@ void ServiceTracker::owner_lapsed(const std::string& prefix,
 std::vector<ServiceTracker::Outcome> ServiceTracker::confirm_lapses(
     std::chrono::steady_clock::time_point now) {
   std::vector<Outcome> out;
+  for (auto& [prefix, participant] : participants_) {
+    if (participant.owner_waived || !participant.owner_wait_until ||
+        *participant.owner_wait_until > now) {
+      continue;
+    }
+    participant.owner_waived = true;
+    Outcome waived;
+    waived.service = participant.service;
+    waived.may_dispatch = true;  // ready without its owner writer, if it was waiting for it
+    out.push_back(std::move(waived));
+  }
   for (auto it = lapses_.begin(); it != lapses_.end();) {
     Lapse& lapse = it->second;
     if (!lapse.believed && lapse.confirm_at <= now) {
@@ -117,6 +150,11 @@ std::chrono::steady_clock::time_point ServiceTracker::next_lapse() const {
   auto next = std::chrono::steady_clock::time_point::max();
   for (const auto& [prefix, lapse] : lapses_) {
     next = std::min(next, lapse.believed ? lapse.calls_at : lapse.confirm_at);
+  }
+  for (const auto& [prefix, participant] : participants_) {
+    if (!participant.owner_waived && participant.owner_wait_until) {
+      next = std::min(next, *participant.owner_wait_until);
+    }
   }
   return next;
 }
@@ -230,7 +268,8 @@ std::multiset<std::string>& ServiceTracker::set_of(Endpoint endpoint) {
 }
 
 std::optional<std::string> ServiceTracker::matched(Endpoint endpoint, const std::string& prefix,
-                                                   bool matched) {
+                                                   bool matched,
+                                                   std::chrono::steady_clock::time_point now) {
   auto& set = set_of(endpoint);
   if (matched) {
     set.insert(prefix);
@@ -239,6 +278,7 @@ std::optional<std::string> ServiceTracker::matched(Endpoint endpoint, const std:
   }
   const auto p = participants_.find(prefix);
   if (p == participants_.end() || !p->second.alive) return std::nullopt;
+  start_owner_wait(prefix, now);
   return p->second.service;
 }
 
@@ -246,11 +286,14 @@ bool ServiceTracker::ready(const std::string& service) const {
   const auto it = services_.find(service);
   if (it == services_.end() || !it->second.alive || it->second.incarnation.empty()) return false;
   const auto& prefix = it->second.incarnation;
-  if (owner_writers_.count(prefix) > 0 && !owners_.alive(prefix)) return false;
-  // Read-only: nothing to send, so ready means its events reach us.
-  if (!can_command_) return event_writers_.count(prefix) > 0;
-  return request_readers_.count(prefix) > 0 && reply_writers_.count(prefix) > 0 &&
-         event_writers_.count(prefix) > 0;
+  if (!owners_.alive(prefix)) {
+    // Its owner writer matched: ready once alive. Otherwise, reading claims,
+    // wait for it until kOwnerWait has passed.
+    if (owner_writers_.count(prefix) > 0) return false;
+    const auto p = participants_.find(prefix);
+    if (owner_reader_ && (p == participants_.end() || !p->second.owner_waived)) return false;
+  }
+  return endpoints_matched(prefix);
 }
 
 bool ServiceTracker::group_ready(const std::string& service) const {

@@ -14,7 +14,10 @@
 // a killed service may be discovered before the client hears the last of the
 // old one). The service is ready once that participant has matched our request
 // writer, reply reader and event reader (only the event reader for a read-only
-// client).
+// client), and, if we read owner claims, once its liveliness was seen: a death
+// just after we said ready must not be left to the participant lease. A
+// service whose owner writer never shows (its permissions predate the topic)
+// is ready kOwnerWait after the rest matched, and its death is seen late.
 
 #include <chrono>
 #include <cstdint>
@@ -59,13 +62,21 @@ class ServiceTracker {
     bool may_dispatch = false;
   };
 
-  /// A read-only client (no request writer or reply reader) is ready once the
-  /// service's events reach it.
-  void set_commands(bool can_command) { can_command_ = can_command; }
+  /// How long a service whose other endpoints matched waits for its owner
+  /// writer's liveliness before it is ready without it.
+  static constexpr std::chrono::milliseconds kOwnerWait{2000};
+
+  /// For a read-only client (no request writer or reply reader) a service is
+  /// ready once its events reach it. One that reads owner claims waits for
+  /// the service's liveliness too (or kOwnerWait). Matches may come before
+  /// this is called (`now`): the waits of the participants known start then.
+  void set_endpoints(bool can_command, bool has_owner_reader,
+                     std::chrono::steady_clock::time_point now = std::chrono::steady_clock::now());
 
   /// Records that `prefix` serves `service`; makes it current if the service
   /// has no live incarnation. False if that participant is known to be gone.
-  bool note_participant(const std::string& prefix, const std::string& service, Outcome& out);
+  bool note_participant(const std::string& prefix, const std::string& service, Outcome& out,
+                        std::chrono::steady_clock::time_point now = std::chrono::steady_clock::now());
   /// The participant left the domain; its service is lost if it was current,
   /// and another live participant of that name takes over.
   Outcome participant_left(const std::string& prefix);
@@ -85,9 +96,10 @@ class ServiceTracker {
   /// offline, no new call sent to it), and kOwnerLapseCallConfirm later its
   /// calls in flight end (confirm_lapses); asserting again undoes what is left.
   void owner_lapsed(const std::string& prefix, std::chrono::steady_clock::time_point now);
-  /// What the lapses that stood until `now` mean.
+  /// What the lapses that stood until `now` mean, and the services ready
+  /// because their owner writer's wait (kOwnerWait) ended.
   std::vector<Outcome> confirm_lapses(std::chrono::steady_clock::time_point now);
-  /// When the next lapse is to be confirmed; max() if none is.
+  /// When the next lapse is to be confirmed or owner wait ends; max() if none.
   [[nodiscard]] std::chrono::steady_clock::time_point next_lapse() const;
   /// True if what `prefix` says about `service` is to be believed: it is the
   /// service's owner, or no owner of the name is known and it is not gone.
@@ -95,7 +107,9 @@ class ServiceTracker {
 
   /// One of our endpoints matched (or unmatched) one of `prefix`'s; returns the
   /// participant's service if it is alive (its waiting calls may go out).
-  std::optional<std::string> matched(Endpoint endpoint, const std::string& prefix, bool matched);
+  std::optional<std::string> matched(
+      Endpoint endpoint, const std::string& prefix, bool matched,
+      std::chrono::steady_clock::time_point now = std::chrono::steady_clock::now());
 
   [[nodiscard]] bool ready(const std::string& service) const;
   /// Ready, and its group request reader and group reply writer matched ours.
@@ -126,6 +140,10 @@ class ServiceTracker {
     /// Its ServiceInfo, kept while it is not believed: it is sent once
     /// (TRANSIENT_LOCAL), and the service may become the owner later.
     std::optional<ServiceInfo> info;
+    /// When it is ready without its owner writer's liveliness; set once its
+    /// other endpoints matched (kOwnerWait later).
+    std::optional<std::chrono::steady_clock::time_point> owner_wait_until;
+    bool owner_waived = false;  ///< that time passed: ready without it
   };
   struct ServiceState {
     std::string incarnation;  ///< current participant's prefix; empty until known
@@ -138,10 +156,15 @@ class ServiceTracker {
   /// current, a current participant that is no longer the owner is lost.
   void follow_owner(const std::string& service, Outcome& out);
   void lose(const std::string& service, const std::string& why, Outcome& out);
+  /// Its request, reply and event endpoints (the event writer only, read-only) matched ours.
+  [[nodiscard]] bool endpoints_matched(const std::string& prefix) const;
+  /// Starts `prefix`'s wait for its owner's liveliness once its other endpoints matched.
+  void start_owner_wait(const std::string& prefix, std::chrono::steady_clock::time_point now);
   [[nodiscard]] ServiceInfo info_of(const std::string& name, const ServiceState& state) const;
   std::multiset<std::string>& set_of(Endpoint endpoint);
 
   bool can_command_ = true;
+  bool owner_reader_ = false;
   std::map<std::string, Participant> participants_;  ///< service participants, by prefix
   std::map<std::string, ServiceState, std::less<>> services_;
   contract::OwnerTable owners_;

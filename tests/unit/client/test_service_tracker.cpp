@@ -51,7 +51,7 @@ TEST(ServiceTracker, AServiceIsReadyOnceItsIncarnationMatchedAllThreeEndpoints) 
 
 TEST(ServiceTracker, AReadOnlyClientIsReadyWithTheEventWriterAlone) {
   ServiceTracker tracker;
-  tracker.set_commands(false);
+  tracker.set_endpoints(false, false);
   Outcome found;
   tracker.note_participant("A", "svc", found);
   tracker.matched(Endpoint::event_writer, "A", true);

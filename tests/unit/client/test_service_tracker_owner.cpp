@@ -222,5 +222,107 @@ TEST(TrackerOwner, TheOwnerLeavingHandsTheNameToTheNextLiveOwner) {
   EXPECT_TRUE(tracker.alive("svc"));
 }
 
+/// `prefix`'s request reader, reply writer and event writer matched ours at `now`.
+void match_commands(ServiceTracker& tracker, const std::string& prefix,
+                    std::chrono::steady_clock::time_point now) {
+  for (const auto endpoint :
+       {Endpoint::request_reader, Endpoint::reply_writer, Endpoint::event_writer}) {
+    tracker.matched(endpoint, prefix, true, now);
+  }
+}
+
+TEST(TrackerOwner, AClientReadingClaimsCallsAServiceReadyOnlyOnceItsOwnerWasSeenAlive) {
+  // Ready before its owner writer matched, a kill right then would be seen
+  // only at the participant lease.
+  const auto t0 = std::chrono::steady_clock::now();
+  ServiceTracker tracker;
+  tracker.set_endpoints(true, true);
+  Outcome ignored;
+  tracker.note_participant("A", "svc", ignored, t0);
+  match_commands(tracker, "A", t0);
+  EXPECT_FALSE(tracker.ready("svc")) << "its owner writer has not matched";
+  tracker.matched(Endpoint::owner_writer, "A", true, t0);
+  EXPECT_FALSE(tracker.ready("svc")) << "its liveliness was not seen";
+  tracker.take_claim(claim("A", 1, 10), ignored, t0);
+  EXPECT_FALSE(tracker.ready("svc")) << "a claim is not an assertion";
+  const Outcome alive = tracker.owner_alive("A", true);
+  EXPECT_TRUE(alive.may_dispatch);
+  EXPECT_TRUE(tracker.ready("svc"));
+  ASSERT_TRUE(tracker.find_ready("svc", false));
+  // Its death is then seen by the owner lease.
+  EXPECT_TRUE(tracker.owner_alive("A", false).lost_service);
+  EXPECT_FALSE(tracker.ready("svc"));
+}
+
+TEST(TrackerOwner, AServiceWhoseOwnerWriterNeverShowsIsReadyAWaitAfterItsOtherEndpoints) {
+  // Permissions that predate the owner topic: it is never matched, and the
+  // service still serves, its death seen at the participant lease.
+  using namespace std::chrono_literals;
+  const auto t0 = std::chrono::steady_clock::now();
+  ServiceTracker tracker;
+  tracker.set_endpoints(true, true);
+  Outcome ignored;
+  tracker.note_participant("A", "svc", ignored, t0);
+  EXPECT_EQ(tracker.next_lapse(), std::chrono::steady_clock::time_point::max())
+      << "the wait starts when its other endpoints matched, not at discovery";
+  const auto t1 = t0 + 5s;
+  match_commands(tracker, "A", t1);
+  EXPECT_EQ(tracker.next_lapse(), t1 + ServiceTracker::kOwnerWait);
+  EXPECT_TRUE(tracker.confirm_lapses(t1 + ServiceTracker::kOwnerWait - 1ms).empty());
+  EXPECT_FALSE(tracker.ready("svc"));
+  const auto waived = tracker.confirm_lapses(t1 + ServiceTracker::kOwnerWait);
+  ASSERT_EQ(waived.size(), 1U);
+  EXPECT_EQ(waived[0].service, "svc");
+  EXPECT_TRUE(waived[0].may_dispatch) << "its waiting calls go out";
+  EXPECT_FALSE(waived[0].lost_service);
+  EXPECT_TRUE(tracker.ready("svc"));
+  EXPECT_EQ(tracker.next_lapse(), std::chrono::steady_clock::time_point::max());
+  EXPECT_TRUE(tracker.confirm_lapses(t1 + 1h).empty()) << "waived once";
+  // An owner writer that matches after all is waited for again.
+  tracker.matched(Endpoint::owner_writer, "A", true, t1 + 3s);
+  EXPECT_FALSE(tracker.ready("svc"));
+  tracker.owner_alive("A", true);
+  EXPECT_TRUE(tracker.ready("svc"));
+}
+
+TEST(TrackerOwner, MatchesBeforeTheClientsEndpointsAreKnownStartTheWaitThen) {
+  // DDS may match a service while the client is still creating its readers.
+  const auto t0 = std::chrono::steady_clock::now();
+  ServiceTracker tracker;
+  Outcome ignored;
+  tracker.note_participant("A", "svc", ignored, t0);
+  tracker.matched(Endpoint::event_writer, "A", true, t0);
+  const auto t1 = t0 + std::chrono::seconds(1);
+  tracker.set_endpoints(false, true, t1);
+  EXPECT_FALSE(tracker.ready("svc"));
+  EXPECT_EQ(tracker.next_lapse(), t1 + ServiceTracker::kOwnerWait);
+  EXPECT_EQ(tracker.confirm_lapses(t1 + ServiceTracker::kOwnerWait).size(), 1U);
+  EXPECT_TRUE(tracker.ready("svc"));
+}
+
+TEST(TrackerOwner, AClientWithoutTheOwnerReaderDoesNotWaitForLiveliness) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ServiceTracker tracker;
+  tracker.set_endpoints(true, false);
+  Outcome ignored;
+  tracker.note_participant("A", "svc", ignored, t0);
+  match_commands(tracker, "A", t0);
+  EXPECT_TRUE(tracker.ready("svc"));
+  EXPECT_EQ(tracker.next_lapse(), std::chrono::steady_clock::time_point::max());
+}
+
+TEST(TrackerOwner, AReadOnlyClientWaitsForTheOwnerToo) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ServiceTracker tracker;
+  tracker.set_endpoints(false, true);
+  Outcome ignored;
+  tracker.note_participant("A", "svc", ignored, t0);
+  tracker.matched(Endpoint::event_writer, "A", true, t0);
+  EXPECT_FALSE(tracker.ready("svc"));
+  EXPECT_EQ(tracker.next_lapse(), t0 + ServiceTracker::kOwnerWait);
+  tracker.owner_alive("A", true);
+  EXPECT_TRUE(tracker.ready("svc"));
+}
+
 }  // namespace
 }  // namespace dh3::detail
