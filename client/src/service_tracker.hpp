@@ -75,8 +75,9 @@ class ServiceTracker {
 
   /// Records that `prefix` serves `service`; makes it current if the service
   /// has no live incarnation. False if that participant is known to be gone.
-  bool note_participant(const std::string& prefix, const std::string& service, Outcome& out,
-                        std::chrono::steady_clock::time_point now = std::chrono::steady_clock::now());
+  bool note_participant(
+      const std::string& prefix, const std::string& service, Outcome& out,
+      std::chrono::steady_clock::time_point now = std::chrono::steady_clock::now());
   /// The participant left the domain; its service is lost if it was current,
   /// and another live participant of that name takes over.
   Outcome participant_left(const std::string& prefix);
