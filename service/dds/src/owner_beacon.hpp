@@ -28,7 +28,7 @@
 
 #include "dh3/base/clock.hpp"
 #include "dh3/base/result.hpp"
-#include "dh3_idl/dh3.h"
+#include "dh3/contract/dh3.h"
 #include "dh3/contract/ownership.hpp"
 #include "dh3/contract/participant_setup.hpp"
 

@@ -138,7 +138,7 @@ TEST_F(FailoverTest, ASecondServiceOfTheNameRefusesToStartAndIsNeverSeen) {
   const TempFile config(sim_config());
   // Its stderr into the pipe: the error must name the owner's process.
   Process duplicate("/bin/sh",
-                    {"-c", std::string(DH3_SERVICE_PATH) + " --domain " +
+                    {"-c", "exec " + std::string(DH3_SERVICE_PATH) + " --domain " +
                                std::to_string(test_domain()) + " --name " + test_service_name() +
                                " --config " + config.path() + " --log-level warn 2>&1"},
                     Process::Stdin::dev_null);

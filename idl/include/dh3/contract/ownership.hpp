@@ -18,12 +18,12 @@
 #include <vector>
 
 #include "dh3/base/clock.hpp"
-#include "dh3_idl/dh3.h"
+#include "dh3/contract/dh3.h"
 
 namespace dh3::contract {
 
 /// The liveliness of a service's owner writer (docs/failover.md says why
-/// these numbers; dh3_qos.hpp applies them). The writer offers, and every
+/// these numbers; contract/qos.hpp applies them). The writer offers, and every
 /// reader requests, MANUAL_BY_TOPIC with this lease: Fast DDS 2.9.1 lets a
 /// live AUTOMATIC or MANUAL_BY_PARTICIPANT writer of another participant keep
 /// a dead one alive until the participant lease ends (eProsima/Fast-DDS
