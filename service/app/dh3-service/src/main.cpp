@@ -20,13 +20,10 @@
 #include "dh3/app/config_keys.hpp"
 #include "dh3/base/clock.hpp"
 #include "dh3/base/host_name.hpp"
+#include "dh3/base/version.hpp"
 #include "dh3/contract/participant_flags.hpp"
 #include "dh3/dds/service.hpp"
 #include "dh3/metrics/metrics_exporter.hpp"
-
-#ifndef DH3_VERSION
-#define DH3_VERSION "0.0.0"
-#endif
 
 namespace {
 
@@ -115,7 +112,7 @@ dh3::Result<Invocation, EarlyExit> parse_command_line(int argc, char** argv) {
                "print every key of the configuration file (Markdown table) and exit");
   add_key_option(cli, "buses[].record.dir", line.record_dir,
                  "flight recorder of every bus (a bus's record: settings keep their caps): ");
-  cli.set_version_flag("--version", DH3_VERSION);
+  cli.set_version_flag("--version", dh3::kVersion);
   try {
     cli.parse(argc, argv);
   } catch (const CLI::Success& done) {
@@ -162,7 +159,7 @@ int run_service(const dh3::app::ServiceConfig& config, const sigset_t& stop_sign
   options.participant = config.participant;
   options.allow_admin = config.allow_admin;
   options.status_refresh = config.status_refresh;
-  options.version = DH3_VERSION;
+  options.version = dh3::kVersion;
   options.host = dh3::host_name();
   // Another service of this name outranks ours (docs/failover.md): stop, as
   // on SIGTERM, and exit non-zero.
