@@ -10,9 +10,13 @@
 #include <csignal>
 #include <future>
 #include <mutex>
+#include <thread>
 #include <vector>
 
 #include "client_fixture.hpp"
+#include "dh3/contract/dh3.h"
+#include "dh3/contract/participant.hpp"
+#include "dh3/contract/qos.hpp"
 #include "dh3/registers.hpp"
 
 namespace dh3::test {
@@ -157,6 +161,45 @@ TEST_F(FailoverTest, ASecondServiceOfTheNameRefusesToStartAndIsNeverSeen) {
   EXPECT_TRUE(client_.service(test_service_name())->ready);
   EXPECT_EQ(client_.watch_traffic().not_owner, 0U);
   EXPECT_TRUE(client_.status(hand_address(2))->online);
+}
+
+TEST_F(FailoverTest, AStatusFromAParticipantThatDoesNotOwnTheNameIsIgnored) {
+  // A participant of this domain that is not the service writes a status of
+  // the service's hand 2: fingers at 77, offline, with a newer update_seq.
+  contract::ParticipantOptions options;
+  options.name = "spoofer";
+  options.domain = test_domain();
+  contract::SetupReport report;
+  auto spoofer = contract::Participant::create(options, report);
+  ASSERT_TRUE(spoofer) << spoofer.error();
+  auto* writer = (*spoofer)->publisher().create_datawriter(
+      (*spoofer)->topics().status, contract::writer_qos(contract::TopicRole::hand_status));
+  ASSERT_NE(writer, nullptr);
+  const auto before = client_.status(hand_address(2));
+  ASSERT_TRUE(before);
+  msg::HandStatus forged;
+  forged.service(test_service_name());
+  forged.bus("bus0");
+  forged.can_id(2);
+  forged.online(false);
+  forged.initialized(true);
+  forged.position(77);
+  forged.update_seq(before->update_seq + 1000);
+
+  // Written until the client counted it: the writer's match is not announced.
+  const auto deadline = std::chrono::steady_clock::now() + kClientDeadline;
+  while (client_.watch_traffic().not_owner == 0 && std::chrono::steady_clock::now() < deadline) {
+    ASSERT_TRUE(writer->write(&forged));
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  EXPECT_GT(client_.watch_traffic().not_owner, 0U) << "the forged status never reached the client";
+  const auto after = client_.status(hand_address(2));
+  ASSERT_TRUE(after);
+  EXPECT_TRUE(after->online);
+  EXPECT_NE(after->position, 77);
+  const Reply read = hand_->read(reg::position);
+  EXPECT_TRUE(read) << read.message;
+  (*spoofer)->publisher().delete_datawriter(writer);
 }
 
 }  // namespace
