@@ -162,6 +162,16 @@ class BusScheduler::Impl {
   const std::string& name() const { return name_; }
   bus::LinkState link_state() const { return link_.state(); }
 
+  void warm(const std::vector<HandState>& seen) {
+    const TimePoint now = clock_.now();
+    for (const HandState& hand : seen) {
+      HandDriver* driver = drivers_[hand.can_id].get();
+      if (hand.can_id == 0 || driver == nullptr) continue;
+      driver->warm(hand);
+      driver->publish_now(now);
+    }
+  }
+
   void start() {
     if (running_.exchange(true)) return;
     thread_ = std::thread([this] { run(); });
@@ -603,6 +613,9 @@ const std::string& BusScheduler::name() const {
 }
 bus::LinkState BusScheduler::link_state() const {
   return impl_->link_state();
+}
+void BusScheduler::warm(const std::vector<HandState>& seen) {
+  impl_->warm(seen);
 }
 void BusScheduler::start() {
   impl_->start();

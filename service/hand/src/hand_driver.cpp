@@ -50,6 +50,19 @@ HandDriver::HandDriver(HandConfig config, DriverContext& context, std::atomic<in
   state_.updated_at = now;
 }
 
+void HandDriver::warm(const HandState& seen) {
+  state_.initialized = seen.initialized;
+  state_.grip = seen.grip;
+  state_.position = seen.position;
+  state_.target_position = seen.target_position;
+  state_.closing_force = seen.closing_force;
+  state_.opening_force = seen.opening_force;
+  state_.rotation = seen.rotation;
+  state_.rotation_target = seen.rotation_target;
+  state_.rotation_state = seen.rotation_state;
+  state_.read_at = seen.read_at;
+}
+
 std::string HandDriver::label() const {
   return hand_label(context_.bus_name, state_.can_id, state_.name);
 }

@@ -116,6 +116,10 @@ class HandDriver {
 
   /// Publishes the current state (a configured hand, before it answered).
   void publish_now(TimePoint now);
+  /// Starts from what a standby saw of this hand on the bus (ObservedHands):
+  /// its initialization, forces, position, grip and rotation stand until the
+  /// hand's own replies say otherwise. Before the loop runs.
+  void warm(const HandState& seen);
   /// A discovery probe (firmware-version read) sent by the scheduler was
   /// answered by this new hand: it is online, its state is read afresh.
   void on_discovered(const protocol::Message& reply, TimePoint now);

@@ -369,5 +369,31 @@ TEST(BusSchedulerPolling, ASampleCarriesTheTimeOfTheReplyThatChangedIt) {
   EXPECT_EQ(state->read_at, state->updated_at);
 }
 
+TEST(BusSchedulerPolling, AWarmedHandIsPublishedAsSeenUntilItsOwnRepliesSayOtherwise) {
+  // Hand 1 answers as a hand the simulator never initialized.
+  SchedulerHarness h(sim_hands({1}), configs({1}));
+  HandState seen;
+  seen.can_id = 1;
+  seen.initialized = true;
+  seen.position = 30;
+  seen.closing_force = 80;
+  h.scheduler->warm({seen});
+  // Published at once, before a frame went out: what the standby saw.
+  ASSERT_TRUE(h.recorder().sent.empty());
+  const auto warm = h.observer.last_state(1);
+  ASSERT_TRUE(warm);
+  EXPECT_TRUE(warm->initialized);
+  EXPECT_EQ(warm->position, 30);
+  EXPECT_EQ(warm->closing_force, 80);
+  // The hand's answers replace it; nothing initializes the hand.
+  ASSERT_TRUE(h.run_until([&] {
+    const auto s = h.state(1);
+    return s && s->online && !s->initialized && s->position != 30;
+  })) << "the hand's own readings never replaced the warm state";
+  for (const auto& sent : h.sent_to(1, reg::kInitialize)) {
+    EXPECT_EQ(sent.message.access, protocol::Access::read) << "the warmed hand was initialized";
+  }
+}
+
 }  // namespace
 }  // namespace dh3::hand::test

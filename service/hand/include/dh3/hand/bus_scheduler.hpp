@@ -133,6 +133,11 @@ class BusScheduler {
   [[nodiscard]] const std::string& name() const;
   [[nodiscard]] bus::LinkState link_state() const;
 
+  /// Starts the hands from what a standby saw on the bus (ObservedHands's
+  /// states, by CAN ID; hands not configured are left alone) and publishes
+  /// them. Before start().
+  void warm(const std::vector<HandState>& seen);
+
   /// Runs the loop on its own thread until stop(). stop() ends pending
   /// commands with CANCELLED and reports every hand offline.
   void start();
