@@ -5,6 +5,7 @@
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <fastdds/dds/core/status/LivelinessChangedStatus.hpp>
 #include <fastdds/dds/core/status/SubscriptionMatchedStatus.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
@@ -64,7 +65,7 @@ Result<void, std::string> OwnerBeacon::claim(msg::ServiceOwner self, Duration wi
       // Woken by every claim and liveliness change; the clock decides the end.
       wake_.wait_for(lock, std::chrono::milliseconds(20));
     }
-    self.epoch(start.epoch(table_));
+    self.epoch(std::max(start.epoch(table_), self.epoch()));
     self_ = self;
     lost_ = std::move(lost);
   }
@@ -79,6 +80,31 @@ Result<void, std::string> OwnerBeacon::claim(msg::ServiceOwner self, Duration wi
   return {};
 }
 
+Result<void, std::string> OwnerBeacon::stand_by(msg::ServiceOwner self) {
+  self.role(msg::ServiceRole::ROLE_STANDBY);
+  {
+    std::lock_guard lock(mutex_);
+    self_ = self;
+    standing_by_ = true;
+  }
+  if (!writer_->write(&self_)) {
+    return fail("cannot write the standby's owner sample");
+  }
+  spdlog::info("standby for service '{}': watching its owner, serving nothing", self_.service());
+  thread_ = std::thread([this] { run(); });
+  return {};
+}
+
+std::optional<contract::OwnerClaim> OwnerBeacon::owner(const std::string& service) const {
+  std::lock_guard lock(mutex_);
+  return table_.owner(service);
+}
+
+std::uint64_t OwnerBeacon::highest_epoch(const std::string& service) const {
+  std::lock_guard lock(mutex_);
+  return table_.highest_epoch(service);
+}
+
 void OwnerBeacon::run() {
   // Assertions keep their period whatever wakes the thread (every claim and
   // liveliness change does), and go out without the table's lock: a listener
@@ -86,11 +112,11 @@ void OwnerBeacon::run() {
   auto next_assert = std::chrono::steady_clock::now();
   std::unique_lock lock(mutex_);
   while (!stopping_) {
-    if (!owns_) {
+    if (!owns_ && !standing_by_) {
       wake_.wait(lock);
       continue;
     }
-    if (const std::string why = outranked_locked(); !why.empty()) {
+    if (const std::string why = owns_ ? outranked_locked() : std::string(); !why.empty()) {
       owns_ = false;
       spdlog::error("{}", why);
       lock.unlock();

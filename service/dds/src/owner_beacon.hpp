@@ -23,6 +23,7 @@
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
 #include <functional>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -47,9 +48,17 @@ class OwnerBeacon {
   /// yet); fails naming the endpoint it could not create.
   Result<void, std::string> create(contract::Participant& participant);
   /// Listens for `window`, then claims the name `self` describes (its epoch
-  /// set above every claim seen) and asserts it from then on; fails, naming
-  /// the other service, if the name has a live active owner.
+  /// set above every claim seen, and at least self.epoch()) and asserts it
+  /// from then on; fails, naming the other service, if the name has a live
+  /// active owner.
   Result<void, std::string> claim(msg::ServiceOwner self, Duration window, Lost lost);
+  /// Writes `self` as a standby's claim (ROLE_STANDBY: it never owns, so no
+  /// client takes it for the service) and asserts it from then on.
+  Result<void, std::string> stand_by(msg::ServiceOwner self);
+  /// The owner of `service` as the claims and liveliness seen tell now
+  /// (contract::OwnerTable::owner), and the highest epoch claimed on it.
+  [[nodiscard]] std::optional<contract::OwnerClaim> owner(const std::string& service) const;
+  [[nodiscard]] std::uint64_t highest_epoch(const std::string& service) const;
   /// Still the owner of the name: false once another outranks it.
   [[nodiscard]] bool owns() const { return owns_.load(); }
   /// The claim as written (epoch included), once claim() succeeded.
@@ -90,6 +99,7 @@ class OwnerBeacon {
   contract::OwnerTable table_;  ///< under mutex_
   bool stopping_ = false;       ///< under mutex_
   std::atomic<bool> owns_{false};
+  bool standing_by_ = false;  ///< under mutex_: asserting a standby's claim
   std::thread thread_;
 };
 

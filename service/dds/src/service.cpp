@@ -67,6 +67,7 @@ Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups) {
     setup.scheduler.allow_admin = options_.allow_admin;
     schedulers_.push_back(std::make_unique<hand::BusScheduler>(
         setup.name, std::move(setup.bus), setup.hands, setup.scheduler, clock_, *observer));
+    schedulers_.back()->warm(setup.warm);
     statuses_.set_link_up(index, schedulers_.back()->link_state() == bus::LinkState::up);
     directory_.add_bus(setup.name, schedulers_.back()->roster());
   }
@@ -81,8 +82,9 @@ Result<void, std::string> Service::Impl::claim_name() {
   spdlog::info("listening {} ms for another service named '{}' before serving",
                std::chrono::duration_cast<std::chrono::milliseconds>(window).count(),
                options_.name);
-  return owner_.claim(own_claim(options_.name, options_.host, statuses_.started_ns()), window,
-                      options_.on_lost_ownership);
+  msg::ServiceOwner self = own_claim(options_.name, options_.host, statuses_.started_ns());
+  self.epoch(options_.epoch_floor);
+  return owner_.claim(std::move(self), window, options_.on_lost_ownership);
 }
 
 std::string Service::Impl::cannot_create(const std::string& what) const {

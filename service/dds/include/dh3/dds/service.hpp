@@ -45,6 +45,9 @@ struct ServiceOptions {
   /// longer than the owner lease (a service killed just before is seen dead)
   /// and than discovery takes.
   std::optional<Duration> claim_window;
+  /// The least epoch the claim takes: a standby taking over claims above the
+  /// owner it replaces, whose claim its new participant never receives.
+  std::uint64_t epoch_floor = 0;
   /// Runs once, on an internal thread, when a service of this name that
   /// outranks this one appears (two services met after a partition healed):
   /// from then on this one takes no request; the program should stop.
@@ -71,6 +74,9 @@ struct BusSetup {
   std::unique_ptr<bus::Bus> bus;
   std::vector<hand::HandConfig> hands;
   hand::SchedulerOptions scheduler;
+  /// What a standby saw of the hands before it took the bus over (empty:
+  /// nothing known; the hands are read afresh).
+  std::vector<hand::HandState> warm;
 };
 
 class Service {

@@ -1,0 +1,58 @@
+#pragma once
+// A standby service's presence on DDS before it serves: its own participant
+// with the owner writer and reader (owner_beacon.hpp), its claim written with
+// the standby role (it never owns the name, so no client sends it requests or
+// shows it as the service), and the primary's liveliness watched as every
+// client watches it (docs/failover.md). It writes nothing else: no status,
+// event, info or reply.
+//
+// The primary is lost when the owner of the name, once seen, has had no live
+// active claimant for contract::kOwnerLapseConfirm: its liveliness lapsed
+// (killed, frozen, cut off) or its owner writer left (a clean stop). A lapse
+// overturned within that time (a frozen owner asserting again) is forgotten.
+//
+// Threads: Fast DDS listener threads and the beacon's thread inside; lapse()
+// from one thread.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "dh3/base/clock.hpp"
+#include "dh3/base/result.hpp"
+#include "dh3/contract/ownership.hpp"
+#include "dh3/dds/service.hpp"
+
+namespace dh3::dds {
+
+/// The primary's loss, as a standby confirmed it.
+struct PrimaryLapse {
+  contract::OwnerClaim primary;  ///< the owner last seen
+  TimePoint since{};             ///< when it was first seen without a live owner
+  std::uint64_t epoch = 0;       ///< the highest epoch claimed on the name
+};
+
+class StandbyPresence {
+ public:
+  /// Joins the domain as `options` say (name, participant, host) and writes
+  /// the standby's claim; fails with a message if DDS cannot be set up.
+  [[nodiscard]] static Result<std::unique_ptr<StandbyPresence>, std::string> create(
+      const ServiceOptions& options);
+  ~StandbyPresence();
+  StandbyPresence(const StandbyPresence&) = delete;
+  StandbyPresence& operator=(const StandbyPresence&) = delete;
+
+  /// The primary's confirmed loss at `now`, once it stands; nullopt while an
+  /// owner lives, or before any owner was seen.
+  [[nodiscard]] std::optional<PrimaryLapse> lapse(TimePoint now);
+  /// The owner of the name now (for logging who the standby watches).
+  [[nodiscard]] std::optional<contract::OwnerClaim> owner() const;
+
+ private:
+  class Impl;
+  explicit StandbyPresence(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace dh3::dds

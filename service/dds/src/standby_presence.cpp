@@ -1,0 +1,85 @@
+// StandbyPresence: a standby's participant, its standby claim and its watch
+// over the primary's liveliness.
+
+#include "dh3/dds/standby_presence.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include "conversions.hpp"
+#include "dh3/contract/participant.hpp"
+#include "dh3/contract/participant_setup.hpp"
+#include "owner_beacon.hpp"
+
+namespace dh3::dds {
+
+class StandbyPresence::Impl {
+ public:
+  explicit Impl(std::string name) : name_(std::move(name)) {}
+  ~Impl() {
+    beacon_.stop();
+    participant_.reset();
+  }
+  Impl(const Impl&) = delete;
+  Impl& operator=(const Impl&) = delete;
+
+  Result<void, std::string> init(const ServiceOptions& options) {
+    contract::ParticipantOptions participant = options.participant;
+    participant.name = "dh3-service " + options.name + " (standby)";
+    contract::SetupReport report;
+    auto made = contract::Participant::create(participant, report);
+    for (const auto& warning : report.warnings) spdlog::warn("{}", warning);
+    for (const auto& note : report.notes) spdlog::info("{}", note);
+    if (!made) return fail(std::move(made).error());
+    participant_ = std::move(made).value();
+    if (auto created = beacon_.create(*participant_); !created) {
+      return fail("cannot create " + created.error());
+    }
+    return beacon_.stand_by(own_claim(options.name, options.host, wall_clock_ns()));
+  }
+
+  std::optional<PrimaryLapse> lapse(TimePoint now) {
+    if (const auto owner = beacon_.owner(name_)) {
+      if (!primary_ || primary_->participant != owner->participant) {
+        spdlog::info("standby: service '{}' is served by {} (epoch {})", name_, owner->describe(),
+                     owner->epoch);
+      }
+      primary_ = owner;
+      lost_since_.reset();
+      return std::nullopt;
+    }
+    if (!primary_) return std::nullopt;
+    if (!lost_since_) lost_since_ = now;
+    if (now - *lost_since_ < contract::kOwnerLapseConfirm) return std::nullopt;
+    return PrimaryLapse{*primary_, *lost_since_, beacon_.highest_epoch(name_)};
+  }
+
+  std::optional<contract::OwnerClaim> owner() const { return beacon_.owner(name_); }
+
+ private:
+  std::string name_;
+  std::unique_ptr<contract::Participant> participant_;
+  /// Real time: it waits on DDS liveliness.
+  OwnerBeacon beacon_{SystemClock::instance()};
+  std::optional<contract::OwnerClaim> primary_;
+  std::optional<TimePoint> lost_since_;
+};
+
+StandbyPresence::StandbyPresence(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+StandbyPresence::~StandbyPresence() = default;
+
+Result<std::unique_ptr<StandbyPresence>, std::string> StandbyPresence::create(
+    const ServiceOptions& options) {
+  auto impl = std::make_unique<Impl>(options.name);
+  if (auto ok = impl->init(options); !ok) return fail(ok.error());
+  return std::unique_ptr<StandbyPresence>(new StandbyPresence(std::move(impl)));
+}
+
+std::optional<PrimaryLapse> StandbyPresence::lapse(TimePoint now) {
+  return impl_->lapse(now);
+}
+
+std::optional<contract::OwnerClaim> StandbyPresence::owner() const {
+  return impl_->owner();
+}
+
+}  // namespace dh3::dds
