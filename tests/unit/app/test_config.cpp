@@ -503,5 +503,28 @@ TEST(Config, RecordOnTheCommandLineRecordsEveryBusKeepingTheFilesCaps) {
   EXPECT_THAT(empty.error().message, HasSubstr("--record"));
 }
 
+TEST(Config, RoleIsActiveUnlessTheFileOrTheCommandLineSaysStandby) {
+  EXPECT_EQ(default_config().role, kRoleActive);
+  const auto from_file = parse_ok("role: standby\nbuses:\n  - {name: can0, spec: 'socketcan:can0'}\n");
+  EXPECT_EQ(from_file.role, kRoleStandby);
+  CommandLine line;
+  line.role = "active";
+  const auto overridden = apply_command_line(from_file, line);
+  ASSERT_TRUE(overridden.ok()) << overridden.error().message;
+  EXPECT_EQ(overridden->role, kRoleActive);
+  EXPECT_THAT(parse_error("role: backup\n"), AllOf(HasSubstr("role"), HasSubstr("active, standby")));
+}
+
+TEST(Config, AStandbyRefusesABusSimulatedInItsProcess) {
+  CommandLine line;
+  line.role = "standby";
+  line.buses = {"sim:1,2"};
+  const auto refused = apply_command_line(default_config(), line);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_THAT(refused.error().message, HasSubstr("role: standby: bus 'bus0' (sim:1,2) is simulated"));
+  line.buses = {"tcp:127.0.0.1:5000"};
+  EXPECT_TRUE(apply_command_line(default_config(), line).ok());
+}
+
 }  // namespace
 }  // namespace dh3::app

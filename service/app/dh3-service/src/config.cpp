@@ -325,6 +325,7 @@ Applied apply_service_options(ConfigTarget& target, const CommandLine& line) {
       {"name", given(line.name)},
       {"domain", given(line.domain)},
       {"log_level", given(line.log_level)},
+      {"role", given(line.role)},
       {"allow_admin", given_if(line.allow_admin, true)},
       {"dds.udp_only", given_if(transport, line.udp_only)},
       {"dds.shared_memory", given_if(transport, line.shared_memory)},
@@ -398,6 +399,15 @@ Result<ServiceConfig, ConfigError> apply_command_line(ServiceConfig config,
     return fail(ConfigError{
         "no bus configured: give --bus SPEC or buses in the config file (only with neither a "
         "config file nor --bus does the service run the simulator)"});
+  }
+  if (config.role == kRoleStandby) {
+    for (const BusSettings& bus : config.buses) {
+      if (!is_sim_bus(bus)) continue;
+      return fail(ConfigError{
+          "role: standby: bus '" + bus.name + "' (" + bus.spec +
+          ") is simulated inside this process: a standby must watch the hands its active "
+          "service drives (a CAN interface, or a transfer box such as dh3-sim --shared)"});
+    }
   }
   return config;
 }

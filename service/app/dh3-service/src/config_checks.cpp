@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 
+#include "dh3/app/config.hpp"
 #include "dh3/bus/bus_spec.hpp"
 #include "dh3/metrics/metrics_exporter.hpp"
 #include "dh3/contract/dh3.h"
@@ -31,6 +32,11 @@ Checked check_log_level(std::string_view level) {
   }
   return fail("log level '" + std::string(level) +
               "' is not one of trace, debug, info, warn, error, critical, off");
+}
+
+Checked check_role(std::string_view role) {
+  if (role == kRoleActive || role == kRoleStandby) return {};
+  return fail("role '" + std::string(role) + "' is not one of active, standby");
 }
 
 Checked check_spec(std::string_view spec) {

@@ -13,6 +13,7 @@ namespace dh3::app {
 
 [[nodiscard]] Checked check_name(std::string_view what, std::string_view name);
 [[nodiscard]] Checked check_log_level(std::string_view level);
+[[nodiscard]] Checked check_role(std::string_view role);
 [[nodiscard]] Checked check_spec(std::string_view spec);
 [[nodiscard]] Checked check_metrics_address(std::string_view address);
 [[nodiscard]] Checked check_not_empty(std::string_view what, std::string_view text);

@@ -9,20 +9,26 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cstdio>
+#include <functional>
+#include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "dh3/app/bus_setup.hpp"
 #include "dh3/app/config.hpp"
 #include "dh3/app/config_keys.hpp"
+#include "dh3/app/standby_watch.hpp"
 #include "dh3/base/clock.hpp"
 #include "dh3/base/host_name.hpp"
 #include "dh3/base/version.hpp"
 #include "dh3/contract/participant_flags.hpp"
 #include "dh3/dds/service.hpp"
+#include "dh3/dds/standby_presence.hpp"
 #include "dh3/metrics/metrics_exporter.hpp"
 
 namespace {
@@ -101,6 +107,7 @@ dh3::Result<Invocation, EarlyExit> parse_command_line(int argc, char** argv) {
       ->allow_extra_args(false);
   add_key_option(cli, "name", line.name);
   add_key_option(cli, "log_level", line.log_level);
+  add_key_option(cli, "role", line.role);
   cli.add_flag(option_of("allow_admin"), line.allow_admin, option_help("allow_admin"));
   dh3::contract::ParticipantOptions participant = dh3::app::service_participant();
   const auto given = dh3::contract::add_participant_options(
@@ -140,20 +147,8 @@ dh3::Result<dh3::app::ServiceConfig, dh3::app::ConfigError> load_configuration(
   return dh3::app::apply_command_line(std::move(*base), invocation.line);
 }
 
-/// Opens the buses, starts the service (and the metrics exporter) and runs
-/// until SIGINT or SIGTERM; the exit code.
-int run_service(const dh3::app::ServiceConfig& config, const sigset_t& stop_signals) {
-  set_up_logging(config.log_level);
-  const dh3::Clock& clock = dh3::SystemClock::instance();
-  auto buses = dh3::app::open_buses(config, clock);
-  if (!buses) {
-    spdlog::critical("{}", buses.error());
-    return kExitStartFailed;
-  }
-  for (std::size_t i = 0; i < config.buses.size(); ++i) {
-    spdlog::info("bus '{}': {}", config.buses[i].name, (*buses)[i].bus->spec());
-  }
-
+/// What the service publishes and how it joins DDS, from the configuration.
+dh3::dds::ServiceOptions service_options(const dh3::app::ServiceConfig& config) {
   dh3::dds::ServiceOptions options;
   options.name = config.name;
   options.participant = config.participant;
@@ -161,6 +156,15 @@ int run_service(const dh3::app::ServiceConfig& config, const sigset_t& stop_sign
   options.status_refresh = config.status_refresh;
   options.version = dh3::kVersion;
   options.host = dh3::host_name();
+  return options;
+}
+
+/// Creates the service on `buses`, starts it (and the metrics exporter) and
+/// runs until SIGINT or SIGTERM; the exit code.
+int serve(const dh3::app::ServiceConfig& config, dh3::dds::ServiceOptions options,
+          std::vector<dh3::dds::BusSetup> buses, const sigset_t& stop_signals,
+          const std::function<void()>& started_hook = {}) {
+  const dh3::Clock& clock = dh3::SystemClock::instance();
   // Another service of this name outranks ours (docs/failover.md): stop, as
   // on SIGTERM, and exit non-zero.
   static std::atomic<bool> lost_ownership{false};
@@ -168,7 +172,7 @@ int run_service(const dh3::app::ServiceConfig& config, const sigset_t& stop_sign
     lost_ownership = true;
     ::kill(::getpid(), SIGTERM);
   };
-  auto service = dh3::dds::Service::create(options, std::move(*buses), clock);
+  auto service = dh3::dds::Service::create(options, std::move(buses), clock);
   if (!service) {
     spdlog::critical("{}", service.error());
     return kExitStartFailed;
@@ -190,6 +194,7 @@ int run_service(const dh3::app::ServiceConfig& config, const sigset_t& stop_sign
     service->reset();  // stops what did start: the buses, every hand published offline
     return kExitStartFailed;
   }
+  if (started_hook) started_hook();
 
   int signal_number = 0;
   sigwait(&stop_signals, &signal_number);
@@ -203,6 +208,100 @@ int run_service(const dh3::app::ServiceConfig& config, const sigset_t& stop_sign
   service->reset();
   spdlog::shutdown();
   return lost_ownership ? kExitLostOwnership : 0;
+}
+
+/// Opens the buses and serves them; the exit code.
+int run_service(const dh3::app::ServiceConfig& config, const sigset_t& stop_signals) {
+  auto buses = dh3::app::open_buses(config, dh3::SystemClock::instance());
+  if (!buses) {
+    spdlog::critical("{}", buses.error());
+    return kExitStartFailed;
+  }
+  for (std::size_t i = 0; i < config.buses.size(); ++i) {
+    spdlog::info("bus '{}': {}", config.buses[i].name, (*buses)[i].bus->spec());
+  }
+  return serve(config, service_options(config), std::move(*buses), stop_signals);
+}
+
+/// How long a standby's bus must carry no request before it counts as free:
+/// the active service polls every listed hand at least every idle poll
+/// interval, and this margin covers a frame's delay on the way.
+constexpr dh3::Duration kFenceMargin = std::chrono::milliseconds(100);
+
+dh3::Duration fence_quiet(const std::vector<dh3::dds::BusSetup>& buses) {
+  dh3::Duration longest{};
+  for (const auto& bus : buses) longest = std::max(longest, bus.scheduler.poll_interval_idle);
+  return longest + kFenceMargin;
+}
+
+/// Waits until the active service's loss stands and every bus is quiet:
+/// that loss; nullopt when SIGINT or SIGTERM came first.
+std::optional<dh3::dds::PrimaryLapse> wait_for_takeover(dh3::dds::StandbyPresence& presence,
+                                                        const dh3::app::StandbyWatch& watch,
+                                                        const sigset_t& stop_signals) {
+  const dh3::Clock& clock = dh3::SystemClock::instance();
+  const timespec poll{0, 10'000'000};  // how soon a lapse or a quiet bus is noticed
+  bool fence_reported = false;
+  while (sigtimedwait(&stop_signals, nullptr, &poll) < 0) {
+    const dh3::TimePoint now = clock.now();
+    const auto lapse = presence.lapse(now);
+    if (!lapse) {
+      fence_reported = false;
+      continue;
+    }
+    if (watch.fences_clear(now)) return lapse;
+    if (!fence_reported) {
+      spdlog::warn(
+          "standby: {} is gone from DDS, but its requests are still on the bus: "
+          "not taking over while they go on",
+          lapse->primary.describe());
+      fence_reported = true;
+    }
+  }
+  spdlog::info("standby stopping");
+  return std::nullopt;
+}
+
+/// A standby: watches the buses and the active service, sends nothing, and
+/// takes over when that one is gone and the buses are quiet; the exit code.
+int run_standby(const dh3::app::ServiceConfig& config, const sigset_t& stop_signals) {
+  const dh3::Clock& clock = dh3::SystemClock::instance();
+  auto buses = dh3::app::open_buses(config, clock);
+  if (!buses) {
+    spdlog::critical("{}", buses.error());
+    return kExitStartFailed;
+  }
+  dh3::dds::ServiceOptions options = service_options(config);
+  const dh3::Duration quiet = fence_quiet(*buses);
+  dh3::app::StandbyWatch watch(std::move(*buses), quiet, clock);
+  watch.start();
+  auto presence = dh3::dds::StandbyPresence::create(options);
+  if (!presence) {
+    spdlog::critical("{}", presence.error());
+    return kExitStartFailed;
+  }
+  spdlog::info(
+      "standby for service '{}' on {} bus(es): sending nothing, a bus counts as free "
+      "after {} ms without a request",
+      config.name, config.buses.size(),
+      std::chrono::duration_cast<std::chrono::milliseconds>(quiet).count());
+  const auto lapse = wait_for_takeover(**presence, watch, stop_signals);
+  if (!lapse) return 0;
+
+  const auto states = watch.states();
+  auto setups = watch.take_buses();
+  for (std::size_t i = 0; i < setups.size(); ++i) setups[i].warm = states[i];
+  presence->reset();  // its standby claim goes; the service's active one follows
+  options.claim_window = dh3::Duration::zero();
+  options.epoch_floor = lapse->epoch + 1;
+  const auto serving = [&lapse, &clock, epoch = options.epoch_floor] {
+    spdlog::warn(
+        "took over from {} (epoch {}): serving with epoch {}, {} ms after its loss was "
+        "first seen",
+        lapse->primary.describe(), lapse->primary.epoch, epoch,
+        std::chrono::duration_cast<std::chrono::milliseconds>(clock.now() - lapse->since).count());
+  };
+  return serve(config, std::move(options), std::move(setups), stop_signals, serving);
 }
 
 }  // namespace
@@ -223,5 +322,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "dh3-service: config error: %s\n", config.error().message.c_str());
     return kExitConfigError;
   }
-  return run_service(*config, stop_signals);
+  set_up_logging(config->log_level);
+  return config->role == dh3::app::kRoleStandby ? run_standby(*config, stop_signals)
+                                                : run_service(*config, stop_signals);
 }

@@ -78,6 +78,10 @@ inline contract::ParticipantOptions service_participant() {
   return participant;
 }
 
+/// The values of the `role` key.
+inline constexpr std::string_view kRoleActive = "active";
+inline constexpr std::string_view kRoleStandby = "standby";
+
 struct ServiceConfig {
   std::string name = "dh3";
   /// `domain` and the `dds` keys: domain, interfaces (empty: loopback only),
@@ -86,6 +90,8 @@ struct ServiceConfig {
   /// QoS), DDS Security (empty directory: none; identity "service").
   contract::ParticipantOptions participant = service_participant();
   std::string log_level = "info";
+  /// kRoleActive or kRoleStandby (docs/hot-standby.md).
+  std::string role{kRoleActive};
   bool allow_admin = false;
   /// dds.status_refresh_ms (dds::ServiceOptions::status_refresh).
   Duration status_refresh = std::chrono::seconds(5);
@@ -117,6 +123,7 @@ struct CommandLine {
   std::optional<std::string> name;
   std::optional<int> domain;
   std::optional<std::string> log_level;
+  std::optional<std::string> role;
   bool allow_admin = false;
   std::vector<std::string> interfaces;         ///< replace the file's when given
   bool udp_only = false;                       ///< overrides the file's shared_memory

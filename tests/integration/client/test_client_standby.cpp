@@ -1,0 +1,210 @@
+// A hot standby beside its active service on dh3-sim's shared transfer box
+// (docs/hot-standby.md), as a client sees it: the standby serves nothing and
+// sends nothing while the active service lives, and when that one is killed
+// it takes the bus over with the hands as they were: not re-initialized, at
+// the position they had. Deadlines are generous; nothing is timed.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <condition_variable>
+#include <csignal>
+#include <mutex>
+#include <vector>
+
+#include "client_fixture.hpp"
+#include "dh3/registers.hpp"
+
+namespace dh3::test {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::Not;
+
+/// Two hands on a box at `spec`, polled fast so a test is quick.
+std::string box_config(const std::string& spec) {
+  return "buses:\n"
+         "  - name: bus0\n"
+         "    spec: " +
+         spec +
+         "\n"
+         "    poll_interval_moving_ms: 20\n"
+         "    poll_interval_idle_ms: 50\n"
+         "    hands:\n"
+         "      - {id: 1}\n"
+         "      - {id: 2}\n";
+}
+
+/// The kinds of events a hand's subscription got, in order.
+class EventLog {
+ public:
+  void add(const HandEvent& event) {
+    std::lock_guard lock(mutex_);
+    kinds_.push_back(event.kind);
+    changed_.notify_all();
+  }
+  /// Waits for an event of `kind` after the first `from` events; its index.
+  std::optional<std::size_t> wait(EventKind kind, std::size_t from) {
+    std::unique_lock lock(mutex_);
+    std::optional<std::size_t> found;
+    changed_.wait_for(lock, kClientDeadline, [&] {
+      for (std::size_t i = from; i < kinds_.size(); ++i) {
+        if (kinds_[i] == kind) found = i;
+        if (found) return true;
+      }
+      return false;
+    });
+    return found;
+  }
+  [[nodiscard]] std::vector<EventKind> since(std::size_t from) {
+    std::lock_guard lock(mutex_);
+    return {kinds_.begin() + static_cast<std::ptrdiff_t>(std::min(from, kinds_.size())),
+            kinds_.end()};
+  }
+  [[nodiscard]] std::size_t size() {
+    std::lock_guard lock(mutex_);
+    return kinds_.size();
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::vector<EventKind> kinds_;
+};
+
+/// dh3-service --role standby with its log on stdout, read by the test.
+class StandbyProcess {
+ public:
+  explicit StandbyProcess(const std::string& config_path)
+      : process_("/bin/sh",
+                 {"-c", "exec " + std::string(DH3_SERVICE_PATH) + " --domain " +
+                            std::to_string(test_domain()) + " --name " + test_service_name() +
+                            " --config " + config_path + " --role standby 2>&1"},
+                 Process::Stdin::dev_null) {}
+
+  /// Reads its log until a line holds `text` (echoing it); that line.
+  std::optional<std::string> wait_for(std::string_view text) {
+    const auto deadline = std::chrono::steady_clock::now() + kClientDeadline;
+    for (;;) {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+          deadline - std::chrono::steady_clock::now());
+      auto line = process_.read_line(std::max(left, std::chrono::milliseconds(0)));
+      if (!line) return std::nullopt;
+      std::fprintf(stderr, "standby: %s\n", line->c_str());
+      log_.push_back(*line);
+      if (line->find(text) != std::string::npos) return line;
+    }
+  }
+  /// SIGTERM; its exit code once its log is read to the end.
+  std::optional<int> stop() {
+    process_.send_signal(SIGTERM);
+    while (auto line = process_.read_line(kClientDeadline)) {
+      std::fprintf(stderr, "standby: %s\n", line->c_str());
+      log_.push_back(*line);
+    }
+    const auto status = process_.wait_exit(kClientDeadline);
+    if (!status || !WIFEXITED(*status)) return std::nullopt;
+    return WEXITSTATUS(*status);
+  }
+  [[nodiscard]] std::string log() const {
+    std::string all;
+    for (const auto& line : log_) all += line + "\n";
+    return all;
+  }
+
+ private:
+  Process process_;
+  std::vector<std::string> log_;
+};
+
+class StandbyTest : public ::testing::Test {
+ protected:
+  void SetUp() override { ASSERT_NE(sim_.port(), 0) << "dh3-sim did not say where it listens"; }
+
+  /// The client finds hand 1 online, initializes it and moves it to 30.
+  void drive_hand() {
+    auto found = client_.wait_for_hand(test_service_name() + "/bus0/1", kClientDeadline);
+    ASSERT_TRUE(found) << found.message();
+    hand_.emplace(*found);
+    subscription_ = hand_->subscribe([this](const HandEvent& e) { events_.add(e); });
+    ASSERT_TRUE(hand_->wait_until([](const HandStatus& s) { return s.online; }));
+    const Reply init = hand_->initialize();
+    ASSERT_TRUE(init) << init.message;
+    const Reply moved = hand_->move_to(30);
+    ASSERT_TRUE(moved) << moved.message;
+  }
+
+  SimProcess sim_{{"--hands", "1,2", "--init-time-ms", "100", "--speed", "500", "--shared",
+                   "--log-level", "warn"}};
+  Client client_{client_options()};
+  std::optional<Hand> hand_;
+  EventLog events_;
+  Subscription subscription_;
+};
+
+TEST_F(StandbyTest, TakesOverAKilledServiceWithTheHandsAsTheyWere) {
+  auto primary = std::make_unique<RunningService>(box_config(sim_.bus_spec()));
+  ASSERT_TRUE(primary->started());
+  const TempFile config(box_config(sim_.bus_spec()));
+  StandbyProcess standby(config.path());
+  ASSERT_TRUE(standby.wait_for("is served by")) << "the standby never saw the active service";
+  drive_hand();
+  ASSERT_FALSE(HasFatalFailure());
+
+  const std::size_t before_kill = events_.size();
+  primary->process().process().send_signal(SIGKILL);
+  const auto offline = events_.wait(EventKind::offline, before_kill);
+  ASSERT_TRUE(offline) << "the client never saw the killed service's hand offline";
+  const auto took_over = standby.wait_for("took over from");
+  ASSERT_TRUE(took_over) << "the standby never said it took over";
+  // Its statuses flow again, from the standby: the hand is back.
+  ASSERT_TRUE(hand_->wait_until([](const HandStatus& s) { return s.online; }, kClientDeadline))
+      << "the hand never came back online";
+
+  // The next command, served by the standby: the hand is where it was.
+  const Reply read = hand_->read(reg::position);
+  ASSERT_TRUE(read) << read.message;
+  EXPECT_EQ(read.value, 30);
+  const auto status = hand_->status();
+  ASSERT_TRUE(status);
+  EXPECT_TRUE(status->online);
+  EXPECT_TRUE(status->initialized);
+  const Reply moved = hand_->move_to(50);
+  EXPECT_TRUE(moved) << moved.message;
+  // Initialized once, by the client, before the kill: never again.
+  for (const EventKind kind : events_.since(before_kill)) EXPECT_NE(kind, EventKind::initialized);
+  EXPECT_EQ(standby.stop(), 0);
+}
+
+TEST_F(StandbyTest, AStandbyWhosePrimaryLivesTakesNothingAndSendsNothing) {
+  // The standby reaches the box through a proxy that records what it sends.
+  RecordingProxy proxy(sim_.port());
+  auto primary = std::make_unique<RunningService>(box_config(sim_.bus_spec()));
+  ASSERT_TRUE(primary->started());
+  const TempFile config(box_config(proxy.bus_spec()));
+  StandbyProcess standby(config.path());
+  ASSERT_TRUE(standby.wait_for("is served by")) << "the standby never saw the active service";
+  drive_hand();
+  ASSERT_FALSE(HasFatalFailure());
+  for (int i = 0; i < 5; ++i) {
+    const Reply moved = hand_->move_to(20 + 10 * i);
+    ASSERT_TRUE(moved) << moved.message;
+  }
+  EXPECT_EQ(standby.stop(), 0);
+  EXPECT_EQ(proxy.connections(), 1) << "the standby never connected to the box";
+  EXPECT_TRUE(proxy.sent().empty())
+      << "the standby sent frames: " << ::testing::PrintToString(frames_as_hex(proxy.sent()));
+  EXPECT_THAT(standby.log(), Not(HasSubstr("took over")));
+  // The active service served throughout.
+  EXPECT_EQ(primary->process().stop(), 0);
+}
+
+TEST_F(StandbyTest, AStandbyRefusesABusSimulatedInItsOwnProcess) {
+  const auto [code, output] = run_to_exit("--domain " + std::to_string(test_domain()) + " --name " +
+                                          test_service_name() + " --role standby --bus sim:1,2");
+  EXPECT_EQ(code, 2) << output;
+  EXPECT_THAT(output, HasSubstr("role: standby: bus 'bus0' (sim:1,2) is simulated"));
+}
+
+}  // namespace
+}  // namespace dh3::test
