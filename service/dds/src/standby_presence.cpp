@@ -24,7 +24,9 @@ class StandbyPresence::Impl {
 
   Result<void, std::string> init(const ServiceOptions& options) {
     contract::ParticipantOptions participant = options.participant;
-    participant.name = "dh3-service " + options.name + " (standby)";
+    // Not "dh3-service NAME": a client takes a participant of that name for
+    // the service itself, before any of its samples arrive.
+    participant.name = "dh3-standby " + options.name;
     contract::SetupReport report;
     auto made = contract::Participant::create(participant, report);
     for (const auto& warning : report.warnings) spdlog::warn("{}", warning);
