@@ -95,6 +95,23 @@ Result<void, std::string> OwnerBeacon::stand_by(msg::ServiceOwner self) {
   return {};
 }
 
+Result<void, std::string> OwnerBeacon::take_over(msg::ServiceOwner self, Lost lost) {
+  {
+    std::lock_guard lock(mutex_);
+    self.role(msg::ServiceRole::ROLE_ACTIVE);
+    self.epoch(std::max(table_.highest_epoch(self.service()) + 1, self.epoch()));
+    self_ = self;
+    lost_ = std::move(lost);
+    standing_by_ = false;
+  }
+  if (!writer_->write(&self_)) return fail("cannot write the service's owner sample");
+  owns_ = true;
+  wake_.notify_all();
+  spdlog::info("service '{}' taken over (epoch {}) on the standby's participant", self_.service(),
+               self_.epoch());
+  return {};
+}
+
 std::optional<contract::OwnerClaim> OwnerBeacon::owner(const std::string& service) const {
   std::lock_guard lock(mutex_);
   return table_.owner(service);

@@ -55,6 +55,10 @@ class OwnerBeacon {
   /// Writes `self` as a standby's claim (ROLE_STANDBY: it never owns, so no
   /// client takes it for the service) and asserts it from then on.
   Result<void, std::string> stand_by(msg::ServiceOwner self);
+  /// A standby's claim becomes the owner's: `self` (role ACTIVE) is written
+  /// with an epoch above every claim seen and at least self.epoch(), at once,
+  /// and defended as claim() defends it.
+  Result<void, std::string> take_over(msg::ServiceOwner self, Lost lost);
   /// The owner of `service` as the claims and liveliness seen tell now
   /// (contract::OwnerTable::owner), and the highest epoch claimed on it.
   [[nodiscard]] std::optional<contract::OwnerClaim> owner(const std::string& service) const;

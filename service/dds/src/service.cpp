@@ -35,17 +35,27 @@ Service::Impl::~Impl() {
   destroy_dds();
 }
 
-Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups) {
-  contract::ParticipantOptions participant = options_.participant;
-  participant.name = "dh3-service " + options_.name;
-  participant.cell = options_.name;
-  contract::SetupReport report;
-  auto made = contract::Participant::create(participant, report, &participant_listener_);
-  // Before the outcome: an ignored option may explain a failure.
-  for (const auto& warning : report.warnings) spdlog::warn("{}", warning);
-  for (const auto& note : report.notes) spdlog::info("{}", note);
-  if (!made) return fail(std::move(made).error());
-  participant_ = std::move(made).value();
+Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups,
+                                              StandbyPresence::Handover standby) {
+  const bool taking_over = standby.participant != nullptr;
+  if (taking_over) {
+    participant_ = std::move(standby.participant);
+    owner_ = std::move(standby.beacon);
+    // Participants discovered from now on; the clients it knew already are
+    // shown by their id until they change.
+    participant_->participant().set_listener(&participant_listener_, fdds::StatusMask::none());
+  } else {
+    contract::ParticipantOptions participant = options_.participant;
+    participant.name = "dh3-service " + options_.name;
+    participant.cell = options_.name;
+    contract::SetupReport report;
+    auto made = contract::Participant::create(participant, report, &participant_listener_);
+    // Before the outcome: an ignored option may explain a failure.
+    for (const auto& warning : report.warnings) spdlog::warn("{}", warning);
+    for (const auto& note : report.notes) spdlog::info("{}", note);
+    if (!made) return fail(std::move(made).error());
+    participant_ = std::move(made).value();
+  }
   if (const auto& cell = participant_->published_cell()) {
     spdlog::info("publishing in the default partition and in '{}', for followers of the cell",
                  *cell);
@@ -54,7 +64,7 @@ Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups) {
     spdlog::info("DDS Security on: identity '{}' in '{}'", options_.participant.security_identity,
                  options_.participant.security_dir);
   }
-  if (auto claimed = claim_name(); !claimed) return claimed;
+  if (auto claimed = claim_name(taking_over); !claimed) return claimed;
   if (auto created = create_writers(); !created) return created;
 
   for (auto& setup : setups) {
@@ -74,17 +84,18 @@ Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups) {
   return {};
 }
 
-Result<void, std::string> Service::Impl::claim_name() {
-  if (auto created = owner_.create(*participant_); !created) {
+Result<void, std::string> Service::Impl::claim_name(bool standby) {
+  msg::ServiceOwner self = own_claim(options_.name, options_.host, statuses_.started_ns());
+  self.epoch(options_.epoch_floor);
+  if (standby) return owner_->take_over(std::move(self), options_.on_lost_ownership);
+  if (auto created = owner_->create(*participant_); !created) {
     return fail(cannot_create(created.error()));
   }
   const Duration window = options_.claim_window.value_or(contract::kStartClaimWindow);
   spdlog::info("listening {} ms for another service named '{}' before serving",
                std::chrono::duration_cast<std::chrono::milliseconds>(window).count(),
                options_.name);
-  msg::ServiceOwner self = own_claim(options_.name, options_.host, statuses_.started_ns());
-  self.epoch(options_.epoch_floor);
-  return owner_.claim(std::move(self), window, options_.on_lost_ownership);
+  return owner_->claim(std::move(self), window, options_.on_lost_ownership);
 }
 
 std::string Service::Impl::cannot_create(const std::string& what) const {
@@ -213,7 +224,7 @@ void Service::Impl::stop() {
 
 void Service::Impl::destroy_dds() {
   if (participant_ == nullptr) return;
-  owner_.stop();
+  owner_->stop();
   if (request_reader_ != nullptr) request_reader_->set_listener(nullptr);
   if (group_request_reader_ != nullptr) group_request_reader_->set_listener(nullptr);
   group_request_reader_ = nullptr;
@@ -234,7 +245,7 @@ void Service::Impl::on_requests(fdds::DataReader& reader) {
   while (reader.take_next_sample(&request_, &info) == ReturnCode_t::RETCODE_OK) {
     if (!info.valid_data) continue;
     // Outranked by another service of this name: that one answers.
-    if (!owner_.owns()) continue;
+    if (!owner_->owns()) continue;
     if (options_.test_seam_tracer)
       options_.test_seam_tracer(TracePoint::request_taken, request_.request_seq());
     requests_.handle(request_, caller_of(info), stopping_);
@@ -245,7 +256,8 @@ void Service::Impl::on_group_requests(fdds::DataReader& reader) {
   std::lock_guard lock(dispatch_mutex_);
   fdds::SampleInfo info;
   while (reader.take_next_sample(&group_request_, &info) == ReturnCode_t::RETCODE_OK) {
-    if (info.valid_data && owner_.owns()) groups_.handle(group_request_, caller_of(info), stopping_);
+    if (info.valid_data && owner_->owns())
+      groups_.handle(group_request_, caller_of(info), stopping_);
   }
 }
 
@@ -289,6 +301,15 @@ Result<std::unique_ptr<Service>, std::string> Service::create(ServiceOptions opt
                                                               const Clock& clock) {
   auto impl = std::make_unique<Impl>(std::move(options), clock);
   if (auto ok = impl->init(std::move(buses)); !ok) return fail(ok.error());
+  return std::unique_ptr<Service>(new Service(std::move(impl)));
+}
+
+Result<std::unique_ptr<Service>, std::string> Service::take_over(ServiceOptions options,
+                                                                 std::vector<BusSetup> buses,
+                                                                 const Clock& clock,
+                                                                 StandbyPresence& standby) {
+  auto impl = std::make_unique<Impl>(std::move(options), clock);
+  if (auto ok = impl->init(std::move(buses), standby.hand_over()); !ok) return fail(ok.error());
   return std::unique_ptr<Service>(new Service(std::move(impl)));
 }
 

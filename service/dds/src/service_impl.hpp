@@ -38,12 +38,13 @@
 #include "dh3/contract/participant_setup.hpp"
 #include "dh3/contract/qos.hpp"
 #include "dh3/dds/service.hpp"
+#include "dh3/dds/standby_presence.hpp"
 #include "expiry_timer.hpp"
 #include "group_commands.hpp"
 #include "hand_directory.hpp"
 #include "lease_table.hpp"
-#include "participant_names.hpp"
 #include "owner_beacon.hpp"
+#include "participant_names.hpp"
 #include "reply_channel.hpp"
 #include "request_handler.hpp"
 #include "status_publisher.hpp"
@@ -58,7 +59,10 @@ class Service::Impl {
   Impl(const Impl&) = delete;
   Impl& operator=(const Impl&) = delete;
 
-  Result<void, std::string> init(std::vector<BusSetup> setups);
+  /// `standby`: the participant and owner beacon to serve on (a takeover);
+  /// empty: made here.
+  Result<void, std::string> init(std::vector<BusSetup> setups,
+                                 StandbyPresence::Handover standby = {});
   Result<void, std::string> start();
   void stop();
   [[nodiscard]] std::vector<hand::BusMetrics> metrics() const {
@@ -165,8 +169,9 @@ class Service::Impl {
   void sweep_expired();
 
   // Set-up: each step names the entity it could not create.
-  /// The owner endpoints, then the claim on the name (owner_beacon.hpp).
-  Result<void, std::string> claim_name();
+  /// The owner endpoints, then the claim on the name (owner_beacon.hpp); a
+  /// standby's beacon claims at once.
+  Result<void, std::string> claim_name(bool standby);
   Result<void, std::string> create_writers();
   Result<void, std::string> create_request_reader();
   /// The group endpoints; a service whose DDS Security permissions predate
@@ -197,7 +202,7 @@ class Service::Impl {
   /// deleted with them.
   std::unique_ptr<contract::Participant> participant_;
   /// Real time, whatever clock_ is: it waits on DDS discovery and liveliness.
-  OwnerBeacon owner_{SystemClock::instance()};
+  std::unique_ptr<OwnerBeacon> owner_ = std::make_unique<OwnerBeacon>(SystemClock::instance());
   fdds::DataWriter* status_writer_ = nullptr;
   fdds::DataWriter* event_writer_ = nullptr;
   fdds::DataWriter* reply_writer_ = nullptr;

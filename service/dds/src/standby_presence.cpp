@@ -16,8 +16,8 @@ class StandbyPresence::Impl {
  public:
   explicit Impl(std::string name) : name_(std::move(name)) {}
   ~Impl() {
-    beacon_.stop();
-    participant_.reset();
+    if (handover_.beacon) handover_.beacon->stop();
+    handover_.participant.reset();
   }
   Impl(const Impl&) = delete;
   Impl& operator=(const Impl&) = delete;
@@ -27,20 +27,22 @@ class StandbyPresence::Impl {
     // Not "dh3-service NAME": a client takes a participant of that name for
     // the service itself, before any of its samples arrive.
     participant.name = "dh3-standby " + options.name;
+    participant.cell = options.name;  // the partitions the service it becomes publishes in
     contract::SetupReport report;
     auto made = contract::Participant::create(participant, report);
     for (const auto& warning : report.warnings) spdlog::warn("{}", warning);
     for (const auto& note : report.notes) spdlog::info("{}", note);
     if (!made) return fail(std::move(made).error());
-    participant_ = std::move(made).value();
-    if (auto created = beacon_.create(*participant_); !created) {
+    handover_.participant = std::move(made).value();
+    handover_.beacon = std::make_unique<OwnerBeacon>(SystemClock::instance());
+    if (auto created = handover_.beacon->create(*handover_.participant); !created) {
       return fail("cannot create " + created.error());
     }
-    return beacon_.stand_by(own_claim(options.name, options.host, wall_clock_ns()));
+    return handover_.beacon->stand_by(own_claim(options.name, options.host, wall_clock_ns()));
   }
 
   std::optional<PrimaryLapse> lapse(TimePoint now) {
-    if (const auto owner = beacon_.owner(name_)) {
+    if (const auto owner = handover_.beacon->owner(name_)) {
       if (!primary_ || primary_->participant != owner->participant) {
         spdlog::info("standby: service '{}' is served by {} (epoch {})", name_, owner->describe(),
                      owner->epoch);
@@ -52,19 +54,28 @@ class StandbyPresence::Impl {
     if (!primary_) return std::nullopt;
     if (!lost_since_) lost_since_ = now;
     if (now - *lost_since_ < contract::kOwnerLapseConfirm) return std::nullopt;
-    return PrimaryLapse{*primary_, *lost_since_, beacon_.highest_epoch(name_)};
+    return PrimaryLapse{*primary_, *lost_since_, handover_.beacon->highest_epoch(name_)};
   }
 
-  std::optional<contract::OwnerClaim> owner() const { return beacon_.owner(name_); }
+  std::optional<contract::OwnerClaim> owner() const { return handover_.beacon->owner(name_); }
+
+  Handover hand_over() { return std::move(handover_); }
 
  private:
   std::string name_;
-  std::unique_ptr<contract::Participant> participant_;
-  /// Real time: it waits on DDS liveliness.
-  OwnerBeacon beacon_{SystemClock::instance()};
+  /// The participant and its beacon (real time: it waits on DDS liveliness).
+  Handover handover_;
   std::optional<contract::OwnerClaim> primary_;
   std::optional<TimePoint> lost_since_;
 };
+
+StandbyPresence::Handover::Handover() = default;
+StandbyPresence::Handover::Handover(Handover&&) noexcept = default;
+StandbyPresence::Handover::~Handover() = default;
+
+StandbyPresence::Handover StandbyPresence::hand_over() {
+  return impl_->hand_over();
+}
 
 StandbyPresence::StandbyPresence(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 StandbyPresence::~StandbyPresence() = default;

@@ -159,11 +159,19 @@ dh3::dds::ServiceOptions service_options(const dh3::app::ServiceConfig& config) 
   return options;
 }
 
-/// Creates the service on `buses`, starts it (and the metrics exporter) and
-/// runs until SIGINT or SIGTERM; the exit code.
+/// What a standby that takes over serves with: its presence on DDS, and what
+/// to log once it serves.
+struct Takeover {
+  dh3::dds::StandbyPresence* standby = nullptr;
+  std::function<void()> serving;
+};
+
+/// Creates the service on `buses` (on the standby's presence at a takeover),
+/// starts it (and the metrics exporter) and runs until SIGINT or SIGTERM; the
+/// exit code.
 int serve(const dh3::app::ServiceConfig& config, dh3::dds::ServiceOptions options,
           std::vector<dh3::dds::BusSetup> buses, const sigset_t& stop_signals,
-          const std::function<void()>& started_hook = {}) {
+          const Takeover& takeover = {}) {
   const dh3::Clock& clock = dh3::SystemClock::instance();
   // Another service of this name outranks ours (docs/failover.md): stop, as
   // on SIGTERM, and exit non-zero.
@@ -172,7 +180,10 @@ int serve(const dh3::app::ServiceConfig& config, dh3::dds::ServiceOptions option
     lost_ownership = true;
     ::kill(::getpid(), SIGTERM);
   };
-  auto service = dh3::dds::Service::create(options, std::move(buses), clock);
+  auto service =
+      takeover.standby != nullptr
+          ? dh3::dds::Service::take_over(options, std::move(buses), clock, *takeover.standby)
+          : dh3::dds::Service::create(options, std::move(buses), clock);
   if (!service) {
     spdlog::critical("{}", service.error());
     return kExitStartFailed;
@@ -194,7 +205,7 @@ int serve(const dh3::app::ServiceConfig& config, dh3::dds::ServiceOptions option
     service->reset();  // stops what did start: the buses, every hand published offline
     return kExitStartFailed;
   }
-  if (started_hook) started_hook();
+  if (takeover.serving) takeover.serving();
 
   int signal_number = 0;
   sigwait(&stop_signals, &signal_number);
@@ -291,8 +302,6 @@ int run_standby(const dh3::app::ServiceConfig& config, const sigset_t& stop_sign
   const auto states = watch.states();
   auto setups = watch.take_buses();
   for (std::size_t i = 0; i < setups.size(); ++i) setups[i].warm = states[i];
-  presence->reset();  // its standby claim goes; the service's active one follows
-  options.claim_window = dh3::Duration::zero();
   options.epoch_floor = lapse->epoch + 1;
   const auto serving = [&lapse, &clock, epoch = options.epoch_floor] {
     spdlog::warn(
@@ -301,7 +310,8 @@ int run_standby(const dh3::app::ServiceConfig& config, const sigset_t& stop_sign
         lapse->primary.describe(), lapse->primary.epoch, epoch,
         std::chrono::duration_cast<std::chrono::milliseconds>(clock.now() - lapse->since).count());
   };
-  return serve(config, std::move(options), std::move(setups), stop_signals, serving);
+  return serve(config, std::move(options), std::move(setups), stop_signals,
+               Takeover{presence->get(), serving});
 }
 
 }  // namespace

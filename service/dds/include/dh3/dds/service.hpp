@@ -79,6 +79,8 @@ struct BusSetup {
   std::vector<hand::HandState> warm;
 };
 
+class StandbyPresence;
+
 class Service {
  public:
   /// Creates the participant, claims the service's name (listening for
@@ -88,6 +90,12 @@ class Service {
   /// message names the other service's host and process).
   [[nodiscard]] static Result<std::unique_ptr<Service>, std::string> create(
       ServiceOptions options, std::vector<BusSetup> buses, const Clock& clock);
+  /// A standby's takeover: the service is made on the standby's participant,
+  /// whose claim turns active at once (no listening window), with an epoch
+  /// above every claim seen and at least options.epoch_floor.
+  [[nodiscard]] static Result<std::unique_ptr<Service>, std::string> take_over(
+      ServiceOptions options, std::vector<BusSetup> buses, const Clock& clock,
+      StandbyPresence& standby);
   ~Service();
   Service(const Service&) = delete;
   Service& operator=(const Service&) = delete;

@@ -11,6 +11,11 @@
 // (killed, frozen, cut off) or its owner writer left (a clean stop). A lapse
 // overturned within that time (a frozen owner asserting again) is forgotten.
 //
+// At the takeover the service is made on the same participant
+// (Service::create with the presence): every client has discovered it and
+// matched its owner writer already, so only the service's other endpoints
+// are new to them, and the claim that turns active is the one they watch.
+//
 // Threads: Fast DDS listener threads and the beacon's thread inside; lapse()
 // from one thread.
 
@@ -24,7 +29,13 @@
 #include "dh3/contract/ownership.hpp"
 #include "dh3/dds/service.hpp"
 
+namespace dh3::contract {
+class Participant;
+}  // namespace dh3::contract
+
 namespace dh3::dds {
+
+class OwnerBeacon;
 
 /// The primary's loss, as a standby confirmed it.
 struct PrimaryLapse {
@@ -48,6 +59,17 @@ class StandbyPresence {
   [[nodiscard]] std::optional<PrimaryLapse> lapse(TimePoint now);
   /// The owner of the name now (for logging who the standby watches).
   [[nodiscard]] std::optional<contract::OwnerClaim> owner() const;
+
+  /// What the service that takes over is made on: Service::create takes it
+  /// (once); the presence is empty after it.
+  struct Handover {
+    std::unique_ptr<contract::Participant> participant;
+    std::unique_ptr<OwnerBeacon> beacon;
+    Handover();
+    Handover(Handover&&) noexcept;
+    ~Handover();
+  };
+  [[nodiscard]] Handover hand_over();
 
  private:
   class Impl;
