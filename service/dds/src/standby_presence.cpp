@@ -9,6 +9,7 @@
 #include "dh3/contract/participant.hpp"
 #include "dh3/contract/participant_setup.hpp"
 #include "owner_beacon.hpp"
+#include "primary_watch.hpp"
 
 namespace dh3::dds {
 
@@ -42,19 +43,14 @@ class StandbyPresence::Impl {
   }
 
   std::optional<PrimaryLapse> lapse(TimePoint now) {
-    if (const auto owner = handover_.beacon->owner(name_)) {
-      if (!primary_ || primary_->participant != owner->participant) {
-        spdlog::info("standby: service '{}' is served by {} (epoch {})", name_, owner->describe(),
-                     owner->epoch);
-      }
-      primary_ = owner;
-      lost_since_.reset();
-      return std::nullopt;
+    const auto owner = handover_.beacon->owner(name_);
+    bool changed = false;
+    auto lost = watch_.look(owner, handover_.beacon->highest_epoch(name_), now, &changed);
+    if (changed) {
+      spdlog::info("standby: service '{}' is served by {} (epoch {})", name_, owner->describe(),
+                   owner->epoch);
     }
-    if (!primary_) return std::nullopt;
-    if (!lost_since_) lost_since_ = now;
-    if (now - *lost_since_ < contract::kOwnerLapseConfirm) return std::nullopt;
-    return PrimaryLapse{*primary_, *lost_since_, handover_.beacon->highest_epoch(name_)};
+    return lost;
   }
 
   std::optional<contract::OwnerClaim> owner() const { return handover_.beacon->owner(name_); }
@@ -65,8 +61,7 @@ class StandbyPresence::Impl {
   std::string name_;
   /// The participant and its beacon (real time: it waits on DDS liveliness).
   Handover handover_;
-  std::optional<contract::OwnerClaim> primary_;
-  std::optional<TimePoint> lost_since_;
+  PrimaryWatch watch_;
 };
 
 StandbyPresence::Handover::Handover() = default;
