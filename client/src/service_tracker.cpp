@@ -166,6 +166,16 @@ void ServiceTracker::follow_owner(const std::string& service, Outcome& out) {
     if (state.incarnation == owner->participant && state.alive) return;
     if (state.alive && !state.incarnation.empty()) {
       lose(service, "service '" + service + "' is now served by " + owner->describe(), out);
+    } else if (const auto lapse = lapses_.find(state.incarnation);
+               state.incarnation != owner->participant && lapse != lapses_.end() &&
+               lapse->second.believed) {
+      // A lapsed owner's calls in flight wait for its return no longer:
+      // another owner serves the name (a standby took over), and no reply of
+      // the old one would be believed.
+      out.end_calls_of = state.incarnation;
+      out.why = "service '" + service + "' is now served by " + owner->describe() + " (" +
+                lapse->second.why + ")";
+      lapses_.erase(lapse);
     }
     auto& participant = participants_[owner->participant];
     participant.service = service;

@@ -189,6 +189,28 @@ TEST(TrackerOwner, AHigherEpochTakesOverAndTheOldOwnersCallsAreLost) {
   EXPECT_EQ(tracker.incarnation("svc"), "B");
 }
 
+TEST(TrackerOwner, ANewOwnerEndsTheCallsOfALapsedOneAtOnce) {
+  using namespace std::chrono_literals;
+  ServiceTracker tracker;
+  serve(tracker, "A", 1, 10);
+  const auto t0 = std::chrono::steady_clock::time_point{} + 1h;
+  tracker.owner_lapsed("A", t0);
+  const auto lost = tracker.confirm_lapses(t0 + contract::kOwnerLapseConfirm);
+  ASSERT_EQ(lost.size(), 1U);
+  EXPECT_TRUE(lost[0].keep_calls) << "its calls wait for it a while";
+  // Its standby takes over: the calls sent to A end now, not at the lapse's
+  // call confirmation.
+  Outcome taken;
+  tracker.take_claim(claim("B", 2, 5), taken);
+  EXPECT_EQ(taken.end_calls_of, "A");
+  EXPECT_FALSE(taken.keep_calls);
+  EXPECT_NE(taken.why.find("now served by"), std::string::npos) << taken.why;
+  EXPECT_NE(taken.why.find("killed, frozen or cut off"), std::string::npos) << taken.why;
+  EXPECT_EQ(tracker.incarnation("svc"), "B");
+  EXPECT_TRUE(tracker.confirm_lapses(t0 + contract::kOwnerLapseCallConfirm).empty())
+      << "ended once";
+}
+
 TEST(TrackerOwner, AStandbyIsNotBelievedWhileItStandsBy) {
   ServiceTracker tracker;
   serve(tracker, "A", 1, 10);
