@@ -13,6 +13,7 @@
 
 #include <CLI/CLI.hpp>
 #include <csignal>
+#include <mutex>
 #include <random>
 #include <thread>
 
@@ -61,6 +62,8 @@ std::optional<std::string> wait_for(dh3::test::Process& process, std::string_vie
 struct Takeover {
   double online_ms = 0;        ///< kill to the hand online again at the client
   double first_answer_ms = 0;  ///< kill to the first command after that answered
+  double in_flight_ms = 0;     ///< kill to the end of a call written at the kill
+  std::string in_flight;       ///< how that call ended
   std::string logged;          ///< the standby's "took over" line
 };
 
@@ -86,6 +89,15 @@ std::optional<Takeover> one_kill(int domain, const std::string& name, std::mt199
       std::chrono::milliseconds(std::uniform_int_distribution<int>(300, 700)(random)));
   const auto killed = BenchClock::now();
   active.send_signal(SIGKILL);
+  // A call written to the killed service: when and how it ends.
+  std::optional<BenchClock::time_point> in_flight_ended;
+  dh3::Reply in_flight;
+  std::mutex in_flight_mutex;
+  hand->read_async(dh3::reg::position, [&](const dh3::Reply& reply) {
+    std::lock_guard lock(in_flight_mutex);
+    in_flight = reply;
+    in_flight_ended = BenchClock::now();
+  });
   const auto online = [](const dh3::HandStatus& status) { return status.online; };
   if (!hand->wait_until([&](const dh3::HandStatus& status) { return !online(status); }, 30s) ||
       !hand->wait_until(online, 30s)) {
@@ -96,6 +108,17 @@ std::optional<Takeover> one_kill(int domain, const std::string& name, std::mt199
   const dh3::Reply read = hand->read(dh3::reg::position);
   if (!read || read.value != 30) return std::nullopt;
   took.first_answer_ms = dh3::bench::micros_between(killed, BenchClock::now()) / 1000.0;
+  for (int wait = 0; wait < 300; ++wait) {
+    {
+      std::lock_guard lock(in_flight_mutex);
+      if (in_flight_ended) {
+        took.in_flight_ms = dh3::bench::micros_between(killed, *in_flight_ended) / 1000.0;
+        took.in_flight = in_flight.ok() ? "answered" : std::string(dh3::to_string(in_flight.code));
+        break;
+      }
+    }
+    std::this_thread::sleep_for(100ms);  // polling for the call's end, at most 30 s
+  }
   if (auto line = wait_for(standby, "took over from")) took.logged = *line;
   standby.send_signal(SIGTERM);
   standby.wait_exit(20s);
@@ -121,9 +144,10 @@ int main(int argc, char** argv) {
       online_ms.push_back(took->online_ms);
       ms.push_back(took->first_answer_ms);
       std::printf(
-          "kill %2d: hand online again after %.0f ms, read answered after %.0f ms; "
-          "standby: %s\n",
-          i + 1, took->online_ms, took->first_answer_ms, took->logged.c_str());
+          "kill %2d: hand online again after %.0f ms, read answered after %.0f ms, read "
+          "written at the kill ended %s after %.0f ms; standby: %s\n",
+          i + 1, took->online_ms, took->first_answer_ms, took->in_flight.c_str(),
+          took->in_flight_ms, took->logged.c_str());
     } else {
       ++missed;
       std::printf("kill %2d: the standby did not serve within 30 s\n", i + 1);

@@ -9,6 +9,7 @@
 
 #include <condition_variable>
 #include <csignal>
+#include <future>
 #include <mutex>
 #include <vector>
 
@@ -153,6 +154,8 @@ TEST_F(StandbyTest, TakesOverAKilledServiceWithTheHandsAsTheyWere) {
 
   const std::size_t before_kill = events_.size();
   primary->process().process().send_signal(SIGKILL);
+  // Written to the killed service: answered once, by nobody else.
+  auto in_flight = hand_->read_async(reg::position);
   const auto offline = events_.wait(EventKind::offline, before_kill);
   ASSERT_TRUE(offline) << "the client never saw the killed service's hand offline";
   const auto took_over = standby.wait_for("took over from");
@@ -160,6 +163,17 @@ TEST_F(StandbyTest, TakesOverAKilledServiceWithTheHandsAsTheyWere) {
   // Its statuses flow again, from the standby: the hand is back.
   ASSERT_TRUE(hand_->wait_until([](const HandStatus& s) { return s.online; }, kClientDeadline))
       << "the hand never came back online";
+
+  // The call in flight ends as soon as the standby serves (or, written after
+  // the client saw the loss, the standby answers it).
+  ASSERT_EQ(in_flight.wait_for(kClientDeadline), std::future_status::ready);
+  const Reply ended = in_flight.get();
+  if (!ended) {
+    EXPECT_EQ(ended.code, Code::service_lost) << ended.message;
+    EXPECT_THAT(ended.message, HasSubstr("is now served by"));
+  } else {
+    EXPECT_EQ(ended.value, 30);
+  }
 
   // The next command, served by the standby: the hand is where it was.
   const Reply read = hand_->read(reg::position);
