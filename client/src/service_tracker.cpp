@@ -296,9 +296,10 @@ bool ServiceTracker::ready(const std::string& service) const {
   const auto it = services_.find(service);
   if (it == services_.end() || !it->second.alive || it->second.incarnation.empty()) return false;
   const auto& prefix = it->second.incarnation;
-  if (!owners_.alive(prefix)) {
-    // Its owner writer matched: ready once alive. Otherwise, reading claims,
-    // wait for it until kOwnerWait has passed.
+  if (!owners_.alive(prefix) || !owners_.claim_of(prefix)) {
+    // Its owner writer matched: ready once its claim arrived and it was seen
+    // alive (in either order), so that a death has a claim to lose.
+    // Otherwise, reading claims, wait for it until kOwnerWait has passed.
     if (owner_writers_.count(prefix) > 0) return false;
     const auto p = participants_.find(prefix);
     if (owner_reader_ && (p == participants_.end() || !p->second.owner_waived)) return false;

@@ -276,6 +276,25 @@ TEST(TrackerOwner, AClientReadingClaimsCallsAServiceReadyOnlyOnceItsOwnerWasSeen
   EXPECT_FALSE(tracker.ready("svc"));
 }
 
+TEST(TrackerOwner, AnAssertionBeforeTheClaimSampleDoesNotMakeTheServiceReady) {
+  // The first assertion (a heartbeat) may arrive before the claim sample,
+  // which a loaded client fetches in a round trip of its own. Ready then, a
+  // kill before the sample arrives would find no claim to lose: the death
+  // would be seen only at the participant lease.
+  const auto t0 = std::chrono::steady_clock::now();
+  ServiceTracker tracker;
+  tracker.set_endpoints(true, true);
+  Outcome ignored;
+  tracker.note_participant("A", "svc", ignored, t0);
+  match_commands(tracker, "A", t0);
+  tracker.matched(Endpoint::owner_writer, "A", true, t0);
+  tracker.owner_alive("A", true);
+  EXPECT_FALSE(tracker.ready("svc")) << "its claim has not arrived";
+  tracker.take_claim(claim("A", 1, 10), ignored, t0);
+  EXPECT_TRUE(tracker.ready("svc"));
+  EXPECT_TRUE(tracker.owner_alive("A", false).lost_service);
+}
+
 TEST(TrackerOwner, AServiceWhoseOwnerWriterNeverShowsIsReadyAWaitAfterItsOtherEndpoints) {
   // Permissions that predate the owner topic: it is never matched, and the
   // service still serves, its death seen at the participant lease.
@@ -304,6 +323,8 @@ TEST(TrackerOwner, AServiceWhoseOwnerWriterNeverShowsIsReadyAWaitAfterItsOtherEn
   tracker.matched(Endpoint::owner_writer, "A", true, t1 + 3s);
   EXPECT_FALSE(tracker.ready("svc"));
   tracker.owner_alive("A", true);
+  EXPECT_FALSE(tracker.ready("svc")) << "its claim has not arrived";
+  tracker.take_claim(claim("A", 1, 10), ignored, t1 + 3s);
   EXPECT_TRUE(tracker.ready("svc"));
 }
 
@@ -342,6 +363,7 @@ TEST(TrackerOwner, AReadOnlyClientWaitsForTheOwnerToo) {
   tracker.matched(Endpoint::event_writer, "A", true, t0);
   EXPECT_FALSE(tracker.ready("svc"));
   EXPECT_EQ(tracker.next_lapse(), t0 + ServiceTracker::kOwnerWait);
+  tracker.take_claim(claim("A", 1, 10), ignored, t0);
   tracker.owner_alive("A", true);
   EXPECT_TRUE(tracker.ready("svc"));
 }
