@@ -18,7 +18,6 @@ namespace {
 /// the client know a service's participant, and so a restart, before any of
 /// its samples arrive. Services of other vendors are still found by their
 /// samples; only the early warning is lost.
-constexpr std::string_view kServiceParticipantPrefix = "dh3-service ";
 
 }  // namespace
 
@@ -334,8 +333,9 @@ void ClientCore::dispatch_locked(const std::string& service, Actions& out) {
 }
 
 void ClientCore::on_participant_found(const std::string& prefix, const std::string& name) {
-  if (!std::string_view(name).starts_with(kServiceParticipantPrefix)) return;
-  const std::string service = name.substr(kServiceParticipantPrefix.size());
+  const auto announced = contract::announced_service(name);
+  if (!announced) return;
+  const std::string& service = *announced;
   // A follower knows only the service it follows.
   if (!followed(service)) return;
   Actions out;

@@ -160,6 +160,24 @@ std::string OwnerBeacon::outranked_locked() const {
          std::to_string(self_.epoch()) + "): this service stops serving";
 }
 
+void OwnerBeacon::announced(const std::string& participant, std::string_view participant_name) {
+  auto service = contract::announced_service(participant_name);
+  if (!service) return;
+  {
+    std::lock_guard lock(mutex_);
+    table_.announced(participant, std::move(*service));
+  }
+  wake_.notify_all();
+}
+
+void OwnerBeacon::left(const std::string& participant) {
+  {
+    std::lock_guard lock(mutex_);
+    table_.forget(participant);
+  }
+  wake_.notify_all();
+}
+
 void OwnerBeacon::stop() {
   {
     std::lock_guard lock(mutex_);

@@ -69,6 +69,12 @@ class OwnerBeacon {
   [[nodiscard]] const msg::ServiceOwner& self() const { return self_; }
   /// Stops asserting and lets go of the endpoints; before the participant is deleted.
   void stop();
+  /// Discovery announced `participant` under `participant_name`: if that is a
+  /// service's, a claim still starting waits for its claim sample too
+  /// (contract::kStartClaimAwait). Any thread.
+  void announced(const std::string& participant, std::string_view participant_name);
+  /// `participant` left the domain. Any thread.
+  void left(const std::string& participant);
 
  private:
   class Listener final : public eprosima::fastdds::dds::DataReaderListener {

@@ -46,7 +46,7 @@ Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups,
     participant_->participant().set_listener(&participant_listener_, fdds::StatusMask::none());
   } else {
     contract::ParticipantOptions participant = options_.participant;
-    participant.name = "dh3-service " + options_.name;
+    participant.name = std::string(contract::kServiceParticipantPrefix) + options_.name;
     participant.cell = options_.name;
     contract::SetupReport report;
     auto made = contract::Participant::create(participant, report, &participant_listener_);
@@ -279,6 +279,7 @@ void Service::Impl::on_participant_left(const std::string& participant_id, bool 
     statuses_.republish(ended.hand);
   }
   names_.forget(participant_id);
+  owner_->left(participant_id);
 }
 
 void Service::Impl::sweep_expired() {

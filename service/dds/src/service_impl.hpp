@@ -132,6 +132,7 @@ class Service::Impl {
         impl_.names_.discovered(info.info);
       }
       if (info.status == Status::DISCOVERED_PARTICIPANT) {
+        impl_.owner_->announced(participant_id, info.info.m_participantName.to_string());
         impl_.replies_.participant_joined(participant_id);
       } else if (info.status == Status::REMOVED_PARTICIPANT ||
                  info.status == Status::DROPPED_PARTICIPANT) {

@@ -112,6 +112,39 @@ TEST(StartClaim, ServesOnlyOnceTheWindowHasPassedWithoutAnOwner) {
   EXPECT_EQ(start.epoch(table), 1U);
 }
 
+TEST(StartClaim, WaitsPastTheWindowForTheClaimOfAServiceOfItsNameThatWasAnnounced) {
+  // A loaded machine: the owner's participant is discovered, its claim
+  // sample has not arrived when the window ends.
+  FakeClock clock;
+  OwnerTable table;
+  StartClaim start("cell", "self", 1800ms, clock);
+  table.announced("owner", "cell");
+  table.announced("elsewhere", "other-cell");
+  clock.advance(1800ms);
+  EXPECT_EQ(start.decide(table), StartClaim::Verdict::wait);
+  clock.advance(1000ms);
+  table.claim(claim("owner", 1, 10));
+  EXPECT_EQ(start.decide(table), StartClaim::Verdict::refuse);
+  EXPECT_EQ(start.other()->participant, "owner");
+}
+
+TEST(StartClaim, AnAnnouncedServiceThatNeverClaimsDelaysTheStartABoundedTime) {
+  // A service without an owner writer, or one that died after it was announced.
+  FakeClock clock;
+  OwnerTable table;
+  StartClaim start("cell", "self", 1800ms, clock);
+  table.announced("silent", "cell");
+  clock.advance(1800ms + kStartClaimAwait - 1ms);
+  EXPECT_EQ(start.decide(table), StartClaim::Verdict::wait);
+  clock.advance(1ms);
+  EXPECT_EQ(start.decide(table), StartClaim::Verdict::serve);
+  // One that left the domain is not waited for.
+  StartClaim again("cell", "self", 1800ms, clock);
+  table.forget("silent");
+  clock.advance(1800ms);
+  EXPECT_EQ(again.decide(table), StartClaim::Verdict::serve);
+}
+
 TEST(StartClaim, RefusesAtOnceWhenALiveOwnerAppearsAndNamesIt) {
   FakeClock clock;
   OwnerTable table;

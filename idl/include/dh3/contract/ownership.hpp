@@ -51,6 +51,23 @@ inline constexpr std::chrono::milliseconds kOwnerLapseCallConfirm{5000};
 inline constexpr std::chrono::milliseconds kStartClaimWindow =
     kOwnerLease + std::chrono::seconds(1);
 
+/// What a service's participant announces as its name before the cell name
+/// ("dh3-service cell1"), so that others know a service of that name is
+/// there before any of its samples arrive.
+inline constexpr std::string_view kServiceParticipantPrefix = "dh3-service ";
+
+/// The cell name a participant's announced name says it serves, if it is a service's.
+inline std::optional<std::string> announced_service(std::string_view participant_name) {
+  if (!participant_name.starts_with(kServiceParticipantPrefix)) return std::nullopt;
+  return std::string(participant_name.substr(kServiceParticipantPrefix.size()));
+}
+
+/// How much longer than the window a starting service waits for the claim of
+/// a participant that announced itself as a service of its name: on a loaded
+/// machine the claim sample may take longer than the window to arrive, and a
+/// duplicate that served meanwhile would outrank the owner it missed.
+inline constexpr std::chrono::milliseconds kStartClaimAwait{3000};
+
 /// One service process's claim on a cell name, as its owner writer wrote it.
 struct OwnerClaim {
   std::string participant;  ///< GUID prefix in hex
@@ -106,7 +123,22 @@ class OwnerTable {
     entries_[participant].liveliness = alive ? Liveliness::alive : Liveliness::lapsed;
   }
   /// The participant left the domain or its writer was deleted.
-  void forget(const std::string& participant) { entries_.erase(participant); }
+  void forget(const std::string& participant) {
+    entries_.erase(participant);
+    announced_.erase(participant);
+  }
+  /// `participant` announced itself in discovery as a service of `service`
+  /// (its claim sample may follow later).
+  void announced(const std::string& participant, std::string service) {
+    announced_[participant] = std::move(service);
+  }
+  /// A participant announced as a service of `service` whose claim has not arrived.
+  [[nodiscard]] bool claim_awaited(std::string_view service) const {
+    for (const auto& [participant, announced_service] : announced_) {
+      if (announced_service == service && !claim_of(participant)) return true;
+    }
+    return false;
+  }
 
   /// The claim of `participant`, if its sample arrived.
   [[nodiscard]] std::optional<OwnerClaim> claim_of(const std::string& participant) const {
@@ -158,6 +190,7 @@ class OwnerTable {
     Liveliness liveliness = Liveliness::unknown;
   };
   std::map<std::string, Entry> entries_;
+  std::map<std::string, std::string> announced_;  ///< participant -> the service it announced
 };
 
 /// A service's decision at start: it serves only once it has listened for a
@@ -176,13 +209,17 @@ class StartClaim {
 
   /// What to do now, given what `table` holds: refuse as soon as a live
   /// active owner of the name (not ourselves) is known, serve once the window
-  /// has passed without one.
+  /// has passed without one, and without a service of the name announced
+  /// whose claim is still awaited (kStartClaimAwait at most).
   [[nodiscard]] Verdict decide(const OwnerTable& table) {
     if (const auto owner = table.owner(service_); owner && owner->participant != self_) {
       other_ = owner;
       return Verdict::refuse;
     }
-    return clock_.now() >= deadline_ ? Verdict::serve : Verdict::wait;
+    const TimePoint now = clock_.now();
+    if (now < deadline_) return Verdict::wait;
+    if (table.claim_awaited(service_) && now < deadline_ + kStartClaimAwait) return Verdict::wait;
+    return Verdict::serve;
   }
   /// The owner that made decide() refuse.
   [[nodiscard]] const std::optional<OwnerClaim>& other() const { return other_; }
