@@ -27,7 +27,7 @@ class StandbyPresence::Impl {
     contract::ParticipantOptions participant = options.participant;
     // Not "dh3-service NAME": a client takes a participant of that name for
     // the service itself, before any of its samples arrive.
-    participant.name = "dh3-standby " + options.name;
+    participant.name = std::string(contract::kStandbyParticipantPrefix) + options.name;
     participant.cell = options.name;  // the partitions the service it becomes publishes in
     contract::SetupReport report;
     auto made = contract::Participant::create(participant, report);

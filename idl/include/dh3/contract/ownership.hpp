@@ -55,6 +55,9 @@ inline constexpr std::chrono::milliseconds kStartClaimWindow =
 /// ("dh3-service cell1"), so that others know a service of that name is
 /// there before any of its samples arrive.
 inline constexpr std::string_view kServiceParticipantPrefix = "dh3-service ";
+/// What a standby's participant announces ("dh3-standby cell1"): never taken
+/// for the service itself.
+inline constexpr std::string_view kStandbyParticipantPrefix = "dh3-standby ";
 
 /// The cell name a participant's announced name says it serves, if it is a service's.
 inline std::optional<std::string> announced_service(std::string_view participant_name) {
