@@ -333,12 +333,43 @@ def check_kubernetes(src, docs, configs, programs, uid):
                 problem(f"{where}: a SocketCAN bus needs hostNetwork (CAN interfaces are netdevs)")
             if spec.get("hostNetwork") and spec.get("dnsPolicy") != "ClusterFirstWithHostNet":
                 problem(f"{where}: hostNetwork without dnsPolicy ClusterFirstWithHostNet")
+    check_network_policies(by_kind)
     for name, svc in services.items():
         selector = svc["spec"].get("selector", {})
         if not any(selector.items() <= d["spec"]["template"]["metadata"]["labels"].items()
                    for d in by_kind.get("Deployment", {}).values()):
             problem(f"Service {name}: selects no Deployment's pods")
     print(f"kubernetes: {sum(len(v) for v in by_kind.values())} objects")
+
+
+def check_network_policies(by_kind):
+    """Every Deployment on the pod network has its pods held by a NetworkPolicy
+    on ingress that admits no one from everywhere (each rule names whom it
+    admits), and a port a policy names is a port of a pod it holds."""
+    policies = {n: p for n, p in by_kind.get("NetworkPolicy", {}).items()
+                if "Ingress" in p["spec"].get("policyTypes", [])}
+    held_ports = {n: set() for n in policies}
+    for name, deployment in by_kind.get("Deployment", {}).items():
+        template = deployment["spec"]["template"]
+        if template["spec"].get("hostNetwork"):
+            continue  # on the node's network: no NetworkPolicy holds it
+        labels = template["metadata"]["labels"]
+        holding = [n for n, p in policies.items()
+                   if p["metadata"].get("namespace") == deployment["metadata"].get("namespace")
+                   and p["spec"]["podSelector"].get("matchLabels", {}).items() <= labels.items()]
+        if not holding:
+            problem(f"Deployment {name}: no NetworkPolicy limits who reaches its pods")
+        for n in holding:
+            held_ports[n] |= {port.get("name") for c in template["spec"]["containers"]
+                              for port in c.get("ports", [])}
+    for name, policy in policies.items():
+        for rule in policy["spec"].get("ingress", []):
+            if not rule.get("from"):
+                problem(f"NetworkPolicy {name}: an ingress rule admits every source")
+            for port in rule.get("ports", []):
+                if isinstance(port.get("port"), str) and port["port"] not in held_ports[name]:
+                    problem(f"NetworkPolicy {name}: port {port['port']} is no port of its pods")
+    print(f"network policies: {len(policies)}")
 
 
 def check_docs(src):
