@@ -360,6 +360,15 @@ Result<void, std::string> check_listen_address(std::string_view address) {
   return {};
 }
 
+std::string exposure_warning(std::string_view address) {
+  const auto parsed = parse_listen_address(address);
+  if (!parsed || is_loopback_host(parsed->host)) return {};
+  return "metrics served on " + std::string(address) +
+         ", beyond this machine: whoever reaches that port reads every bus's and hand's name, "
+         "state and counters (no token, no Host check); serve them on 127.0.0.1 and let a local "
+         "Prometheus or a proxy reach them, or limit the port in the firewall";
+}
+
 class Exporter::Impl {
  public:
   std::shared_ptr<Collector> collector;

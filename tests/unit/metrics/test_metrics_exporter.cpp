@@ -20,6 +20,7 @@ namespace {
 
 using test::metric_value;
 using ::testing::HasSubstr;
+using ::testing::IsEmpty;
 using ::testing::Not;
 
 /// One bus "left" at 500 kbit/s with hand 1 "gripper" (online, some traffic)
@@ -249,6 +250,16 @@ TEST(MetricsAddress, TheErrorNamesTheAddressAndWhatIsWrongWithIt) {
               HasSubstr("'[127.0.0.1]' is not an IP address"));
   EXPECT_THAT(check_listen_address("127.0.0.1:http").error(),
               HasSubstr("port 'http' is not a number"));
+}
+
+TEST(MetricsAddress, AnAddressBeyondLoopbackIsWarnedAbout) {
+  EXPECT_THAT(exposure_warning("0.0.0.0:9464"),
+              HasSubstr("metrics served on 0.0.0.0:9464, beyond this machine"));
+  EXPECT_THAT(exposure_warning("[::]:9464"), HasSubstr("no token, no Host check"));
+  EXPECT_THAT(exposure_warning("169.254.10.1:9464"), HasSubstr("beyond this machine"));
+  EXPECT_THAT(exposure_warning("127.0.0.1:9464"), IsEmpty());
+  EXPECT_THAT(exposure_warning("127.0.0.5:0"), IsEmpty());
+  EXPECT_THAT(exposure_warning("[::1]:9464"), IsEmpty());
 }
 
 TEST(MetricsEndpoint, ServesTheFiguresOfEachScrapeOnTheBoundPort) {

@@ -198,6 +198,10 @@ int serve(const dh3::app::ServiceConfig& config, dh3::dds::ServiceOptions option
     }
     exporter = std::move(*started);
     spdlog::info("metrics at http://{}/metrics", exporter->address());
+    if (const auto warning = dh3::metrics::exposure_warning(config.metrics_address);
+        !warning.empty()) {
+      spdlog::warn("{}", warning);
+    }
   }
   if (auto started = (*service)->start(); !started) {
     spdlog::critical("{}", started.error());

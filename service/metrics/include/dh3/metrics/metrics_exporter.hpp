@@ -54,6 +54,12 @@ using Source = std::function<std::vector<hand::BusMetrics>()>;
 /// otherwise fails with what is wrong with it.
 [[nodiscard]] Result<void, std::string> check_listen_address(std::string_view address);
 
+/// What serving metrics on `address` (as check_listen_address takes it) lets
+/// others read, for a warning at start; empty where only this machine reaches
+/// it (a loopback address). The endpoint has no token and checks no Host
+/// header: beyond loopback, whoever reaches the port reads it.
+[[nodiscard]] std::string exposure_warning(std::string_view address);
+
 class Exporter {
  public:
   /// Listens on `address` and serves /metrics until destroyed. Fails with a
