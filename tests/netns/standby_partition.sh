@@ -8,7 +8,9 @@
 # bus): it sends no byte to the box, the primary keeps serving, and once the
 # link is back a client on the standby's host is served by the primary as
 # before. Then the primary is killed while cut off: the bus goes quiet and the
-# standby takes over, as it should, with the hands as they were. UDP only, so DDS crosses the veth.
+# standby takes over, as it should, with the hands as they were. Last, a
+# primary that leaves the bus quiet is taken over while it lives: when the
+# link heals, the older claim stops serving (docs/failover.md, one owner). UDP only, so DDS crosses the veth.
 #
 #   standby_partition.sh DH3_SERVICE DH3_SIM DH3CTL
 # Exit 77 (ctest: skipped) with the reason when namespaces cannot be made.
@@ -74,15 +76,22 @@ ctl() {  # dh3ctl on the standby's host, over the DDS link only
     --timeout 20 "$@"
 }
 
+start_primary() {  # start_primary CONFIG: the active service, once it serves
+  ip netns exec "$primary" "$service_bin" --config "$1" --interface "$dds_primary" \
+    --udp-only --log-level info >"$work/primary.log" 2>&1 &
+  primary_pid=$!
+  wait_for "$work/primary.log" "service 'cell' on DDS domain" 30
+}
+start_standby() {  # the standby, once it watches the primary
+  ip netns exec "$standby" "$service_bin" --config "$work/standby.yaml" --role standby \
+    --interface "$dds_standby" --udp-only --log-level info >"$work/standby.log" 2>&1 &
+  standby_pid=$!
+  wait_for "$work/standby.log" "standby: service 'cell' is served by" 30
+}
+
 wait_for "$work/sim.log" "serving 2 hand(s)" 15
-ip netns exec "$primary" "$service_bin" --config "$work/primary.yaml" --interface "$dds_primary" \
-  --udp-only --log-level info >"$work/primary.log" 2>&1 &
-primary_pid=$!
-wait_for "$work/primary.log" "service 'cell' on DDS domain" 30
-ip netns exec "$standby" "$service_bin" --config "$work/standby.yaml" --role standby \
-  --interface "$dds_standby" --udp-only --log-level info >"$work/standby.log" 2>&1 &
-standby_pid=$!
-wait_for "$work/standby.log" "standby for service 'cell'" 30
+start_primary "$work/primary.yaml"
+start_standby
 
 echo "== a client on the standby's host drives hand 1 through the primary"
 ctl init cell/box/1 || fail "init through the primary"
@@ -121,4 +130,26 @@ ctl move cell/box/1 20 --wait || fail "move through the standby after its takeov
 ctl --json status cell/box/1 | tee "$work/status.json" || fail "status after the takeover"
 grep -q '"initialized":true' "$work/status.json" || fail "hand 1 is not initialized after the takeover"
 grep -q '"position":20' "$work/status.json" || fail "hand 1 is not at 20 after the takeover's move"
-echo "PASS: fenced while the primary drove the bus, took over once it was dead"
+
+# A primary that sends nothing while its hands are idle leaves the bus quiet:
+# cut off, it is taken over although it lives. Two services then serve the
+# name, each on its side of the cut; when the link heals the claim of the
+# lower epoch stops serving, and one owner is left.
+echo "== a quiet primary cut off is taken over; when the link heals it stops"
+stop_process "$standby_pid"
+standby_pid=
+config 169.254.30.2 | sed 's/^    hands/    poll_interval_idle_ms: 60000\n    hands/' >"$work/quiet.yaml"
+grep -q "poll_interval_idle_ms: 60000" "$work/quiet.yaml" || fail "no quiet configuration"
+start_primary "$work/quiet.yaml"
+start_standby
+ip -n "$primary" link set "q${$}da" down || fail "could not cut the DDS link"
+wait_for "$work/standby.log" "took over from" 20
+kill -0 "$primary_pid" 2>/dev/null || fail "the cut-off primary stopped before the link healed"
+ip -n "$primary" link set "q${$}da" up || fail "could not restore the DDS link"
+wait_for "$work/primary.log" "which outranks this one (epoch 1): this service stops serving" 30
+wait "$primary_pid"
+code=$?
+primary_pid=
+[[ $code == 3 ]] || fail "the outranked primary exited $code, not 3 (it lost the name)"
+ctl move cell/box/1 50 --wait || fail "move through the service left after the heal"
+echo "PASS: fenced while the primary drove the bus, took over once it was dead or quiet, one owner after the heal"
