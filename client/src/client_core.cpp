@@ -12,15 +12,6 @@
 
 namespace dh3::detail {
 
-namespace {
-
-/// The participant name dh3-service gives itself ("dh3-service <name>"): lets
-/// the client know a service's participant, and so a restart, before any of
-/// its samples arrive. Services of other vendors are still found by their
-/// samples; only the early warning is lost.
-
-}  // namespace
-
 // ---------------------------------------------------------------------------
 // Life cycle
 
@@ -306,16 +297,14 @@ void ClientCore::apply_locked(const ServiceTracker::Outcome& outcome, Actions& o
     out.completions.push_back(std::move(ended));
   }
   if (outcome.lost_service) {
-    const auto now = std::chrono::system_clock::now().time_since_epoch();
-    const auto made_ns =
-        static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(now).count());
+    const auto made_ns = ClientMadeEvents::now_ns();
     for (const HandStatus& status : cache_.mark_lost(outcome.service)) {
       subscriptions_.post_status(status);
-      subscriptions_.post_event(StatusCache::offline_event(status, outcome.why, made_ns));
+      subscriptions_.post_event(made_events_.offline(status, outcome.why, made_ns));
     }
   }
   for (const HandStatus& status : cache_.mark_regained(outcome.regained)) {
-    subscriptions_.post_status(status);
+    post_status_locked(outcome.regained, status);
   }
   if (outcome.may_dispatch) dispatch_locked(outcome.service, out);
   changed_.notify_all();
@@ -441,9 +430,16 @@ void ClientCore::on_status(const std::string& prefix, const msg::HandStatus& sam
 void ClientCore::take_status_locked(const std::string& incarnation, const msg::HandStatus& sample) {
   HandStatus status = to_public(sample);
   if (!cache_.take(incarnation, status)) return;
+  post_status_locked(incarnation, status);
+  changed_.notify_all();
+}
+
+void ClientCore::post_status_locked(const std::string& incarnation, const HandStatus& status) {
   // Posted under mutex_: the subscribers see each hand's statuses in cache order.
   subscriptions_.post_status(status);
-  changed_.notify_all();
+  if (auto online = made_events_.online(incarnation, status, ClientMadeEvents::now_ns())) {
+    subscriptions_.post_event(*online);
+  }
 }
 
 void ClientCore::on_event(const std::string& prefix, const msg::HandEvent& sample) {
@@ -455,7 +451,8 @@ void ClientCore::on_event(const std::string& prefix, const msg::HandEvent& sampl
     not_owner_samples_.fetch_add(1, std::memory_order_relaxed);
     return;
   }
-  subscriptions_.post_event(to_public(sample));
+  HandEvent event = to_public(sample);
+  if (made_events_.passes(prefix, event)) subscriptions_.post_event(event);
 }
 
 void ClientCore::on_reply(const std::string& prefix, const msg::CommandReply& reply) {

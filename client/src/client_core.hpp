@@ -5,10 +5,10 @@
 // (Subscriptions) and the DDS wiring (ClientEndpoints).
 //
 // Threading: one state mutex, `mutex_`, guards closed_, io_kick_, tracker_,
-// cache_ and calls_ (a service's loss changes all three in one step, and the
-// waits look at several); Subscriptions has its own mutex, always taken after
-// it, and the Dispatcher's after that. No lock is held
-// while a call's `done` runs, a request is written or a user callback runs.
+// cache_, calls_ and made_events_ (a service's loss changes them in one step,
+// and the waits look at several); Subscriptions has its own mutex, always
+// taken after it, and the Dispatcher's after that. No lock is held while a
+// call's `done` runs, a request is written or a user callback runs.
 //   - Fast DDS listener threads deliver samples, matches and participant
 //     changes (ClientEndpoints); they update the state and never write to DDS.
 //   - The calling thread writes its request itself when the service is ready
@@ -54,6 +54,7 @@
 #include <thread>
 #include <vector>
 
+#include "client_made_events.hpp"
 #include "dh3/address.hpp"
 #include "dh3/base/result.hpp"
 #include "dh3/client.hpp"
@@ -193,6 +194,8 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   void dispatch_locked(const std::string& service, Actions& out);
   /// Caches a status sample from `incarnation` and posts it if it is news.
   void take_status_locked(const std::string& incarnation, const msg::HandStatus& sample);
+  /// Posts a status just cached, and the ONLINE event it may owe (client_made_events.hpp).
+  void post_status_locked(const std::string& incarnation, const HandStatus& status);
 
   const ClientOptions options_;
   /// What options_.follow names (empty service: everything); set up before
@@ -218,6 +221,7 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   ServiceTracker tracker_;
   StatusCache cache_;
   PendingCalls calls_;
+  ClientMadeEvents made_events_;
 
   Subscriptions subscriptions_;  ///< own mutex, after mutex_
 

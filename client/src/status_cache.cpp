@@ -46,20 +46,6 @@ std::vector<HandStatus> StatusCache::mark_regained(const std::string& incarnatio
   return changed;
 }
 
-HandEvent StatusCache::offline_event(const HandStatus& status, const std::string& why,
-                                     std::uint64_t made_ns) {
-  HandEvent event;
-  event.hand = status.address;
-  event.name = status.name;
-  event.kind = EventKind::offline;
-  if (status.position >= 0) event.position = status.position;
-  event.target = status.target_position;
-  event.message = why;
-  event.timestamp_ns = made_ns;
-  event.from_client = true;
-  return event;
-}
-
 std::optional<HandStatus> StatusCache::find(const HandAddress& address) const {
   const auto it = statuses_.find(address);
   if (it == statuses_.end()) return std::nullopt;

@@ -32,9 +32,6 @@ class StatusCache {
   /// Marks the hands of `incarnation` lost with it online again (it asserts
   /// again after a lapse, and its statuses are the newest); returns them.
   std::vector<HandStatus> mark_regained(const std::string& incarnation);
-  /// The event a client reports for a hand whose service was lost (`why`).
-  [[nodiscard]] static HandEvent offline_event(const HandStatus& status, const std::string& why,
-                                               std::uint64_t made_ns);
 
   [[nodiscard]] std::optional<HandStatus> find(const HandAddress& address) const;
   [[nodiscard]] bool has(const HandAddress& address) const;

@@ -184,7 +184,8 @@ struct HandEvent {
   /// event the client made itself, when it made it.
   std::uint64_t timestamp_ns = 0;
   std::uint64_t event_seq = 0;  ///< per service; 0 for events the client made itself
-  /// True for the OFFLINE events the client emits when a service disappears.
+  /// True for the events the client makes itself: OFFLINE when a service
+  /// disappears, ONLINE when it is back (event_seq 0).
   bool from_client = false;
 };
 

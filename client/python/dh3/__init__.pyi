@@ -167,19 +167,23 @@ class HandStatus:
     @property
     def grip(self) -> GripState: ...
     @property
-    def position(self) -> int:
-        """-1 until read."""
+    def position(self) -> Optional[int]:
+        """None until read."""
     @property
-    def target_position(self) -> int:
-        """-1 until written."""
+    def target_position(self) -> Optional[int]:
+        """None until written."""
     @property
-    def closing_force(self) -> int: ...
+    def closing_force(self) -> Optional[int]:
+        """None until read."""
     @property
-    def opening_force(self) -> int: ...
+    def opening_force(self) -> Optional[int]:
+        """None until read."""
     @property
-    def rotation(self) -> int: ...
+    def rotation(self) -> Optional[int]:
+        """None until read."""
     @property
-    def rotation_target(self) -> int: ...
+    def rotation_target(self) -> Optional[int]:
+        """None until written."""
     @property
     def rotation_state(self) -> RotationState: ...
     @property
@@ -231,7 +235,7 @@ class HandEvent:
         """Per service; 0 for events the client made itself."""
     @property
     def from_client(self) -> bool:
-        """True for the OFFLINE events the client emits when a service disappears."""
+        """True for the events the client makes itself: OFFLINE when a service disappears, ONLINE when it is back."""
 
 class HandInfo:
     @property

@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -87,8 +88,9 @@ void bind_group_reply(py::module_& m) {
       .def_readonly("value", &dh3::GroupMemberReply::value, "GRASP: the final position.")
       .def_readonly("grasp", &dh3::GroupMemberReply::grasp)
       .def("__repr__", [](const dh3::GroupMemberReply& r) {
-        return "GroupMemberReply(" + r.hand.to_string() + ", code=" +
-               std::string(dh3::to_string(r.code)) + ", value=" + std::to_string(r.value) +
+        return "GroupMemberReply(" + r.hand.to_string() +
+               ", code=" + std::string(dh3::to_string(r.code)) +
+               ", value=" + std::to_string(r.value) +
                ", grasp=" + std::string(dh3::to_string(r.grasp)) + ")";
       });
   py::class_<dh3::GroupReply>(m, "GroupReply",
@@ -106,6 +108,22 @@ void bind_group_reply(py::module_& m) {
       });
 }
 
+/// A status value the hand has not reported yet is None in Python, never the
+/// -1 that holds its place in C++ (dh3ctl shows "-", JSON null).
+template <std::int32_t dh3::HandStatus::*field>
+std::optional<std::int32_t> read_or_none(const dh3::HandStatus& s) {
+  const std::int32_t value = s.*field;
+  return value < 0 ? std::nullopt : std::optional<std::int32_t>(value);
+}
+
+std::string status_repr(const dh3::HandStatus& s) {
+  const auto position = read_or_none<&dh3::HandStatus::position>(s);
+  return "HandStatus(" + s.address.to_string() + ", online=" + (s.online ? "True" : "False") +
+         ", initialized=" + (s.initialized ? "True" : "False") +
+         ", grip=" + std::string(dh3::to_string(s.grip)) +
+         ", position=" + (position ? std::to_string(*position) : std::string("None")) + ")";
+}
+
 void bind_hand_status(py::module_& m) {
   using S = dh3::HandStatus;
   py::class_<S>(m, "HandStatus", "The latest status the service published for a hand.")
@@ -114,12 +132,14 @@ void bind_hand_status(py::module_& m) {
       .def_readonly("online", &S::online)
       .def_readonly("initialized", &S::initialized)
       .def_readonly("grip", &S::grip)
-      .def_readonly("position", &S::position, "-1 until read.")
-      .def_readonly("target_position", &S::target_position, "-1 until written.")
-      .def_readonly("closing_force", &S::closing_force)
-      .def_readonly("opening_force", &S::opening_force)
-      .def_readonly("rotation", &S::rotation)
-      .def_readonly("rotation_target", &S::rotation_target)
+      .def_property_readonly("position", &read_or_none<&S::position>, "None until read.")
+      .def_property_readonly("target_position", &read_or_none<&S::target_position>,
+                             "None until written.")
+      .def_property_readonly("closing_force", &read_or_none<&S::closing_force>, "None until read.")
+      .def_property_readonly("opening_force", &read_or_none<&S::opening_force>, "None until read.")
+      .def_property_readonly("rotation", &read_or_none<&S::rotation>, "None until read.")
+      .def_property_readonly("rotation_target", &read_or_none<&S::rotation_target>,
+                             "None until written.")
       .def_readonly("rotation_state", &S::rotation_state)
       .def_readonly("firmware_version", &S::firmware_version, "Raw 0x1301 value.")
       .def_readonly("firmware_version_text", &S::firmware_version_text)
@@ -135,12 +155,7 @@ void bind_hand_status(py::module_& m) {
       .def_readonly("service_lost", &S::service_lost,
                     "True when the client marked the hand offline itself because its service "
                     "left the domain without saying so.")
-      .def("__repr__", [](const S& s) {
-        return "HandStatus(" + s.address.to_string() + ", online=" + (s.online ? "True" : "False") +
-               ", initialized=" + (s.initialized ? "True" : "False") +
-               ", grip=" + std::string(dh3::to_string(s.grip)) +
-               ", position=" + std::to_string(s.position) + ")";
-      });
+      .def("__repr__", &status_repr);
 }
 
 void bind_hand_event(py::module_& m) {
@@ -163,7 +178,8 @@ void bind_hand_event(py::module_& m) {
       .def_readonly("event_seq", &dh3::HandEvent::event_seq,
                     "Per service; 0 for events the client made itself.")
       .def_readonly("from_client", &dh3::HandEvent::from_client,
-                    "True for the OFFLINE events the client emits when a service disappears.")
+                    "True for the events the client makes itself: OFFLINE when a service "
+                    "disappears, ONLINE when it is back.")
       .def("__repr__", [](const dh3::HandEvent& e) {
         return "HandEvent(" + e.hand.to_string() + ", " + std::string(dh3::to_string(e.kind)) +
                ", position=" + (e.position ? std::to_string(*e.position) : std::string("None")) +

@@ -6,7 +6,7 @@ import socket
 import pytest
 
 import dh3
-from conftest import DEADLINE, DOMAIN, SERVICE, spec
+from conftest import DEADLINE, DOMAIN, SERVICE, Service, sim_config, spec
 
 
 def test_lookups(client):
@@ -36,6 +36,32 @@ def test_status_says_when_its_values_were_read(client):
     # At rest nothing changes, yet the hand is read again: a later sample says so.
     later = hand.wait_until(lambda s: s.read_at_ns > first.read_at_ns, timeout=DEADLINE)
     assert later is not None and later.position == first.position
+
+
+def test_values_not_read_are_none_and_numbers_once_read(client):
+    """Hand 9 is configured but not on the bus: it never answers."""
+    name = f"{SERVICE}unread"
+    config = sim_config(ids=(1,)).replace("spec: sim\n", "spec: sim:1\n") + "      - {id: 9}\n"
+    running = Service(config, name=name)
+    try:
+        never = client.wait_for_hand(spec(9, name), timeout=DEADLINE)
+        unread = never.wait_until(lambda s: s.last_error == dh3.Code.TIMEOUT, timeout=DEADLINE)
+        assert unread is not None and not unread.online, never.status()
+        for value in ("position", "target_position", "closing_force", "opening_force",
+                      "rotation", "rotation_target"):
+            assert getattr(unread, value) is None, (value, unread)
+        assert "position=None" in repr(unread)
+
+        one = client.wait_for_hand(spec(1, name), timeout=DEADLINE)
+        read = one.wait_until(lambda s: s.online and s.position is not None, timeout=DEADLINE)
+        assert read is not None, one.status()
+        assert read.position == 100 and read.closing_force == 50 and read.rotation == 0, read
+        assert read.target_position is None  # never written
+        assert one.initialize().ok
+        assert one.move_to(30).ok
+        assert one.status().target_position == 30
+    finally:
+        assert running.stop() == 0
 
 
 def test_command_traffic_counts_this_clients_requests_and_replies(client):

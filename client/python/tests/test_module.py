@@ -92,6 +92,18 @@ def _stub_tree():
         return ast.parse(f.read())
 
 
+def _check_property_type(cls, class_name, name, stub):
+    """A property the module may give None for is Optional in the stubs, and
+    only such a one: pybind11's getter says "-> Optional[...]"."""
+    doc = getattr(cls, name).fget.__doc__ or ""
+    if not doc.startswith("("):
+        return  # defined in Python, no signature to compare
+    module_optional = "-> Optional[" in doc.split("\n", 1)[0]
+    stub_optional = stub.returns is not None and ast.unparse(stub.returns).startswith("Optional[")
+    assert module_optional == stub_optional, \
+        f"{class_name}.{name}: the module says {doc.strip()}, the stubs {ast.unparse(stub.returns)}"
+
+
 def test_the_stubs_describe_the_module():
     """Every public name and method of the module is in __init__.pyi and the
     other way round, with the same parameter names."""
@@ -126,6 +138,7 @@ def test_the_stubs_describe_the_module():
             if not isinstance(member, ast.FunctionDef) or name.startswith("_"):
                 continue
             if any(isinstance(d, ast.Name) and d.id == "property" for d in member.decorator_list):
+                _check_property_type(cls, node.name, name, member)
                 continue
             stub_params = [a.arg for a in member.args.args + member.args.kwonlyargs][1:]
             doc = getattr(cls, name).__doc__ or ""
@@ -133,6 +146,17 @@ def test_the_stubs_describe_the_module():
             signature = doc.split("\n", 1)[0]
             for param in stub_params:
                 assert f"{param}:" in signature, f"{node.name}.{name}: {param} not in {signature}"
+
+
+def test_values_not_read_are_none_in_the_stubs():
+    """HandStatus gives None, never -1, for what the hand has not reported yet."""
+    stub = next(node for node in _stub_tree().body
+                if isinstance(node, ast.ClassDef) and node.name == "HandStatus")
+    returns = {n.name: ast.unparse(n.returns) for n in stub.body if isinstance(n, ast.FunctionDef)}
+    for name in ("position", "target_position", "closing_force", "opening_force", "rotation",
+                 "rotation_target"):
+        assert returns[name] == "Optional[int]", name
+        assert "None until" in getattr(dh3.HandStatus, name).__doc__, name
 
 
 def test_docstrings_come_with_the_module():

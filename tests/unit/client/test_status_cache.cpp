@@ -77,21 +77,6 @@ TEST(StatusCache, AServiceThatAssertsAgainBringsBackOnlyTheHandsItSentAndLost) {
   EXPECT_TRUE(cache.mark_regained("A").empty());  // already back
 }
 
-TEST(StatusCache, TheOfflineEventSaysWhereTheHandWasAndWhy) {
-  HandStatus status = status_of(kLeft, 3);
-  status.target_position = 500;
-  const HandEvent event = StatusCache::offline_event(status, "service 'svc' left the domain",
-                                                     1'700'000'000'000'000'000);
-  EXPECT_EQ(event.hand, kLeft);
-  EXPECT_EQ(event.name, "left");
-  EXPECT_EQ(event.kind, EventKind::offline);
-  EXPECT_EQ(event.position, 30);
-  EXPECT_EQ(event.target, 500);
-  EXPECT_EQ(event.message, "service 'svc' left the domain");
-  EXPECT_EQ(event.timestamp_ns, 1'700'000'000'000'000'000U);  // when the client made it
-  EXPECT_TRUE(event.from_client);
-}
-
 TEST(StatusCache, MatchingAndHasServiceLookOnlyAtWhatWasAsked) {
   StatusCache cache;
   cache.take("A", status_of(kLeft, 1));
