@@ -7,6 +7,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <csignal>
 #include <future>
 #include <mutex>
@@ -136,6 +137,133 @@ TEST_F(FailoverTest, DhctlEventsReportsAKilledServiceOffline) {
   EXPECT_THAT(*line, HasSubstr("OFFLINE"));
   EXPECT_THAT(*line, HasSubstr("killed, frozen or cut off"));
 }
+
+/// An event as a watcher printed or got it: the hand ("svc/bus0/1") and the kind ("ONLINE").
+struct Seen {
+  std::string hand;
+  std::string kind;
+  std::uint64_t timestamp_ns = 0;  ///< 0: not known (a dh3ctl line)
+};
+
+/// Each hand had `kind` after its first OFFLINE.
+bool each_had_after_offline(const std::vector<Seen>& seen, const std::vector<std::string>& hands,
+                            std::string_view kind) {
+  return std::all_of(hands.begin(), hands.end(), [&](const std::string& hand) {
+    auto at = std::find_if(seen.begin(), seen.end(),
+                           [&](const Seen& e) { return e.hand == hand && e.kind == "OFFLINE"; });
+    return at != seen.end() && std::any_of(at, seen.end(), [&](const Seen& e) {
+             return e.hand == hand && e.kind == kind;
+           });
+  });
+}
+
+/// Every event a subscription got, in order.
+class EventRecord {
+ public:
+  void add(const HandEvent& event) {
+    std::lock_guard lock(mutex_);
+    seen_.push_back(
+        Seen{event.hand.to_string(), std::string(to_string(event.kind)), event.timestamp_ns});
+    changed_.notify_all();
+  }
+  /// The events once each of `hands` had `kind` after its OFFLINE, or at `timeout`.
+  std::vector<Seen> wait_after_offline(const std::vector<std::string>& hands, std::string_view kind,
+                                       std::chrono::milliseconds timeout) {
+    std::unique_lock lock(mutex_);
+    changed_.wait_for(lock, timeout, [&] { return each_had_after_offline(seen_, hands, kind); });
+    return seen_;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::vector<Seen> seen_;
+};
+
+/// dh3ctl events' lines ("svc/bus0/1 ONLINE position ...") until each of
+/// `hands` had `kind` after its OFFLINE, or at `timeout`.
+std::vector<Seen> read_after_offline(Process& ctl, const std::vector<std::string>& hands,
+                                     std::string_view kind, std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  std::vector<Seen> seen;
+  while (!each_had_after_offline(seen, hands, kind)) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+        deadline - std::chrono::steady_clock::now());
+    const auto line = ctl.read_line(std::max(left, std::chrono::milliseconds(0)));
+    if (!line) break;
+    const auto first = line->find(' ');
+    const auto second = line->find(' ', first + 1);
+    if (first == std::string::npos) continue;
+    seen.push_back(Seen{line->substr(0, first), line->substr(first + 1, second - first - 1)});
+  }
+  return seen;
+}
+
+std::uint64_t wall_clock_ns() {
+  return static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                        std::chrono::system_clock::now().time_since_epoch())
+                                        .count());
+}
+
+/// For each hand: one ONLINE between its first OFFLINE and its INITIALIZED
+/// (the service's events come in order: its own ONLINE, had it reached the
+/// watcher, would have come before its INITIALIZED), at a real time if known.
+void expect_offline_then_one_online(const std::vector<Seen>& seen,
+                                    const std::vector<std::string>& hands, std::uint64_t after_ns,
+                                    const std::string& watcher) {
+  for (const std::string& hand : hands) {
+    SCOPED_TRACE(watcher + ", " + hand);
+    const auto of = [&](std::string_view kind) {
+      return [&hand, kind](const Seen& e) { return e.hand == hand && e.kind == kind; };
+    };
+    const auto offline = std::find_if(seen.begin(), seen.end(), of("OFFLINE"));
+    ASSERT_NE(offline, seen.end()) << "no OFFLINE";
+    const auto initialized = std::find_if(offline, seen.end(), of("INITIALIZED"));
+    ASSERT_NE(initialized, seen.end()) << "no INITIALIZED after the restart";
+    EXPECT_EQ(std::count_if(offline, initialized, of("ONLINE")), 1)
+        << "not one ONLINE between OFFLINE and INITIALIZED";
+    const auto online = std::find_if(offline, initialized, of("ONLINE"));
+    // dh3ctl's lines do not show the time.
+    if (online == initialized || watcher == "dh3ctl") continue;
+    EXPECT_GE(online->timestamp_ns, after_ns) << "ONLINE at time " << online->timestamp_ns;
+    EXPECT_LE(online->timestamp_ns, wall_clock_ns());
+  }
+}
+
+/// An events-only watcher of every hand (dh3ctl events, and a subscription of
+/// the client library) sees each hand OFFLINE when the service goes (stopped
+/// or killed) and ONLINE once when it is back: the restarted service's own
+/// ONLINE goes out before the watchers' readers matched its new event writer.
+class RestartTest : public FailoverTest, public ::testing::WithParamInterface<int> {};
+
+TEST_P(RestartTest, AnEventsWatcherSeesEveryHandOfflineThenOnlineOnce) {
+  const std::vector<std::string> hands = {hand_spec(1), hand_spec(2), hand_spec(3)};
+  EventRecord record;
+  auto every_hand = client_.subscribe([&record](const HandEvent& e) { record.add(e); });
+  Process ctl(DH3CTL_PATH, ctl_args({"events"}), Process::Stdin::dev_null);
+  ASSERT_TRUE(ctl.wait_for_line("watching events", kClientDeadline));
+  const std::uint64_t before_ns = wall_clock_ns();
+
+  const auto stopped = service_->process().stop(GetParam());
+  EXPECT_EQ(stopped.has_value(), GetParam() == SIGTERM);
+  record.wait_after_offline(hands, "OFFLINE", kClientDeadline);
+  service_ = std::make_unique<RunningService>(sim_config());
+  ASSERT_TRUE(service_->started());
+  for (std::uint16_t id = 1; id <= 3; ++id) {
+    const Reply init = client_.hand(hand_address(id)).initialize();
+    EXPECT_TRUE(init) << init.message;
+  }
+
+  expect_offline_then_one_online(record.wait_after_offline(hands, "INITIALIZED", kClientDeadline),
+                                 hands, before_ns, "client library");
+  expect_offline_then_one_online(read_after_offline(ctl, hands, "INITIALIZED", kClientDeadline),
+                                 hands, before_ns, "dh3ctl");
+}
+
+INSTANTIATE_TEST_SUITE_P(StoppedOrKilled, RestartTest, ::testing::Values(SIGTERM, SIGKILL),
+                         [](const ::testing::TestParamInfo<int>& signal_sent) {
+                           return std::string(signal_sent.param == SIGTERM ? "Stopped" : "Killed");
+                         });
 
 TEST_F(FailoverTest, ASecondServiceOfTheNameRefusesToStartAndIsNeverSeen) {
   const pid_t owner_pid = service_->process().process().pid();
