@@ -31,6 +31,14 @@ HandEvent service_event(const HandAddress& address, EventKind kind) {
   return event;
 }
 
+/// A client that told kLeft OFFLINE, then ONLINE for a status of `incarnation`.
+ClientMadeEvents told_online_from(const std::string& incarnation) {
+  ClientMadeEvents made;
+  made.offline(status_of(kLeft), "lost", kMadeNs);
+  EXPECT_TRUE(made.online(incarnation, status_of(kLeft), kMadeNs));
+  return made;
+}
+
 TEST(ClientMadeEvents, TheOfflineEventSaysWhereTheHandWasAndWhy) {
   ClientMadeEvents made;
   const HandEvent event = made.offline(status_of(kLeft), "service 'svc' left the domain", kMadeNs);
@@ -96,9 +104,7 @@ TEST(ClientMadeEvents, AStatusStillMarkedLostOwesNothingYet) {
 }
 
 TEST(ClientMadeEvents, TheServicesOwnOnlineAfterTheClientsIsADouble) {
-  ClientMadeEvents made;
-  made.offline(status_of(kLeft), "lost", kMadeNs);
-  ASSERT_TRUE(made.online("B", status_of(kLeft), kMadeNs));
+  ClientMadeEvents made = told_online_from("B");
   EXPECT_FALSE(made.passes("B", service_event(kLeft, EventKind::online)));
   // Later ones of the same incarnation are news again.
   EXPECT_TRUE(made.passes("B", service_event(kLeft, EventKind::offline)));
@@ -113,18 +119,14 @@ TEST(ClientMadeEvents, TheServicesOwnOnlineBeforeAnyStatusPaysWhatWasOwed) {
 }
 
 TEST(ClientMadeEvents, AnyOtherEventOfTheIncarnationEndsTheWaitForItsOnline) {
-  ClientMadeEvents made;
-  made.offline(status_of(kLeft), "lost", kMadeNs);
-  ASSERT_TRUE(made.online("B", status_of(kLeft), kMadeNs));
+  ClientMadeEvents made = told_online_from("B");
   EXPECT_TRUE(made.passes("B", service_event(kLeft, EventKind::arrived)));
   // Its ONLINE would have come before that ARRIVED: this one is a new one.
   EXPECT_TRUE(made.passes("B", service_event(kLeft, EventKind::online)));
 }
 
 TEST(ClientMadeEvents, AnotherIncarnationsOnlineIsNotTakenForADouble) {
-  ClientMadeEvents made;
-  made.offline(status_of(kLeft), "lost", kMadeNs);
-  ASSERT_TRUE(made.online("B", status_of(kLeft), kMadeNs));
+  ClientMadeEvents made = told_online_from("B");
   EXPECT_TRUE(made.passes("C", service_event(kLeft, EventKind::online)));
 }
 
