@@ -526,5 +526,17 @@ TEST(Config, AStandbyRefusesABusSimulatedInItsProcess) {
   EXPECT_TRUE(apply_command_line(default_config(), line).ok());
 }
 
+TEST(Config, AnAutoMemberIsAStandbyAtStartAndRefusesASimulatedBusToo) {
+  const auto from_file = parse_ok("role: auto\nbuses:\n  - {name: can0, spec: 'socketcan:can0'}\n");
+  EXPECT_EQ(from_file.role, kRoleAuto);
+  CommandLine line;
+  line.role = "auto";
+  line.buses = {"sim:1"};
+  const auto refused = apply_command_line(default_config(), line);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_THAT(refused.error().message, HasSubstr("role: auto: bus 'bus0' (sim:1) is simulated"));
+  EXPECT_THAT(parse_error("role: primary\n"), HasSubstr("active, standby, auto"));
+}
+
 }  // namespace
 }  // namespace dh3::app
