@@ -73,15 +73,21 @@ class EventLog {
   std::vector<EventKind> kinds_;
 };
 
-/// dh3-service --role standby with its log on stdout, read by the test.
+/// dh3-service --role standby (or `role`) with its log on stdout, read by the test.
 class StandbyProcess {
  public:
-  explicit StandbyProcess(const std::string& config_path)
+  explicit StandbyProcess(const std::string& config_path, const std::string& role = "standby")
       : process_("/bin/sh",
                  {"-c", "exec " + std::string(DH3_SERVICE_PATH) + " --domain " +
                             std::to_string(test_domain()) + " --name " + test_service_name() +
-                            " --config " + config_path + " --role standby 2>&1"},
+                            " --config " + config_path + " --role " + role + " 2>&1"},
                  Process::Stdin::dev_null) {}
+  [[nodiscard]] pid_t pid() const { return process_.pid(); }
+  /// SIGKILL, and waits until it is gone.
+  void kill() {
+    process_.send_signal(SIGKILL);
+    EXPECT_TRUE(process_.wait_exit(kClientDeadline)) << "a killed service did not end";
+  }
 
   /// Reads its log until a line holds `text` (echoing it); that line.
   std::optional<std::string> wait_for(std::string_view text) {
@@ -218,6 +224,73 @@ TEST_F(StandbyTest, AStandbyRefusesABusSimulatedInItsOwnProcess) {
                                           test_service_name() + " --role standby --bus sim:1,2");
   EXPECT_EQ(code, 2) << output;
   EXPECT_THAT(output, HasSubstr("role: standby: bus 'bus0' (sim:1,2) is simulated"));
+}
+
+// Both members of the pair run alike (role auto): whichever finds the cell
+// unserved serves it, the other stands by, and a member restarted after it
+// was killed joins the one that took over as its standby.
+TEST_F(StandbyTest, AnAutoPairTakesTurnsAndARestartedMemberStandsBy) {
+  const TempFile config(box_config(sim_.bus_spec()));
+  StandbyProcess first(config.path(), "auto");
+  ASSERT_TRUE(first.wait_for("took the cell")) << "the first member never served the vacant cell";
+  StandbyProcess second(config.path(), "auto");
+  ASSERT_TRUE(second.wait_for("is served by")) << "the second member never stood by";
+  drive_hand();
+  ASSERT_FALSE(HasFatalFailure());
+  const std::size_t before_kills = events_.size();
+
+  first.kill();
+  ASSERT_TRUE(second.wait_for("took over from")) << "the second member never took over";
+  ASSERT_TRUE(hand_->wait_until([](const HandStatus& s) { return s.online; }, kClientDeadline))
+      << "the hand never came back online";
+  const Reply read = hand_->read(reg::position);
+  ASSERT_TRUE(read) << read.message;
+  EXPECT_EQ(read.value, 30);
+
+  // The killed member started again: through a proxy that records what it sends.
+  RecordingProxy restarted_bus(sim_.port());
+  const TempFile restarted_config(box_config(restarted_bus.bus_spec()));
+  StandbyProcess restarted(restarted_config.path(), "auto");
+  ASSERT_TRUE(restarted.wait_for("is served by")) << "the restarted member never stood by";
+  const auto not_owner = client_.watch_traffic().not_owner;
+  for (int i = 0; i < 4; ++i) {
+    const Reply moved = hand_->move_to(40 + 10 * i);
+    ASSERT_TRUE(moved) << moved.message;
+  }
+  EXPECT_EQ(restarted_bus.connections(), 1) << "the restarted member never connected to the box";
+  EXPECT_TRUE(restarted_bus.sent().empty())
+      << "the standing-by member sent frames: "
+      << ::testing::PrintToString(frames_as_hex(restarted_bus.sent()));
+  EXPECT_EQ(client_.watch_traffic().not_owner, not_owner)
+      << "the client received statuses, events or replies of the standing-by member";
+
+  second.kill();
+  ASSERT_TRUE(restarted.wait_for("took over from")) << "the restarted member never took over";
+  ASSERT_TRUE(hand_->wait_until([](const HandStatus& s) { return s.online; }, kClientDeadline))
+      << "the hand never came back online";
+  const Reply last = hand_->read(reg::position);
+  ASSERT_TRUE(last) << last.message;
+  EXPECT_EQ(last.value, 70);
+  const Reply moved = hand_->move_to(20);
+  EXPECT_TRUE(moved) << moved.message;
+  EXPECT_FALSE(restarted_bus.sent().empty()) << "the member that took over drives the bus";
+  for (const EventKind kind : events_.since(before_kills)) EXPECT_NE(kind, EventKind::initialized);
+  EXPECT_EQ(restarted.stop(), 0);
+}
+
+TEST_F(StandbyTest, AnActiveDuplicateOfAServingAutoMemberRefusesNamingIt) {
+  const TempFile config(box_config(sim_.bus_spec()));
+  StandbyProcess member(config.path(), "auto");
+  ASSERT_TRUE(member.wait_for("took the cell")) << "the member never served the vacant cell";
+  const auto [code, output] =
+      run_to_exit("--domain " + std::to_string(test_domain()) + " --name " + test_service_name() +
+                  " --config " + config.path() + " --role active --log-level debug");
+  EXPECT_EQ(code, 1) << output;
+  EXPECT_THAT(output, HasSubstr("is already served on this domain by pid " +
+                                std::to_string(member.pid()) + " on host '"));
+  // The member serves on.
+  drive_hand();
+  EXPECT_EQ(member.stop(), 0);
 }
 
 }  // namespace
