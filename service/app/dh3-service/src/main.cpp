@@ -265,10 +265,16 @@ dh3::Duration vacancy_wait(const dh3::app::ServiceConfig& config) {
   return std::chrono::seconds(30);
 }
 
-/// "pid 4711 on host 'pc1' (...) is gone from DDS", or that nobody served the cell.
-std::string whose_loss(const dh3::dds::PrimaryLapse& lapse, const std::string& service) {
-  if (!lapse.primary) return "no service of '" + service + "' was seen on DDS";
-  return lapse.primary->describe() + " is gone from DDS";
+/// Why a standby that would take the cell does not: its fence holds.
+std::string fenced(const dh3::dds::PrimaryLapse& lapse, const std::string& service) {
+  if (!lapse.primary) {
+    return "standby: no service of '" + service +
+           "' was seen on DDS, but requests of a service are on the bus: not taking the cell "
+           "while they go on";
+  }
+  return "standby: " + lapse.primary->describe() +
+         " is gone from DDS, but its requests are still on the bus: not taking over while they "
+         "go on";
 }
 
 /// Waits until the active service's loss stands (or the cell is vacant) and
@@ -289,10 +295,7 @@ std::optional<dh3::dds::PrimaryLapse> wait_for_takeover(dh3::dds::StandbyPresenc
     }
     if (watch.fences_clear(now)) return lapse;
     if (!fence_reported) {
-      spdlog::warn(
-          "standby: {}, but requests of a service are on the bus: not taking over while they "
-          "go on",
-          whose_loss(*lapse, service));
+      spdlog::warn("{}", fenced(*lapse, service));
       fence_reported = true;
     }
   }
