@@ -13,7 +13,8 @@
 //   A watch without a vacancy wait takes over only from an owner it saw.
 // Either way only the senior of the name's standbys takes it (the one that
 // started first, then the lower participant prefix): the two members of a
-// pair started together, or two standbys of one owner, never both serve.
+// pair started together, or two standbys of one owner, that see each other
+// do not both serve.
 // Pure and single-threaded: tested on a fake clock.
 
 #include <cstdint>
