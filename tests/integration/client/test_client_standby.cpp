@@ -10,7 +10,9 @@
 #include <condition_variable>
 #include <csignal>
 #include <future>
+#include <initializer_list>
 #include <mutex>
+#include <string_view>
 #include <vector>
 
 #include "client_fixture.hpp"
@@ -90,7 +92,9 @@ class StandbyProcess {
   }
 
   /// Reads its log until a line holds `text` (echoing it); that line.
-  std::optional<std::string> wait_for(std::string_view text) {
+  std::optional<std::string> wait_for(std::string_view text) { return wait_for_any({text}); }
+  /// Reads its log until a line holds one of `texts`; that line.
+  std::optional<std::string> wait_for_any(std::initializer_list<std::string_view> texts) {
     const auto deadline = std::chrono::steady_clock::now() + kClientDeadline;
     for (;;) {
       const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
@@ -99,7 +103,9 @@ class StandbyProcess {
       if (!line) return std::nullopt;
       std::fprintf(stderr, "standby: %s\n", line->c_str());
       log_.push_back(*line);
-      if (line->find(text) != std::string::npos) return line;
+      for (const std::string_view text : texts) {
+        if (line->find(text) != std::string::npos) return line;
+      }
     }
   }
   /// SIGTERM; its exit code once its log is read to the end.
@@ -278,6 +284,30 @@ TEST_F(StandbyTest, AnAutoPairTakesTurnsAndARestartedMemberStandsBy) {
   EXPECT_FALSE(restarted_bus.sent().empty()) << "the member that took over drives the bus";
   for (const EventKind kind : events_.since(before_kills)) EXPECT_NE(kind, EventKind::initialized);
   EXPECT_EQ(restarted.stop(), 0);
+}
+
+TEST_F(StandbyTest, OfTwoAutoMembersStartedTogetherOneServesAndTheOtherStandsBy) {
+  RecordingProxy bus_a(sim_.port());
+  RecordingProxy bus_b(sim_.port());
+  const TempFile config_a(box_config(bus_a.bus_spec()));
+  const TempFile config_b(box_config(bus_b.bus_spec()));
+  StandbyProcess a(config_a.path(), "auto");
+  StandbyProcess b(config_b.path(), "auto");
+  const auto a_decided = a.wait_for_any({"took the cell", "is served by"});
+  const auto b_decided = b.wait_for_any({"took the cell", "is served by"});
+  ASSERT_TRUE(a_decided && b_decided) << "a member never decided";
+  const bool a_serves = a_decided->find("took the cell") != std::string::npos;
+  const bool b_serves = b_decided->find("took the cell") != std::string::npos;
+  ASSERT_NE(a_serves, b_serves) << "exactly one member takes the cell";
+  drive_hand();
+  ASSERT_FALSE(HasFatalFailure());
+  RecordingProxy& standing_by = a_serves ? bus_b : bus_a;
+  EXPECT_TRUE(standing_by.sent().empty())
+      << "the member standing by sent frames: "
+      << ::testing::PrintToString(frames_as_hex(standing_by.sent()));
+  EXPECT_FALSE((a_serves ? bus_a : bus_b).sent().empty()) << "the serving member drives the bus";
+  EXPECT_EQ(a.stop(), 0);
+  EXPECT_EQ(b.stop(), 0);
 }
 
 TEST_F(StandbyTest, AnActiveDuplicateOfAServingAutoMemberRefusesNamingIt) {
