@@ -12,6 +12,11 @@
   listens, the image's user is the manifests' user, containers are UDP only;
 - a file that deploys dh3-service without DDS Security says so in its
   header and points at docs/security.md, which names the file;
+- the hot-standby pairs: the Compose file's service and standby carry one
+  configuration of role auto whose buses are the box that the Compose file
+  shares (dh3-sim --shared at that address); deploy/config/dh3-pair.yaml,
+  the pair on two cell PCs, is role auto on a real bus and a NIC, and the
+  Debian package installs it;
 - with --print-programs, prints "program NAME" for every program the
   Dockerfile, the Compose file and the manifests run (the container tests
   check that the image has each).
@@ -81,6 +86,7 @@ def main():
     check_compose(src, docs, configs, programs)
     check_kubernetes(src, docs, configs, programs, dockerfile_uid)
     check_docs(src)
+    check_pair_config(src)
     check_exposure(src)
     check_configs(check_config, configs)
     if print_programs:
@@ -224,7 +230,8 @@ def check_compose(src, docs, configs, programs):
         problem(f"compose discovery: listens on {listen}, its address is {addresses.get('discovery')}")
     for name, svc in services.items():
         env = svc.get("environment", {})
-        if name == "discovery":
+        # The discovery server, and dh3-sim's box, which is no DDS participant.
+        if name == "discovery" or (svc.get("entrypoint") or [""])[0] == "dh3-sim":
             continue
         if env.get("ROS_DISCOVERY_SERVER") != f"{listen}:{port}":
             problem(f"compose {name}: ROS_DISCOVERY_SERVER is {env.get('ROS_DISCOVERY_SERVER')},"
@@ -247,7 +254,78 @@ def check_compose(src, docs, configs, programs):
     hand = pick_command[pick_command.index("--hand") + 1] if "--hand" in pick_command else ""
     if hand.split("/")[0] != config.get("name"):
         problem(f"compose pick: hand {hand} is not on service {config.get('name')}")
+    check_compose_pair(services, addresses)
     print(f"compose: services {sorted(services)}")
+
+
+def listen_address(command):
+    """HOST:PORT that a dh3-sim command line listens on."""
+    return command[command.index("--listen") + 1] if "--listen" in command else None
+
+
+def check_compose_pair(services, addresses):
+    """service and standby are one pair on a box that the Compose file shares."""
+    service, standby = services.get("service", {}), services.get("standby")
+    if standby is None:
+        problem("compose: no service 'standby' (the hot-standby pair's second member)")
+        return
+    config = service.get("_config", {})
+    if standby.get("_config") != config:
+        problem("compose standby: its config is not the service's")
+    if config.get("role") != "auto":
+        problem(f"compose service: role {config.get('role')!r}, a pair whose members run alike "
+                "needs role auto")
+    if standby.get("command") != service.get("command"):
+        problem("compose standby: its command line is not the service's")
+    if (standby.get("environment") or {}).get("DH3_SERVICE") != \
+            (service.get("environment") or {}).get("DH3_SERVICE"):
+        problem("compose standby: DH3_SERVICE differs from the service's")
+    condition = (standby.get("depends_on") or {}).get("service", {})
+    if not isinstance(condition, dict) or condition.get("condition") != "service_healthy":
+        problem("compose standby: does not wait for service to serve (service_healthy)")
+    shared = {}
+    for name, svc in services.items():
+        command = svc.get("command") or []
+        if (svc.get("entrypoint") or [""])[0] == "dh3-sim" and "--shared" in command:
+            shared[listen_address(command)] = name
+    for bus in config.get("buses", []):
+        spec = bus.get("spec", "")
+        where = spec[len("tcp:"):] if spec.startswith("tcp:") else None
+        box = shared.get(where)
+        if box is None:
+            problem(f"compose pair: bus {bus.get('name')} ({spec}) is no box that the Compose file "
+                    f"shares (dh3-sim --shared --listen): {sorted(shared)}")
+        elif where.split(":")[0] != str(addresses.get(box)):
+            problem(f"compose {box}: listens on {where}, its address is {addresses.get(box)}")
+        elif box not in (service.get("depends_on") or []):
+            problem(f"compose service: does not depend on its box {box}")
+
+
+def check_pair_config(src):
+    """The pair on two cell PCs: role auto, a real bus, a NIC, and packaged."""
+    path = os.path.join(src, "deploy/config/dh3-pair.yaml")
+    with open(path, encoding="utf-8") as f:
+        config = config_of(f.read())
+    if config.get("role") != "auto":
+        problem(f"deploy/config/dh3-pair.yaml: role {config.get('role')!r}, not auto")
+    for bus in config.get("buses", []):
+        if bus.get("spec", "").startswith("sim"):
+            problem(f"deploy/config/dh3-pair.yaml: bus {bus.get('name')} is simulated in-process")
+        if not bus.get("hands"):
+            problem(f"deploy/config/dh3-pair.yaml: bus {bus.get('name')} lists no hands (the "
+                    "standby's fence needs the active member's polls of listed hands)")
+    if not config.get("dds", {}).get("interfaces"):
+        problem("deploy/config/dh3-pair.yaml: no dds.interfaces: the other PC cannot reach it")
+    with open(os.path.join(src, "deploy/packages/debian/rules"), encoding="utf-8") as f:
+        rules = f.read()
+    with open(os.path.join(src, "deploy/packages/debian/dh3-service.install"),
+              encoding="utf-8") as f:
+        installed = f.read()
+    if "deploy/config/dh3-pair.yaml" not in rules or \
+            "usr/share/doc/dh3-service/examples/pair.yaml" not in installed:
+        problem("deploy/packages: the package does not install deploy/config/dh3-pair.yaml as "
+                "examples/pair.yaml")
+    print("pair: deploy/config/dh3-pair.yaml checked")
 
 
 def check_kubernetes(src, docs, configs, programs, uid):

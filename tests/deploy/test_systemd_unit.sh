@@ -13,16 +13,22 @@
 # allow list of loopback, and dh3-web serving the hands over HTTP under its
 # RestrictAddressFamilies= and denied system calls.
 #
-#   test_systemd_unit.sh SOURCE_DIR DH3_SERVICE DH3CTL RESTRICT_AF DH3_WEB
+# And the hot-standby pair as two units run it (role auto, docs/hot-standby.md),
+# under dh3.service's restrictions on dh3-sim's shared box: one member serves,
+# the other stands by, and takes the hand over when the first is killed.
+#
+#   test_systemd_unit.sh SOURCE_DIR DH3_SERVICE DH3CTL RESTRICT_AF DH3_WEB DH3_SIM
 set -uo pipefail
-src=$1 service_bin=$(realpath "$2") ctl_bin=$3 restrict=$4 web_bin=$(realpath "$5")
+src=$1 service_bin=$(realpath "$2") ctl_bin=$3 restrict=$4 web_bin=$(realpath "$5") sim_bin=$6
 unit=$src/deploy/systemd/dh3.service
 work=$(mktemp -d)
 service_pid=
 web_pid=
+pair_pids=()
 cleanup() {
   [[ -n $service_pid ]] && kill "$service_pid" 2>/dev/null && wait "$service_pid" 2>/dev/null
   [[ -n $web_pid ]] && kill "$web_pid" 2>/dev/null && wait "$web_pid" 2>/dev/null
+  for pid in "${pair_pids[@]}"; do kill -KILL "$pid" 2>/dev/null && wait "$pid" 2>/dev/null; done
   rm -rf "$work"
 }
 trap cleanup EXIT
@@ -185,6 +191,45 @@ kill -TERM "$web_pid" && wait "$web_pid" && ok "dh3-web stops cleanly on SIGTERM
   fail "dh3-web exit status $? on SIGTERM"
 web_pid=
 stop
+
+# The pair: two members of role auto under dh3.service's address families and
+# denied system calls, the way two cell PCs run the unit, on a shared box.
+# log_has FILE TEXT: waits up to 30 s for TEXT in FILE.
+log_has() {
+  local i
+  for i in $(seq 300); do grep -q "$2" "$1" 2>/dev/null && return 0; sleep 0.1; done
+  return 1
+}
+"$sim_bin" --listen 127.0.0.1:0 --hands 1 --shared --log-level warn >"$work/sim.out" 2>"$work/sim.log" &
+pair_pids+=($!)
+log_has "$work/sim.out" "^listening " || fail "dh3-sim did not say where it listens"
+box=$(sed -n 's/^listening //p' "$work/sim.out")
+printf 'name: pair\nrole: auto\nbuses:\n  - name: bus0\n    spec: tcp:%s\n    hands: [{id: 1}]\n' \
+  "$box" >"$work/pair.yaml"
+member() {  # member N: a pair member, its log in member-N.log
+  "$restrict" "${families// /,}" --deny-syscalls "$denied" -- "$service_bin" --config "$work/pair.yaml" \
+    --domain "$domain" --interface 127.0.0.1 >"$work/member-$1.log" 2>&1 &
+  pair_pids+=($!)
+}
+member 1
+first=${pair_pids[-1]}
+log_has "$work/member-1.log" "took the cell" && ok "pair: the first member serves the cell nobody served" ||
+  fail "pair: the first member never took the cell"
+member 2
+second=${pair_pids[-1]}
+log_has "$work/member-2.log" "is served by" && ok "pair: the second member stands by for it" ||
+  fail "pair: the second member never stood by"
+kill -KILL "$first" && wait "$first" 2>/dev/null
+log_has "$work/member-2.log" "took over from" && ok "pair: the first member killed, the second takes over" ||
+  fail "pair: the second member never took over"
+if ctl --timeout 20 status pair/bus0/1 >"$work/ctl" 2>&1; then
+  ok "pair: the hand answers through the member that took over"
+else
+  fail "pair: the hand does not answer after the takeover"
+  sed 's/^/  /' "$work/ctl" "$work/member-1.log" "$work/member-2.log"
+fi
+kill -TERM "$second" && wait "$second" && ok "pair: the serving member stops cleanly on SIGTERM (exit 0)" ||
+  fail "pair: the serving member's exit status $? on SIGTERM"
 
 if ((failures)); then
   echo "$failures failure(s)"

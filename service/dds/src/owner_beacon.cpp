@@ -19,6 +19,17 @@ namespace dh3::dds {
 namespace fdds = eprosima::fastdds::dds;
 using eprosima::fastrtps::types::ReturnCode_t;
 
+namespace {
+
+/// The cell name of a participant announced as a service or as a standby.
+std::optional<std::string> claimant_of(std::string_view participant_name) {
+  if (auto service = contract::announced_service(participant_name)) return service;
+  if (!participant_name.starts_with(contract::kStandbyParticipantPrefix)) return std::nullopt;
+  return std::string(participant_name.substr(contract::kStandbyParticipantPrefix.size()));
+}
+
+}  // namespace
+
 msg::ServiceOwner own_claim(const std::string& service, const std::string& host,
                             std::uint64_t started_ns) {
   msg::ServiceOwner claim;
@@ -161,7 +172,7 @@ std::string OwnerBeacon::outranked_locked() const {
 }
 
 void OwnerBeacon::announced(const std::string& participant, std::string_view participant_name) {
-  auto service = contract::announced_service(participant_name);
+  auto service = claimant_of(participant_name);
   if (!service) return;
   {
     std::lock_guard lock(mutex_);

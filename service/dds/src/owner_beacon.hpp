@@ -63,6 +63,13 @@ class OwnerBeacon {
   /// (contract::OwnerTable::owner), and the highest epoch claimed on it.
   [[nodiscard]] std::optional<contract::OwnerClaim> owner(const std::string& service) const;
   [[nodiscard]] std::uint64_t highest_epoch(const std::string& service) const;
+  /// Runs `read` on the claims seen under the table's lock, so that what it
+  /// reads is of one moment; `read` must be quick. Any thread.
+  template <class Read>
+  auto read_table(Read&& read) const {
+    std::lock_guard lock(mutex_);
+    return read(static_cast<const contract::OwnerTable&>(table_));
+  }
   /// Still the owner of the name: false once another outranks it.
   [[nodiscard]] bool owns() const { return owns_.load(); }
   /// The claim as written (epoch included), once claim() succeeded.
@@ -70,8 +77,9 @@ class OwnerBeacon {
   /// Stops asserting and lets go of the endpoints; before the participant is deleted.
   void stop();
   /// Discovery announced `participant` under `participant_name`: if that is a
-  /// service's, a claim still starting waits for its claim sample too
-  /// (contract::kStartClaimAwait). Any thread.
+  /// service's or a standby's (which serves under that name once it took
+  /// over), a claim still starting, or a standby judging its cell vacant,
+  /// waits for its claim sample too (contract::kStartClaimAwait). Any thread.
   void announced(const std::string& participant, std::string_view participant_name);
   /// `participant` left the domain. Any thread.
   void left(const std::string& participant);

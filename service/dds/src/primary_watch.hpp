@@ -1,13 +1,26 @@
 #pragma once
-// A standby's judgement of its active service (StandbyPresence), told the
-// owner of the name each time it looks: the primary is lost once an owner
-// was seen and none has been for contract::kOwnerLapseConfirm, the
-// confirmation a client applies before it believes a lapse. A lapse
-// overturned sooner (a frozen owner asserting again) is forgotten; a standby
-// that never saw an owner never judges one lost.
+// A standby's judgement of the cell it stands by for (StandbyPresence), told
+// what the owner topic shows each time it looks. It may take the cell when:
+// - the primary is lost: an owner was seen and none has been for
+//   contract::kOwnerLapseConfirm, the confirmation a client applies before
+//   it believes a lapse. A lapse overturned sooner (a frozen owner asserting
+//   again) is forgotten;
+// - or the cell is vacant: no owner was seen in the vacancy wait after the
+//   standby started, and no claim of a participant that discovery announced
+//   as a service or a standby of the name is still awaited (at most
+//   contract::kStartClaimAwait longer, as a starting service waits). Nobody
+//   serves the cell: the standby started first, or its primary never came up.
+//   A watch without a vacancy wait takes over only from an owner it saw.
+// Either way only the senior of the name's standbys takes it (the one that
+// started first, then the lower participant prefix): the two members of a
+// pair started together, or two standbys of one owner, that see each other
+// do not both serve.
 // Pure and single-threaded: tested on a fake clock.
 
+#include <cstdint>
 #include <optional>
+#include <tuple>
+#include <vector>
 
 #include "dh3/base/clock.hpp"
 #include "dh3/contract/ownership.hpp"
@@ -15,27 +28,61 @@
 
 namespace dh3::dds {
 
+/// What the owner topic shows of a name at one moment (contract::OwnerTable).
+struct OwnerView {
+  std::optional<contract::OwnerClaim> owner;   ///< OwnerTable::owner
+  std::uint64_t highest_epoch = 0;             ///< OwnerTable::highest_epoch
+  std::vector<contract::OwnerClaim> standbys;  ///< OwnerTable::standbys, ours among them or not
+  bool claim_awaited = false;                  ///< a claimant announced, its claim not arrived
+};
+
 class PrimaryWatch {
  public:
-  /// `owner`: the owner of the name at `now` (OwnerTable::owner);
-  /// `highest_epoch`: the highest epoch claimed on it. The confirmed loss, or
-  /// nullopt. `changed` is set when the owner is not the one seen before.
-  std::optional<PrimaryLapse> look(const std::optional<contract::OwnerClaim>& owner,
-                                   std::uint64_t highest_epoch, TimePoint now,
-                                   bool* changed = nullptr) {
-    if (owner) {
-      if (changed) *changed = !primary_ || primary_->participant != owner->participant;
-      primary_ = owner;
+  /// `self`: this standby's claim (its participant and start rank it among
+  /// the standbys); `vacancy_wait`: how long after `started` a cell that no
+  /// owner served counts as vacant, nullopt: never.
+  PrimaryWatch(contract::OwnerClaim self, TimePoint started, std::optional<Duration> vacancy_wait)
+      : self_(std::move(self)) {
+    if (vacancy_wait) vacant_from_ = started + *vacancy_wait;
+  }
+
+  /// The confirmed loss of the primary, or the cell's vacancy (a lapse
+  /// without a primary), when this standby is to take the cell; nullopt
+  /// otherwise. `changed` is set when the owner is not the one seen before.
+  std::optional<PrimaryLapse> look(const OwnerView& view, TimePoint now, bool* changed = nullptr) {
+    if (changed) *changed = false;
+    if (view.owner) {
+      if (changed) *changed = !primary_ || primary_->participant != view.owner->participant;
+      primary_ = view.owner;
       lost_since_.reset();
       return std::nullopt;
     }
-    if (!primary_) return std::nullopt;
-    if (!lost_since_) lost_since_ = now;
-    if (now - *lost_since_ < contract::kOwnerLapseConfirm) return std::nullopt;
-    return PrimaryLapse{*primary_, *lost_since_, highest_epoch};
+    if (primary_) {
+      if (!lost_since_) lost_since_ = now;
+      if (now - *lost_since_ < contract::kOwnerLapseConfirm || !senior(view)) return std::nullopt;
+      return PrimaryLapse{primary_, *lost_since_, view.highest_epoch};
+    }
+    if (!vacant_from_ || now < *vacant_from_) return std::nullopt;
+    if (view.claim_awaited && now < *vacant_from_ + contract::kStartClaimAwait) return std::nullopt;
+    if (!senior(view)) return std::nullopt;
+    return PrimaryLapse{std::nullopt, *vacant_from_, view.highest_epoch};
   }
 
  private:
+  /// No other standby of the name started before this one.
+  [[nodiscard]] bool senior(const OwnerView& view) const {
+    for (const auto& other : view.standbys) {
+      if (other.participant == self_.participant) continue;
+      if (std::tie(other.started_ns, other.participant) <
+          std::tie(self_.started_ns, self_.participant)) {
+        return false;
+      }
+    }
+    return true;
+  }
+
+  contract::OwnerClaim self_;
+  std::optional<TimePoint> vacant_from_;
   std::optional<contract::OwnerClaim> primary_;
   std::optional<TimePoint> lost_since_;
 };

@@ -5,6 +5,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <fastdds/dds/domain/DomainParticipantListener.hpp>
+
 #include "conversions.hpp"
 #include "dh3/contract/participant.hpp"
 #include "dh3/contract/participant_setup.hpp"
@@ -13,9 +15,38 @@
 
 namespace dh3::dds {
 
+namespace fdds = eprosima::fastdds::dds;
+
+/// Tells the beacon which participants are services or standbys, and which
+/// left: a standby judging its cell vacant awaits their claims.
+class ClaimantListener final : public fdds::DomainParticipantListener {
+ public:
+  explicit ClaimantListener(OwnerBeacon& beacon) : beacon_(beacon) {}
+  void on_participant_discovery(
+      fdds::DomainParticipant* /*participant*/,
+      eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
+    using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo;
+    const std::string participant = contract::client_id_for(info.info.m_guid.guidPrefix);
+    if (info.status == Status::DISCOVERED_PARTICIPANT) {
+      beacon_.announced(participant, info.info.m_participantName.to_string());
+    } else if (info.status == Status::REMOVED_PARTICIPANT ||
+               info.status == Status::DROPPED_PARTICIPANT) {
+      beacon_.left(participant);
+    }
+  }
+
+ private:
+  OwnerBeacon& beacon_;
+};
+
 class StandbyPresence::Impl {
  public:
-  explicit Impl(std::string name) : name_(std::move(name)) {}
+  explicit Impl(std::string name)
+      : name_(std::move(name)),
+        beacon_(new OwnerBeacon(SystemClock::instance())),
+        listener_(*beacon_) {
+    handover_.beacon.reset(beacon_);
+  }
   ~Impl() {
     if (handover_.beacon) handover_.beacon->stop();
     handover_.participant.reset();
@@ -30,38 +61,51 @@ class StandbyPresence::Impl {
     participant.name = std::string(contract::kStandbyParticipantPrefix) + options.name;
     participant.cell = options.name;  // the partitions the service it becomes publishes in
     contract::SetupReport report;
-    auto made = contract::Participant::create(participant, report);
+    // The beacon exists before the participant: discovery may call the
+    // listener before create() returns.
+    auto made = contract::Participant::create(participant, report, &listener_);
     for (const auto& warning : report.warnings) spdlog::warn("{}", warning);
     for (const auto& note : report.notes) spdlog::info("{}", note);
     if (!made) return fail(std::move(made).error());
     handover_.participant = std::move(made).value();
-    handover_.beacon = std::make_unique<OwnerBeacon>(SystemClock::instance());
-    if (auto created = handover_.beacon->create(*handover_.participant); !created) {
+    if (auto created = beacon_->create(*handover_.participant); !created) {
       return fail("cannot create " + created.error());
     }
-    return handover_.beacon->stand_by(own_claim(options.name, options.host, wall_clock_ns()));
+    const msg::ServiceOwner self = own_claim(options.name, options.host, wall_clock_ns());
+    watch_.emplace(contract::to_claim(self, handover_.participant->client_id()),
+                   SystemClock::instance().now(), vacancy_wait_);
+    return beacon_->stand_by(self);
   }
 
   std::optional<PrimaryLapse> lapse(TimePoint now) {
-    const auto owner = handover_.beacon->owner(name_);
+    const OwnerView view = beacon_->read_table([this](const contract::OwnerTable& table) {
+      return OwnerView{table.owner(name_), table.highest_epoch(name_), table.standbys(name_),
+                       table.claim_awaited(name_)};
+    });
     bool changed = false;
-    auto lost = watch_.look(owner, handover_.beacon->highest_epoch(name_), now, &changed);
+    auto lost = watch_->look(view, now, &changed);
     if (changed) {
-      spdlog::info("standby: service '{}' is served by {} (epoch {})", name_, owner->describe(),
-                   owner->epoch);
+      spdlog::info("standby: service '{}' is served by {} (epoch {})", name_,
+                   view.owner->describe(), view.owner->epoch);
     }
     return lost;
   }
 
-  std::optional<contract::OwnerClaim> owner() const { return handover_.beacon->owner(name_); }
+  std::optional<contract::OwnerClaim> owner() const { return beacon_->owner(name_); }
+  void set_vacancy_wait(std::optional<Duration> wait) { vacancy_wait_ = wait; }
 
   Handover hand_over() { return std::move(handover_); }
 
  private:
   std::string name_;
-  /// The participant and its beacon (real time: it waits on DDS liveliness).
+  /// The beacon (real time: it waits on DDS liveliness); handover_ owns it
+  /// until the takeover, the service after it.
+  OwnerBeacon* beacon_;
+  ClaimantListener listener_;
+  /// The participant and the beacon.
   Handover handover_;
-  PrimaryWatch watch_;
+  std::optional<Duration> vacancy_wait_;
+  std::optional<PrimaryWatch> watch_;  ///< made once our claim is known
 };
 
 StandbyPresence::Handover::Handover() = default;
@@ -76,8 +120,9 @@ StandbyPresence::StandbyPresence(std::unique_ptr<Impl> impl) : impl_(std::move(i
 StandbyPresence::~StandbyPresence() = default;
 
 Result<std::unique_ptr<StandbyPresence>, std::string> StandbyPresence::create(
-    const ServiceOptions& options) {
+    const ServiceOptions& options, std::optional<Duration> vacancy_wait) {
   auto impl = std::make_unique<Impl>(options.name);
+  impl->set_vacancy_wait(vacancy_wait);
   if (auto ok = impl->init(options); !ok) return fail(ok.error());
   return std::unique_ptr<StandbyPresence>(new StandbyPresence(std::move(impl)));
 }

@@ -10,7 +10,9 @@
 #include <condition_variable>
 #include <csignal>
 #include <future>
+#include <initializer_list>
 #include <mutex>
+#include <string_view>
 #include <vector>
 
 #include "client_fixture.hpp"
@@ -73,18 +75,26 @@ class EventLog {
   std::vector<EventKind> kinds_;
 };
 
-/// dh3-service --role standby with its log on stdout, read by the test.
+/// dh3-service --role standby (or `role`) with its log on stdout, read by the test.
 class StandbyProcess {
  public:
-  explicit StandbyProcess(const std::string& config_path)
+  explicit StandbyProcess(const std::string& config_path, const std::string& role = "standby")
       : process_("/bin/sh",
                  {"-c", "exec " + std::string(DH3_SERVICE_PATH) + " --domain " +
                             std::to_string(test_domain()) + " --name " + test_service_name() +
-                            " --config " + config_path + " --role standby 2>&1"},
+                            " --config " + config_path + " --role " + role + " 2>&1"},
                  Process::Stdin::dev_null) {}
+  [[nodiscard]] pid_t pid() const { return process_.pid(); }
+  /// SIGKILL, and waits until it is gone.
+  void kill() {
+    process_.send_signal(SIGKILL);
+    EXPECT_TRUE(process_.wait_exit(kClientDeadline)) << "a killed service did not end";
+  }
 
   /// Reads its log until a line holds `text` (echoing it); that line.
-  std::optional<std::string> wait_for(std::string_view text) {
+  std::optional<std::string> wait_for(std::string_view text) { return wait_for_any({text}); }
+  /// Reads its log until a line holds one of `texts`; that line.
+  std::optional<std::string> wait_for_any(std::initializer_list<std::string_view> texts) {
     const auto deadline = std::chrono::steady_clock::now() + kClientDeadline;
     for (;;) {
       const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
@@ -93,7 +103,9 @@ class StandbyProcess {
       if (!line) return std::nullopt;
       std::fprintf(stderr, "standby: %s\n", line->c_str());
       log_.push_back(*line);
-      if (line->find(text) != std::string::npos) return line;
+      for (const std::string_view text : texts) {
+        if (line->find(text) != std::string::npos) return line;
+      }
     }
   }
   /// SIGTERM; its exit code once its log is read to the end.
@@ -133,6 +145,16 @@ class StandbyTest : public ::testing::Test {
     ASSERT_TRUE(init) << init.message;
     const Reply moved = hand_->move_to(30);
     ASSERT_TRUE(moved) << moved.message;
+  }
+
+  /// `member` says it took over, and serves the hand, online, at `position`.
+  void take_over_at(StandbyProcess& member, std::int32_t position) {
+    ASSERT_TRUE(member.wait_for("took over from")) << "the standby never took over";
+    ASSERT_TRUE(hand_->wait_until([](const HandStatus& s) { return s.online; }, kClientDeadline))
+        << "the hand never came back online";
+    const Reply read = hand_->read(reg::position);
+    ASSERT_TRUE(read) << read.message;
+    EXPECT_EQ(read.value, position);
   }
 
   SimProcess sim_{{"--hands", "1,2", "--init-time-ms", "100", "--speed", "500", "--shared",
@@ -218,6 +240,94 @@ TEST_F(StandbyTest, AStandbyRefusesABusSimulatedInItsOwnProcess) {
                                           test_service_name() + " --role standby --bus sim:1,2");
   EXPECT_EQ(code, 2) << output;
   EXPECT_THAT(output, HasSubstr("role: standby: bus 'bus0' (sim:1,2) is simulated"));
+}
+
+// Both members of the pair run alike (role auto): whichever finds the cell
+// unserved serves it, the other stands by, and a member restarted after it
+// was killed joins the one that took over as its standby.
+TEST_F(StandbyTest, AnAutoPairTakesTurnsAndARestartedMemberStandsBy) {
+  const TempFile config(box_config(sim_.bus_spec()));
+  StandbyProcess first(config.path(), "auto");
+  ASSERT_TRUE(first.wait_for("took the cell")) << "the first member never served the vacant cell";
+  StandbyProcess second(config.path(), "auto");
+  ASSERT_TRUE(second.wait_for("is served by")) << "the second member never stood by";
+  drive_hand();
+  ASSERT_FALSE(HasFatalFailure());
+  const std::size_t before_kills = events_.size();
+
+  first.kill();
+  take_over_at(second, 30);
+  ASSERT_FALSE(HasFatalFailure());
+
+  // The killed member started again: through a proxy that records what it sends.
+  RecordingProxy restarted_bus(sim_.port());
+  const TempFile restarted_config(box_config(restarted_bus.bus_spec()));
+  StandbyProcess restarted(restarted_config.path(), "auto");
+  ASSERT_TRUE(restarted.wait_for("is served by")) << "the restarted member never stood by";
+  const auto not_owner = client_.watch_traffic().not_owner;
+  for (int i = 0; i < 4; ++i) {
+    const Reply moved = hand_->move_to(40 + 10 * i);
+    ASSERT_TRUE(moved) << moved.message;
+  }
+  EXPECT_EQ(restarted_bus.connections(), 1) << "the restarted member never connected to the box";
+  EXPECT_TRUE(restarted_bus.sent().empty())
+      << "the standing-by member sent frames: "
+      << ::testing::PrintToString(frames_as_hex(restarted_bus.sent()));
+  EXPECT_EQ(client_.watch_traffic().not_owner, not_owner)
+      << "the client received statuses, events or replies of the standing-by member";
+
+  second.kill();
+  take_over_at(restarted, 70);
+  ASSERT_FALSE(HasFatalFailure());
+  const Reply moved = hand_->move_to(20);
+  EXPECT_TRUE(moved) << moved.message;
+  EXPECT_FALSE(restarted_bus.sent().empty()) << "the member that took over drives the bus";
+  for (const EventKind kind : events_.since(before_kills)) EXPECT_NE(kind, EventKind::initialized);
+  EXPECT_EQ(restarted.stop(), 0);
+}
+
+TEST_F(StandbyTest, OfTwoAutoMembersStartedTogetherOneServesAndTheOtherStandsBy) {
+  RecordingProxy bus_a(sim_.port());
+  RecordingProxy bus_b(sim_.port());
+  const TempFile config_a(box_config(bus_a.bus_spec()));
+  const TempFile config_b(box_config(bus_b.bus_spec()));
+  StandbyProcess a(config_a.path(), "auto");
+  StandbyProcess b(config_b.path(), "auto");
+  const auto a_decided = a.wait_for_any({"took the cell", "is served by"});
+  const auto b_decided = b.wait_for_any({"took the cell", "is served by"});
+  ASSERT_TRUE(a_decided && b_decided) << "a member never decided";
+  const bool a_serves = a_decided->find("took the cell") != std::string::npos;
+  const bool b_serves = b_decided->find("took the cell") != std::string::npos;
+  ASSERT_NE(a_serves, b_serves) << "exactly one member takes the cell";
+  drive_hand();
+  ASSERT_FALSE(HasFatalFailure());
+  RecordingProxy& standing_by = a_serves ? bus_b : bus_a;
+  EXPECT_TRUE(standing_by.sent().empty())
+      << "the member standing by sent frames: "
+      << ::testing::PrintToString(frames_as_hex(standing_by.sent()));
+  EXPECT_FALSE((a_serves ? bus_a : bus_b).sent().empty()) << "the serving member drives the bus";
+  EXPECT_EQ(a.stop(), 0);
+  EXPECT_EQ(b.stop(), 0);
+}
+
+TEST_F(StandbyTest, AnActiveDuplicateOfAServingAutoMemberRefusesNamingIt) {
+  const TempFile config(box_config(sim_.bus_spec()));
+  StandbyProcess member(config.path(), "auto");
+  ASSERT_TRUE(member.wait_for("took the cell")) << "the member never served the vacant cell";
+  // The cell in use, as a copied configuration on a second PC would find it.
+  drive_hand();
+  ASSERT_FALSE(HasFatalFailure());
+  const auto [code, output] =
+      run_to_exit("--domain " + std::to_string(test_domain()) + " --name " + test_service_name() +
+                  " --config " + config.path() + " --role active --log-level debug");
+  EXPECT_EQ(code, 1) << output;
+  EXPECT_THAT(output, HasSubstr("is already served on this domain by pid " +
+                                std::to_string(member.pid()) + " on host '"));
+  // The member serves on.
+  const Reply read = hand_->read(reg::position);
+  ASSERT_TRUE(read) << read.message;
+  EXPECT_EQ(read.value, 30);
+  EXPECT_EQ(member.stop(), 0);
 }
 
 }  // namespace

@@ -516,14 +516,24 @@ TEST(Config, RoleIsActiveUnlessTheFileOrTheCommandLineSaysStandby) {
 }
 
 TEST(Config, AStandbyRefusesABusSimulatedInItsProcess) {
-  CommandLine line;
-  line.role = "standby";
-  line.buses = {"sim:1,2"};
-  const auto refused = apply_command_line(default_config(), line);
-  ASSERT_FALSE(refused.ok());
-  EXPECT_THAT(refused.error().message, HasSubstr("role: standby: bus 'bus0' (sim:1,2) is simulated"));
-  line.buses = {"tcp:127.0.0.1:5000"};
-  EXPECT_TRUE(apply_command_line(default_config(), line).ok());
+  // An auto member stands by at start, so it refuses one too.
+  for (const std::string role : {"standby", "auto"}) {
+    CommandLine line;
+    line.role = role;
+    line.buses = {"sim:1,2"};
+    const auto refused = apply_command_line(default_config(), line);
+    ASSERT_FALSE(refused.ok());
+    EXPECT_THAT(refused.error().message,
+                HasSubstr("role: " + role + ": bus 'bus0' (sim:1,2) is simulated"));
+    line.buses = {"tcp:127.0.0.1:5000"};
+    EXPECT_TRUE(apply_command_line(default_config(), line).ok());
+  }
+}
+
+TEST(Config, RoleAutoIsAccepted) {
+  const auto from_file = parse_ok("role: auto\nbuses:\n  - {name: can0, spec: 'socketcan:can0'}\n");
+  EXPECT_EQ(from_file.role, kRoleAuto);
+  EXPECT_THAT(parse_error("role: primary\n"), HasSubstr("active, standby, auto"));
 }
 
 }  // namespace

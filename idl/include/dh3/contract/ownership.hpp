@@ -174,6 +174,18 @@ class OwnerTable {
     }
     return best;
   }
+  /// The standbys' claims on `service` that have not lapsed (unknown
+  /// liveliness counts, as for owner()).
+  [[nodiscard]] std::vector<OwnerClaim> standbys(std::string_view service) const {
+    std::vector<OwnerClaim> found;
+    for (const auto& [participant, entry] : entries_) {
+      if (entry.has_claim && entry.claim.standby && entry.liveliness != Liveliness::lapsed &&
+          entry.claim.service == service) {
+        found.push_back(entry.claim);
+      }
+    }
+    return found;
+  }
   /// The highest epoch any claim on `service` carried, live or not (0: none).
   [[nodiscard]] std::uint64_t highest_epoch(std::string_view service) const {
     std::uint64_t highest = 0;

@@ -400,11 +400,11 @@ Result<ServiceConfig, ConfigError> apply_command_line(ServiceConfig config,
         "no bus configured: give --bus SPEC or buses in the config file (only with neither a "
         "config file nor --bus does the service run the simulator)"});
   }
-  if (config.role == kRoleStandby) {
+  if (config.role != kRoleActive) {
     for (const BusSettings& bus : config.buses) {
       if (!is_sim_bus(bus)) continue;
       return fail(ConfigError{
-          "role: standby: bus '" + bus.name + "' (" + bus.spec +
+          "role: " + config.role + ": bus '" + bus.name + "' (" + bus.spec +
           ") is simulated inside this process: a standby must watch the hands its active "
           "service drives (a CAN interface, or a transfer box such as dh3-sim --shared)"});
     }

@@ -5,8 +5,8 @@
 
 #include "dh3/app/config.hpp"
 #include "dh3/bus/bus_spec.hpp"
-#include "dh3/metrics/metrics_exporter.hpp"
 #include "dh3/contract/dh3.h"
+#include "dh3/metrics/metrics_exporter.hpp"
 
 namespace dh3::app {
 namespace {
@@ -35,8 +35,8 @@ Checked check_log_level(std::string_view level) {
 }
 
 Checked check_role(std::string_view role) {
-  if (role == kRoleActive || role == kRoleStandby) return {};
-  return fail("role '" + std::string(role) + "' is not one of active, standby");
+  if (role == kRoleActive || role == kRoleStandby || role == kRoleAuto) return {};
+  return fail("role '" + std::string(role) + "' is not one of active, standby, auto");
 }
 
 Checked check_spec(std::string_view spec) {

@@ -136,7 +136,9 @@ std::vector<ConfigKey> declare_root_and_dds() {
        .field = of_config(&ServiceConfig::log_level), .option = "-l,--log-level", .check = check_log_level},
       {.path = "role",
        .doc = "active: serves the cell; standby: watches its buses and its active service, sends "
-              "nothing, and takes over when that one dies (docs/hot-standby.md)",
+              "nothing, and takes over when that one dies (or takes a cell nobody served for "
+              "30 s); auto: serves if nobody serves the name, else stands by "
+              "(docs/hot-standby.md)",
        .field = of_config(&ServiceConfig::role), .option = "--role", .check = check_role},
       {.path = "allow_admin", .type = boolean, .doc = "accept SET_CAN_ID and SET_BAUD_RATE",
        .field = of_config(&ServiceConfig::allow_admin), .option = "--allow-admin"},

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <atomic>
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
 #include <functional>
 #include <memory>
@@ -26,6 +27,7 @@
 #include "dh3/base/clock.hpp"
 #include "dh3/base/host_name.hpp"
 #include "dh3/base/version.hpp"
+#include "dh3/contract/ownership.hpp"
 #include "dh3/contract/participant_flags.hpp"
 #include "dh3/dds/service.hpp"
 #include "dh3/dds/standby_presence.hpp"
@@ -238,6 +240,10 @@ int run_service(const dh3::app::ServiceConfig& config, const sigset_t& stop_sign
   return serve(config, service_options(config), std::move(*buses), stop_signals);
 }
 
+std::int64_t as_ms(dh3::Duration duration) {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(duration).count();
+}
+
 /// How long a standby's bus must carry no request before it counts as free:
 /// the active service polls every listed hand at least every idle poll
 /// interval, and this margin covers a frame's delay on the way.
@@ -249,10 +255,33 @@ dh3::Duration fence_quiet(const std::vector<dh3::dds::BusSetup>& buses) {
   return longest + kFenceMargin;
 }
 
-/// Waits until the active service's loss stands and every bus is quiet:
-/// that loss; nullopt when SIGINT or SIGTERM came first.
+/// How long a cell may go unserved before a standby that saw no owner takes
+/// it (docs/hot-standby.md). Role auto: the window a starting service listens
+/// before it serves, so that it serves when nobody does and stands by when
+/// somebody does. Role standby: long enough for the cell's configured active
+/// service to come up first when its PC boots slower than the standby's.
+dh3::Duration vacancy_wait(const dh3::app::ServiceConfig& config) {
+  if (config.role == dh3::app::kRoleAuto) return dh3::contract::kStartClaimWindow;
+  return std::chrono::seconds(30);
+}
+
+/// Why a standby that would take the cell does not: its fence holds.
+std::string fenced(const dh3::dds::PrimaryLapse& lapse, const std::string& service) {
+  if (!lapse.primary) {
+    return "standby: no service of '" + service +
+           "' was seen on DDS, but requests of a service are on the bus: not taking the cell "
+           "while they go on";
+  }
+  return "standby: " + lapse.primary->describe() +
+         " is gone from DDS, but its requests are still on the bus: not taking over while they "
+         "go on";
+}
+
+/// Waits until the active service's loss stands (or the cell is vacant) and
+/// every bus is quiet: that loss; nullopt when SIGINT or SIGTERM came first.
 std::optional<dh3::dds::PrimaryLapse> wait_for_takeover(dh3::dds::StandbyPresence& presence,
                                                         const dh3::app::StandbyWatch& watch,
+                                                        const std::string& service,
                                                         const sigset_t& stop_signals) {
   const dh3::Clock& clock = dh3::SystemClock::instance();
   const timespec poll{0, 10'000'000};  // how soon a lapse or a quiet bus is noticed
@@ -266,10 +295,7 @@ std::optional<dh3::dds::PrimaryLapse> wait_for_takeover(dh3::dds::StandbyPresenc
     }
     if (watch.fences_clear(now)) return lapse;
     if (!fence_reported) {
-      spdlog::warn(
-          "standby: {} is gone from DDS, but its requests are still on the bus: "
-          "not taking over while they go on",
-          lapse->primary.describe());
+      spdlog::warn("{}", fenced(*lapse, service));
       fence_reported = true;
     }
   }
@@ -290,29 +316,39 @@ int run_standby(const dh3::app::ServiceConfig& config, const sigset_t& stop_sign
   const dh3::Duration quiet = fence_quiet(*buses);
   dh3::app::StandbyWatch watch(std::move(*buses), quiet, clock);
   watch.start();
-  auto presence = dh3::dds::StandbyPresence::create(options);
+  auto presence = dh3::dds::StandbyPresence::create(options, vacancy_wait(config));
   if (!presence) {
     spdlog::critical("{}", presence.error());
     return kExitStartFailed;
   }
   spdlog::info(
-      "standby for service '{}' on {} bus(es): sending nothing, a bus counts as free "
-      "after {} ms without a request",
-      config.name, config.buses.size(),
-      std::chrono::duration_cast<std::chrono::milliseconds>(quiet).count());
-  const auto lapse = wait_for_takeover(**presence, watch, stop_signals);
+      "role {}: standby for service '{}' on {} bus(es): sending nothing, a bus counts as free "
+      "after {} ms without a request; with no service of the name seen for {} ms it takes "
+      "the cell",
+      config.role, config.name, config.buses.size(), as_ms(quiet), as_ms(vacancy_wait(config)));
+  const auto lapse = wait_for_takeover(**presence, watch, config.name, stop_signals);
   if (!lapse) return 0;
 
   const auto states = watch.states();
   auto setups = watch.take_buses();
-  for (std::size_t i = 0; i < setups.size(); ++i) setups[i].warm = states[i];
+  // A cell that nobody served: its hands are read afresh, as at any start.
+  if (lapse->primary) {
+    for (std::size_t i = 0; i < setups.size(); ++i) setups[i].warm = states[i];
+  }
   options.epoch_floor = lapse->epoch + 1;
   const auto serving = [&lapse, &clock, epoch = options.epoch_floor] {
+    if (!lapse->primary) {
+      spdlog::warn(
+          "took the cell: no service of its name was seen and its buses were quiet: serving "
+          "with epoch {}",
+          epoch);
+      return;
+    }
     spdlog::warn(
         "took over from {} (epoch {}): serving with epoch {}, {} ms after its loss was "
         "first seen",
-        lapse->primary.describe(), lapse->primary.epoch, epoch,
-        std::chrono::duration_cast<std::chrono::milliseconds>(clock.now() - lapse->since).count());
+        lapse->primary->describe(), lapse->primary->epoch, epoch,
+        as_ms(clock.now() - lapse->since));
   };
   return serve(config, std::move(options), std::move(setups), stop_signals,
                Takeover{presence->get(), serving});
@@ -337,6 +373,6 @@ int main(int argc, char** argv) {
     return kExitConfigError;
   }
   set_up_logging(config->log_level);
-  return config->role == dh3::app::kRoleStandby ? run_standby(*config, stop_signals)
-                                                : run_service(*config, stop_signals);
+  return config->role == dh3::app::kRoleActive ? run_service(*config, stop_signals)
+                                               : run_standby(*config, stop_signals);
 }

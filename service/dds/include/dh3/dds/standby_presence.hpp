@@ -10,6 +10,8 @@
 // active claimant for contract::kOwnerLapseConfirm: its liveliness lapsed
 // (killed, frozen, cut off) or its owner writer left (a clean stop). A lapse
 // overturned within that time (a frozen owner asserting again) is forgotten.
+// Given a vacancy wait, a cell that no owner served by then is vacant
+// (primary_watch.hpp says when, and which of several standbys takes it).
 //
 // At the takeover the service is made on the same participant
 // (Service::create with the presence): every client has discovered it and
@@ -37,25 +39,29 @@ namespace dh3::dds {
 
 class OwnerBeacon;
 
-/// The primary's loss, as a standby confirmed it.
+/// The primary's loss, as a standby confirmed it, or the cell's vacancy.
 struct PrimaryLapse {
-  contract::OwnerClaim primary;  ///< the owner last seen
-  TimePoint since{};             ///< when it was first seen without a live owner
-  std::uint64_t epoch = 0;       ///< the highest epoch claimed on the name
+  /// The owner last seen; nullopt: none was ever seen (the cell is vacant).
+  std::optional<contract::OwnerClaim> primary;
+  TimePoint since{};        ///< when it was first seen without a live owner
+  std::uint64_t epoch = 0;  ///< the highest epoch claimed on the name
 };
 
 class StandbyPresence {
  public:
   /// Joins the domain as `options` say (name, participant, host) and writes
   /// the standby's claim; fails with a message if DDS cannot be set up.
+  /// `vacancy_wait`: how long a cell without an owner may stay so before
+  /// this standby takes it; nullopt: only an owner seen and lost hands it over.
   [[nodiscard]] static Result<std::unique_ptr<StandbyPresence>, std::string> create(
-      const ServiceOptions& options);
+      const ServiceOptions& options, std::optional<Duration> vacancy_wait = std::nullopt);
   ~StandbyPresence();
   StandbyPresence(const StandbyPresence&) = delete;
   StandbyPresence& operator=(const StandbyPresence&) = delete;
 
-  /// The primary's confirmed loss at `now`, once it stands; nullopt while an
-  /// owner lives, or before any owner was seen.
+  /// The primary's confirmed loss at `now`, once it stands, or the cell's
+  /// vacancy; nullopt while an owner lives, before either is due, or while a
+  /// standby senior to this one is there to take the cell.
   [[nodiscard]] std::optional<PrimaryLapse> lapse(TimePoint now);
   /// The owner of the name now (for logging who the standby watches).
   [[nodiscard]] std::optional<contract::OwnerClaim> owner() const;

@@ -81,6 +81,9 @@ inline contract::ParticipantOptions service_participant() {
 /// The values of the `role` key.
 inline constexpr std::string_view kRoleActive = "active";
 inline constexpr std::string_view kRoleStandby = "standby";
+/// Either, decided at start: the two members of a pair run alike, and a
+/// restarted one joins the other as its standby (docs/hot-standby.md).
+inline constexpr std::string_view kRoleAuto = "auto";
 
 struct ServiceConfig {
   std::string name = "dh3";
@@ -90,7 +93,7 @@ struct ServiceConfig {
   /// QoS), DDS Security (empty directory: none; identity "service").
   contract::ParticipantOptions participant = service_participant();
   std::string log_level = "info";
-  /// kRoleActive or kRoleStandby (docs/hot-standby.md).
+  /// kRoleActive, kRoleStandby or kRoleAuto (docs/hot-standby.md).
   std::string role{kRoleActive};
   bool allow_admin = false;
   /// dds.status_refresh_ms (dds::ServiceOptions::status_refresh).
