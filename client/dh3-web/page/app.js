@@ -278,7 +278,7 @@ async function send(address, command, body) {
       headers: headers({"Content-Type": "application/json"}),
       body: JSON.stringify(body),
     });
-    if (response.status === 401) setTokenState("wrong");
+    if (response.status === 401 && token) setTokenState("wrong");
     return describeReply(command, await response.json(), response.status);
   } catch (err) {
     return {text: "Error in " + command + ": no answer from dh3-web (" + err.message + ")", error: true};
@@ -352,7 +352,9 @@ async function readStream() {
     }
     if (!response.ok || !response.body) {
       const reply = await response.json().catch(() => ({message: "HTTP " + response.status}));
-      throw new Error(reply.message || "HTTP " + response.status);
+      const error = new Error(reply.message || "HTTP " + response.status);
+      error.retryAfter = Number(response.headers.get("Retry-After")) || 1;  // 503: dh3-web is full
+      throw error;
     }
     // A stream starts with the last events again: the log is rebuilt from them.
     document.getElementById("log").replaceChildren();
@@ -396,15 +398,17 @@ async function streamForever() {
   streaming = true;
   for (;;) {
     let retry = true;
+    let seconds = 1;
     try {
       retry = await readStream();
     } catch (err) {
       stream.error = "no stream from dh3-web (" + (err.name === "AbortError" ? "silent" : err.message) +
                      "); reconnecting…";
+      seconds = err.retryAfter || 1;
     }
     refresh();
     if (!retry) break;
-    await new Promise((resolve) => setTimeout(resolve, 1000));
+    await new Promise((resolve) => setTimeout(resolve, seconds * 1000));
   }
   streaming = false;
 }
