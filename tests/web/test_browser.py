@@ -1,11 +1,12 @@
 """dh3-web's page in headless Chromium (Selenium), against dh3-service on the
-simulator: the three hands appear, a wrong token is said at once, a grasp
-clicked on the hand with an object shows GRASPED on its card and in the log,
-a move made by dh3ctl appears without a reload; an emptied or invalid field
-sends nothing; a hand leased by another client takes no commands, with the
-reason; STOP ALL stays in view and nothing is beyond the right edge at 1280,
-800 and 400 px (screenshots kept); a frozen service's hands are marked stale,
-a killed one's lost.
+simulator: the hands appear (three there, one configured but offline), a
+wrong token is said at once, a grasp clicked on the hand with an object shows
+GRASPED on its card and in the log, a move made by dh3ctl appears without a
+reload; an emptied or invalid field sends nothing; an offline hand and a hand
+leased by another client take no commands, with the reason; STOP ALL stays
+in view and nothing is beyond the right edge at 1280, 800 and 400 px
+(screenshots kept); a frozen service's hands are marked not live, a killed
+one's lost.
 
 Needs chromium, chromium-driver and python3-selenium (deploy/install-deps.sh).
 DH3_SERVICE, DH3_WEB and DH3CTL name the programs (ctest sets them);
@@ -113,6 +114,15 @@ def test_a_wrong_token_is_said_at_once_and_commands_stay_off(cell, browser):
     wait_for(browser, "the token accepted", lambda d: d.find_element(
         By.ID, "token-state").text.startswith("Token accepted"))
     wait_for(browser, "hand 1's buttons on", lambda d: button(d, 1, "init").is_enabled())
+
+
+def test_an_offline_hand_takes_no_commands(cell, browser):
+    wait_for(browser, "hand 4 offline",
+             lambda d: cell_text(d, 4, "online") == "OFFLINE: the hand does not answer")
+    assert "not-live" in card(browser, 4).get_attribute("class")
+    assert cell_text(browser, 4, "blocked") == "Commands off: the hand is offline"
+    for command in ("init", "move", "stop", "acquire-lease"):
+        assert not button(browser, 4, command).is_enabled(), command
 
 
 def test_a_grasp_shows_on_the_card_and_the_log_and_another_client_is_followed(cell, browser):
@@ -237,11 +247,13 @@ def test_stop_all_stops_every_hand_the_page_shows(cell, browser):
     button(browser, 3, "init").click()
     wait_for(browser, "hand 3 initialized", lambda d: cell_text(d, 3, "initialized") == "yes")
     browser.find_element(By.ID, "stop-all").click()
-    wait_for(browser, "every hand stopped", lambda d: d.find_element(
-        By.ID, "stop-all-result").text == "Stop all: every hand stopped (3)")
+    # Sent to the offline hand too: it says why it did not stop.
+    wait_for(browser, "every hand answered", lambda d: d.find_element(
+        By.ID, "stop-all-result").text.startswith(
+            f"Error: Stop all: 3 of 4 stopped; not {hand(4)} (Error in stop (HTTP 504 TIMEOUT)"))
     for can_id in (1, 2, 3):
         assert cell_text(browser, can_id, "result") == "stop: OK"
-    assert requests_written(cell.url) == written + 4  # init and three stops
+    assert requests_written(cell.url) == written + 5  # init and four stops
 
 
 def test_a_frozen_service_is_stale_and_a_killed_one_lost(cell, browser):

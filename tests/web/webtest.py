@@ -28,10 +28,11 @@ SERVICE = f"web{os.getpid()}"
 
 
 def sim_config(position_speed: int = 100) -> str:
-    """Three hands on bus0; hand 1 ("left") holds an object at 40."""
+    """Three hands on bus0; hand 1 ("left") holds an object at 40; hand 4 is
+    configured but not there (offline)."""
     return f"""buses:
   - name: bus0
-    spec: sim
+    spec: sim:1,2,3
     command_interval_ms: 2
     poll_interval_moving_ms: 20
     poll_interval_idle_ms: 50
@@ -40,6 +41,7 @@ def sim_config(position_speed: int = 100) -> str:
       - {{id: 1, name: left, object: 40}}
       - {{id: 2, name: right}}
       - {{id: 3}}
+      - {{id: 4, name: absent}}
 """
 
 
