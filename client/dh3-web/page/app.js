@@ -55,10 +55,15 @@ function numberOrDash(n) { return n === null || n === undefined || n < 0 ? "-" :
 
 function field(card, name) { return card.querySelector('[data-field="' + name + '"]'); }
 
+/// With DDS Security the service adds the certificate's subject: " (CN=...)".
+function isThisConsole(holder) {
+  return consoleName !== "" && (holder === consoleName || holder.startsWith(consoleName + " ("));
+}
+
 /// "dh3ctl@cell-pc" -> "dh3ctl on host cell-pc"; this console's own: "this console".
 function holderInWords(holder) {
   if (!holder) return "";
-  if (consoleName && holder === consoleName) return "this console";
+  if (isThisConsole(holder)) return "this console";
   const m = /^(.*)@([^@\s(]+)(.*)$/.exec(holder);
   return m ? m[1] + " on host " + m[2] + m[3] : holder;
 }
@@ -142,7 +147,7 @@ function blockReason(s) {
   if (tokenState !== "accepted") return "checking the token…";
   if (serviceLost(s)) return "its service is lost";
   if (!s.online) return "the hand is offline";
-  if (s.lease_holder && s.lease_holder !== consoleName) {
+  if (s.lease_holder && !isThisConsole(s.lease_holder)) {
     return "held by " + holderInWords(s.lease_holder) + " (its lease)";
   }
   return "";
