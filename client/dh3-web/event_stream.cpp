@@ -27,29 +27,38 @@ EventStream::~EventStream() {
   close();
 }
 
+std::string EventStream::service_messages() const {
+  std::string text;
+  for (const auto& info : client_.services()) text += sse_message("service", json_text(Json(info)));
+  return text;
+}
+
+std::string EventStream::heartbeat() const {
+  std::string text = service_messages();
+  return text.empty() ? ": keep-alive\n\n" : text;
+}
+
 std::shared_ptr<EventStream::Reader> EventStream::open() {
-  auto reader = std::make_shared<Reader>();
-  std::vector<std::string> snapshot;
-  for (const auto& info : client_.services()) {
-    snapshot.push_back(sse_message("service", json_text(Json(info))));
-  }
+  std::string services = service_messages();
   std::lock_guard lock(mutex_);
+  readers_.erase(std::remove_if(readers_.begin(), readers_.end(),
+                                [](const std::weak_ptr<Reader>& r) { return r.expired(); }),
+                 readers_.end());
+  if (readers_.size() >= options_.max_readers) return nullptr;
+  auto reader = std::make_shared<Reader>();
   // Under the lock, so no status between the snapshot and the registration
   // is lost; a status sent twice is harmless (update_seq orders them).
   for (const auto& status : client_.hands()) {
     reader->push(status.address.to_string(), sse_message("status", json_text(Json(status))),
                  options_.queue_limit);
   }
-  for (auto& text : snapshot) reader->push({}, std::move(text), options_.queue_limit);
+  if (!services.empty()) reader->push({}, std::move(services), options_.queue_limit);
   for (const auto& text : backlog_) reader->push({}, text, options_.queue_limit);
   reader->push({}, sse_message("ready", "{}"), options_.queue_limit);
   if (closed_) {
     std::lock_guard reader_lock(reader->mutex_);
     reader->ended_ = true;
   }
-  readers_.erase(std::remove_if(readers_.begin(), readers_.end(),
-                                [](const std::weak_ptr<Reader>& r) { return r.expired(); }),
-                 readers_.end());
   readers_.push_back(reader);
   return reader;
 }

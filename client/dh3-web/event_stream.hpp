@@ -7,7 +7,9 @@
 // needs the latest, not every poll), events are kept in order. A stream whose
 // queue still overflows is ended; the browser reconnects and starts from a
 // fresh snapshot. A new stream begins with the services, every hand's status
-// and the last events (the page's log), then goes live.
+// and the last events (the page's log), then goes live. The services are sent
+// again every couple of seconds (heartbeat()): the page sees a lost service
+// and a stalled stream within seconds.
 
 #include <chrono>
 #include <condition_variable>
@@ -28,6 +30,8 @@ struct EventStreamOptions {
   std::size_t backlog = 100;
   /// Messages a stream may have waiting before it is ended.
   std::size_t queue_limit = 2000;
+  /// Streams open at once; open() refuses the one past them.
+  std::size_t max_readers = 64;
 };
 
 class EventStream {
@@ -39,8 +43,13 @@ class EventStream {
   EventStream(const EventStream&) = delete;
   EventStream& operator=(const EventStream&) = delete;
 
-  /// A new stream, primed with the snapshot.
+  /// A new stream, primed with the snapshot; nullptr when max_readers are open
+  /// (a stream is open while its Reader lives).
   std::shared_ptr<Reader> open();
+  [[nodiscard]] std::size_t max_readers() const { return options_.max_readers; }
+  /// Every service's info as SSE messages (a keep-alive comment when there is
+  /// none): what each stream sends every couple of seconds.
+  [[nodiscard]] std::string heartbeat() const;
   /// Ends every stream (shutdown): their next() returns nullopt.
   void close();
 
@@ -65,6 +74,7 @@ class EventStream {
   };
 
  private:
+  [[nodiscard]] std::string service_messages() const;
   void on_status(const HandStatus& status);
   void on_event(const HandEvent& event);
   void broadcast(const std::string& hand, const std::string& text);

@@ -89,11 +89,13 @@ ApiResponse error_response(const ApiError& error) {
   return response;
 }
 
-HandApi::HandApi(Client& client, AccessPolicy access, Timeout command_timeout, std::string openapi)
+HandApi::HandApi(Client& client, AccessPolicy access, Timeout command_timeout, std::string openapi,
+                 std::string console)
     : client_(client),
       access_(std::move(access)),
       command_timeout_(command_timeout),
-      openapi_(std::move(openapi)) {}
+      openapi_(std::move(openapi)),
+      console_(std::move(console)) {}
 
 std::optional<ApiResponse> HandApi::authorize_view(const std::string& authorization) const {
   if (!access_.view_needs_token || (access_.token && access_.token->accepts(authorization))) {
@@ -129,6 +131,10 @@ ApiResponse HandApi::handle(const ApiRequest& request) {
     if (!get) return method_not_allowed(request, "GET");
     return json_response(openapi_);
   }
+  if (n == 2 && parts[0] == "api" && parts[1] == "token") {
+    if (!get) return method_not_allowed(request, "GET");
+    return token_check(request.authorization);
+  }
   const bool known = n >= 2 && parts[0] == "api" &&
                      ((n == 2 && (parts[1] == "hands" || parts[1] == "health")) ||
                       (parts[1] == "hands" && (n == 5 || n == 6)));
@@ -137,7 +143,7 @@ ApiResponse HandApi::handle(const ApiRequest& request) {
         ApiError{404, "NOT_FOUND",
                  "no such API path: " + request.path +
                      " (see /api/openapi.json: /api/hands, /api/hands/SERVICE/BUS/ID, "
-                     "/api/hands/SERVICE/BUS/ID/COMMAND, /api/stream, /api/health)"});
+                     "/api/hands/SERVICE/BUS/ID/COMMAND, /api/stream, /api/health, /api/token)"});
   }
   if (n == 6) {
     if (request.method != "POST") return method_not_allowed(request, "POST");
@@ -189,6 +195,13 @@ ApiResponse HandApi::command(const HandAddress& address, const std::string& name
   return response;
 }
 
+ApiResponse HandApi::token_check(const std::string& authorization) const {
+  // The page asks as soon as a token is typed: a wrong one is said at once,
+  // not at the first command.
+  if (auto refused = authorize_command(authorization)) return *refused;
+  return json_response(json_text(Json{{"type", "token"}, {"ok", true}, {"console", console_}}));
+}
+
 ApiResponse HandApi::health() const {
   const CommandTraffic traffic = client_.command_traffic();
   std::size_t ready = 0;
@@ -200,6 +213,7 @@ ApiResponse HandApi::health() const {
                                       {"services_ready", ready},
                                       {"hands", client_.hands().size()},
                                       {"commands_enabled", access_.token.has_value()},
+                                      {"console", console_},
                                       {"requests_written", traffic.requests_written}}));
 }
 

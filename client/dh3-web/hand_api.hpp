@@ -39,8 +39,10 @@ struct ApiResponse {
 
 class HandApi {
  public:
-  /// `openapi`: the description served at /api/openapi.json.
-  HandApi(Client& client, AccessPolicy access, Timeout command_timeout, std::string openapi);
+  /// `openapi`: the description served at /api/openapi.json. `console`: how
+  /// the services show this console's client as a lease holder.
+  HandApi(Client& client, AccessPolicy access, Timeout command_timeout, std::string openapi,
+          std::string console = {});
 
   [[nodiscard]] ApiResponse handle(const ApiRequest& request);
   /// Viewing allowed for this Authorization header; else the refusal.
@@ -52,12 +54,14 @@ class HandApi {
   ApiResponse command(const HandAddress& address, const std::string& name,
                       const std::string& body);
   ApiResponse health() const;
+  ApiResponse token_check(const std::string& authorization) const;
   std::optional<ApiResponse> authorize_command(const std::string& authorization) const;
 
   Client& client_;
   AccessPolicy access_;
   Timeout command_timeout_;
   std::string openapi_;
+  std::string console_;
 };
 
 /// The HTTP status for a command's reply: 200 for OK, else what the code means

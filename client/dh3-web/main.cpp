@@ -8,6 +8,7 @@
 #include <iostream>
 #include <thread>
 
+#include "dh3/base/host_name.hpp"
 #include "dh3/client.hpp"
 #include "event_stream.hpp"
 #include "hand_api.hpp"
@@ -64,10 +65,13 @@ int main(int argc, char** argv) {
     std::cerr << "dh3-web: " << client.error() << "\n";
     return 1;
   }
-  dh3::web::EventStream stream(client);
+  dh3::web::EventStreamOptions stream_options;
+  stream_options.max_readers = static_cast<std::size_t>(options.max_streams);
+  dh3::web::EventStream stream(client, stream_options);
   const auto* openapi = dh3::web::find_asset("/api/openapi.json");
   dh3::web::HandApi api(client, access, client.default_timeout(),
-                        openapi == nullptr ? "{}" : std::string(openapi->body));
+                        openapi == nullptr ? "{}" : std::string(openapi->body),
+                        dh3::program_at_host(options.client.participant_name));
   dh3::web::WebServer server(api, stream, options.threads,
                              dh3::web::AllowedHosts(options.listen.host, options.allowed_hosts));
   auto port = server.bind(options.listen);

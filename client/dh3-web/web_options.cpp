@@ -1,5 +1,7 @@
 #include "web_options.hpp"
 
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 
 #include "client_options_cli.hpp"
@@ -64,8 +66,13 @@ std::optional<int> parse_web_options(int argc, const char* const* argv, WebOptio
                  "seconds to wait for each command's reply (default 10)")
       ->check(CLI::PositiveNumber);
   app.add_option("--threads", options.threads,
-                 "HTTP worker threads; each open page holds one (default 16)")
-      ->check(CLI::Range(2, 1024));
+                 "HTTP worker threads (default 96); each open page's stream holds one, the "
+                 "others serve commands, health and the page")
+      ->check(CLI::Range(2, 4096));
+  app.add_option("--max-streams", options.max_streams,
+                 "open pages (event streams) served at once (default 64); the one past them "
+                 "is answered 503. At least 8 fewer than --threads")
+      ->check(CLI::Range(1, 4000));
   ctl::add_log_level_option(app, options.log_level);
   ctl::add_client_options(app, options.client);
   if (auto code = ctl::parse_command_line(app, argc, argv, out, err)) return code;
@@ -79,7 +86,16 @@ std::optional<int> parse_web_options(int argc, const char* const* argv, WebOptio
     err << "dh3-web: --view-needs-token needs --token-file\n";
     return 2;
   }
-  options.client.participant_name = "dh3-web";
+  if (options.threads - options.max_streams < kWorkersBesideStreams) {
+    err << "dh3-web: --threads " << options.threads << " leaves too few workers beside "
+        << "--max-streams " << options.max_streams << " (give at least "
+        << options.max_streams + kWorkersBesideStreams
+        << " threads): open pages would keep commands waiting\n";
+    return 2;
+  }
+  // The process id tells two consoles on one host apart where a lease's
+  // holder is shown, and lets a page know the leases of its own console.
+  options.client.participant_name = "dh3-web-" + std::to_string(::getpid());
   options.client.default_timeout =
       std::chrono::milliseconds(static_cast<std::int64_t>(options.timeout_s * 1000.0));
   return std::nullopt;

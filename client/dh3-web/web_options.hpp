@@ -26,7 +26,10 @@ struct WebOptions {
   std::string token_file;  ///< empty: commands are refused (viewing only)
   bool view_needs_token = false;
   double timeout_s = 10.0;  ///< each command's reply
-  int threads = 16;         ///< HTTP workers; each open stream holds one
+  /// HTTP workers; each open stream holds one, so there are more of them
+  /// than streams: commands, health and the page's files always find one.
+  int threads = 96;
+  int max_streams = 64;  ///< open streams (pages); the one past them gets 503
   std::string log_level = "info";
 };
 
@@ -41,6 +44,9 @@ struct WebOptions {
 
 /// Fills `options` from the command line. nullopt: go on; a number: exit with
 /// it (after --help, --version, or a bad option reported on `err`).
+/// Workers kept free of streams for everything else (--threads less --max-streams).
+inline constexpr int kWorkersBesideStreams = 8;
+
 [[nodiscard]] std::optional<int> parse_web_options(int argc, const char* const* argv,
                                                    WebOptions& options, std::ostream& out,
                                                    std::ostream& err);

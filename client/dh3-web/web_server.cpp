@@ -10,9 +10,18 @@
 namespace dh3::web {
 namespace {
 
-/// How long a stream waits for news before it sends a keep-alive comment;
-/// also how soon a closed browser's worker notices (the write fails).
-constexpr std::chrono::seconds kKeepAlive{15};
+/// How long a stream waits for news before it sends the services again (the
+/// page's sign that the stream and the services are alive); also how soon a
+/// closed browser's worker notices (the write fails).
+constexpr std::chrono::seconds kHeartbeat{2};
+/// Each read of a request (its line, headers, body) and each write must make
+/// progress within this: a client that opens a connection and sends nothing,
+/// or a byte now and then, frees its worker instead of holding it.
+constexpr std::chrono::seconds kReadWriteTimeout{5};
+/// An idle keep-alive connection holds a worker this long at most, and serves
+/// this many requests before it is closed.
+constexpr time_t kKeepAliveSeconds = 2;
+constexpr std::size_t kKeepAliveRequests = 100;
 /// Bodies are a few numbers; anything larger is a mistake or an attack.
 constexpr std::size_t kMaxBody = 64 * 1024;
 /// A request for a Host name dh3-web does not answer to.
@@ -49,7 +58,10 @@ WebServer::WebServer(HandApi& api, EventStream& stream, int threads, AllowedHost
   const auto pool_size = static_cast<std::size_t>(threads);
   server_->new_task_queue = [pool_size] { return new httplib::ThreadPool(pool_size); };
   server_->set_payload_max_length(kMaxBody);
-  server_->set_keep_alive_timeout(2);
+  server_->set_keep_alive_timeout(kKeepAliveSeconds);
+  server_->set_keep_alive_max_count(kKeepAliveRequests);
+  server_->set_read_timeout(kReadWriteTimeout);
+  server_->set_write_timeout(kReadWriteTimeout);
   server_->set_logger([](const httplib::Request& req, const httplib::Response& res) {
     // The path without its query and no header but a refused Host: the token
     // stays out. What the sender wrote is escaped: it cannot start a line.
@@ -101,17 +113,34 @@ void WebServer::add_routes() {
       return;
     }
     auto reader = stream_.open();
+    if (!reader) {
+      // Viewers may not take the workers that commands and Stop need.
+      send(res, error_response({503, "TOO_MANY_STREAMS",
+                                "dh3-web serves " + std::to_string(stream_.max_readers()) +
+                                    " open pages at most (--max-streams); close one, or "
+                                    "start dh3-web with more"}));
+      res.set_header("Retry-After", "5");
+      return;
+    }
     res.set_header("X-Accel-Buffering", "no");  // a proxy in front must not buffer the stream
-    res.set_chunked_content_provider(
-        "text/event-stream", [reader](std::size_t /*offset*/, httplib::DataSink& sink) {
-          auto text = reader->next(kKeepAlive);
-          if (!text) {
-            sink.done();
-            return true;
-          }
-          if (text->empty()) *text = ": keep-alive\n\n";
-          return sink.write(text->data(), text->size());
-        });
+    res.set_chunked_content_provider("text/event-stream",
+                                     [this, reader, last_beat = std::chrono::steady_clock::now()](
+                                         std::size_t /*offset*/, httplib::DataSink& sink) mutable {
+                                       auto text = reader->next(kHeartbeat);
+                                       if (!text) {
+                                         sink.done();
+                                         return true;
+                                       }
+                                       // Also between statuses: a service lost among others that go
+                                       // on publishing is seen by its info, which changes no
+                                       // status.
+                                       const auto now = std::chrono::steady_clock::now();
+                                       if (text->empty() || now - last_beat >= kHeartbeat) {
+                                         *text += stream_.heartbeat();
+                                         last_beat = now;
+                                       }
+                                       return sink.write(text->data(), text->size());
+                                     });
   });
   const auto api = [this](const httplib::Request& req, httplib::Response& res) {
     send(res, api_.handle(to_api_request(req)));
@@ -134,10 +163,9 @@ void WebServer::add_routes() {
 }
 
 Result<int, std::string> WebServer::bind(const ListenAddress& listen) {
-  const int port = listen.port == 0 ? server_->bind_to_any_port(listen.host)
-                                    : (server_->bind_to_port(listen.host, listen.port)
-                                           ? listen.port
-                                           : -1);
+  const int port = listen.port == 0
+                       ? server_->bind_to_any_port(listen.host)
+                       : (server_->bind_to_port(listen.host, listen.port) ? listen.port : -1);
   if (port <= 0) {
     return fail("cannot listen on " + listen.host + ":" + std::to_string(listen.port) +
                 " (address in use, or not an address of this machine?)");
@@ -145,8 +173,12 @@ Result<int, std::string> WebServer::bind(const ListenAddress& listen) {
   return port;
 }
 
-void WebServer::run() { server_->listen_after_bind(); }
+void WebServer::run() {
+  server_->listen_after_bind();
+}
 
-void WebServer::stop() { server_->stop(); }
+void WebServer::stop() {
+  server_->stop();
+}
 
 }  // namespace dh3::web

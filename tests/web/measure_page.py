@@ -24,12 +24,12 @@ import time
 import urllib.request
 
 sys.path.insert(0, os.path.dirname(__file__))
-from webtest import DEADLINE, TOKEN, hand, headless_chromium, service_and_web  # noqa: E402
+from webtest import DEADLINE, TOKEN, api, hand, headless_chromium, service_and_web  # noqa: E402
 from selenium.webdriver.support.ui import WebDriverWait  # noqa: E402
 
 OBSERVER = """
 window.dh3Seen = [];
-const row = document.querySelector('tr[data-hand="HAND"]');
+const row = document.querySelector('[data-hand="HAND"]');
 const text = (name) => row.querySelector('[data-field="' + name + '"]').textContent;
 new MutationObserver(() => {
   const now = performance.timeOrigin + performance.now();
@@ -79,18 +79,23 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--moves", type=int, default=40)
     args = parser.parse_args()
-    with service_and_web(position_speed=100) as url, headless_chromium() as driver:
+    with service_and_web(position_speed=100) as cell, headless_chromium() as driver:
+        url = cell.url
         page_size(url)
         address = hand(2)
         post = lambda command, body: fetch(  # noqa: E731
             f"{url}api/hands/{address}/{command}",
             {"Authorization": "Bearer " + TOKEN, "Content-Type": "application/json"},
             json.dumps(body).encode())
+        for _ in range(int(DEADLINE / 0.05)):  # until dh3-web has seen the hand
+            if api(url, f"/api/hands/{address}")[0] == 200:
+                break
+            time.sleep(0.05)
         post("init", {})
         driver.get(url)
         WebDriverWait(driver, DEADLINE).until(
             lambda d: d.execute_script(
-                f'return !!document.querySelector(\'tr[data-hand="{address}"]\')'))
+                f'return !!document.querySelector(\'[data-hand="{address}"]\')'))
         timing = driver.execute_script(
             "const n = performance.getEntriesByType('navigation')[0];"
             "return [n.responseEnd - n.startTime, n.domContentLoadedEventEnd - n.startTime];")

@@ -1,27 +1,37 @@
 """dh3-web's page in headless Chromium (Selenium), against dh3-service on the
-simulator: the three hands appear, a grasp clicked on the hand with an object
-shows GRASPED in the table and the log, and a move made by dh3ctl appears
-without a reload.
+simulator: the hands appear (three there, one configured but offline), a
+wrong token is said at once, a grasp clicked on the hand with an object shows
+GRASPED on its card and in the log, a move made by dh3ctl appears without a
+reload; an emptied or invalid field sends nothing; an offline hand and a hand
+leased by another client take no commands, with the reason; STOP ALL stays
+in view and nothing is beyond the right edge at 1280, 800 and 400 px
+(screenshots kept); a frozen service's hands are marked not live, a killed
+one's lost.
 
 Needs chromium, chromium-driver and python3-selenium (deploy/install-deps.sh).
 DH3_SERVICE, DH3_WEB and DH3CTL name the programs (ctest sets them);
-DH3_WEB_SCREENSHOT=FILE keeps a picture of the page at the end."""
+DH3_WEB_SCREENSHOTS=DIR keeps the pictures there (ctest: the build tree)."""
 
 import os
+import signal
 import sys
+import urllib.request
 
 import pytest
 from selenium.webdriver.common.by import By
 from selenium.webdriver.support.ui import WebDriverWait
 
 sys.path.insert(0, os.path.dirname(__file__))
-from webtest import DEADLINE, TOKEN, dh3ctl, hand, headless_chromium, service_and_web  # noqa: E402
+from webtest import (DEADLINE, TOKEN, api, dh3ctl, hand, headless_chromium,  # noqa: E402
+                     service_and_web, start_web, stop)
+
+PAGE_LIMIT = 100 * 1024
 
 
 @pytest.fixture(scope="module")
-def web_url():
-    with service_and_web() as url:
-        yield url
+def cell():
+    with service_and_web() as running:
+        yield running
 
 
 @pytest.fixture(scope="module")
@@ -35,35 +45,95 @@ def wait_for(driver, what, predicate):
         lambda d: predicate(d), message=what)
 
 
-def cell(driver, can_id: int, field: str) -> str:
+def card(driver, can_id: int):
+    return driver.find_element(By.CSS_SELECTOR, f'article[data-hand="{hand(can_id)}"]')
+
+
+def cell_text(driver, can_id: int, field: str) -> str:
     return driver.find_element(
-        By.CSS_SELECTOR, f'tr[data-hand="{hand(can_id)}"] [data-field="{field}"]').text
+        By.CSS_SELECTOR, f'article[data-hand="{hand(can_id)}"] [data-field="{field}"]').text
+
+
+def button(driver, can_id: int, command: str):
+    return card(driver, can_id).find_element(By.CSS_SELECTOR, f'button[data-command="{command}"]')
+
+
+def set_field(driver, can_id: int, name: str, text: str) -> None:
+    field = card(driver, can_id).find_element(By.CSS_SELECTOR, f'input[data-input="{name}"]')
+    field.clear()
+    if text:
+        field.send_keys(text)
 
 
 def log_lines(driver) -> list:
     return [item.text for item in driver.find_elements(By.CSS_SELECTOR, "#log li")]
 
 
-def test_the_page_shows_the_hands_grasps_and_follows_another_client(web_url, browser):
-    browser.get(web_url)
-    wait_for(browser, "three hands online", lambda d: all(
-        d.find_elements(By.CSS_SELECTOR, f'tr[data-hand="{hand(i)}"]')
-        and cell(d, i, "online") == "online" for i in (1, 2, 3)))
-    assert "left" in cell(browser, 1, "hand")
-    browser.execute_script("window.dh3NotReloaded = true;")
+def use_token(driver, token: str) -> None:
+    driver.find_element(By.ID, "token").send_keys(token)
+    driver.find_element(By.CSS_SELECTOR, "#token-form button").click()
 
-    browser.find_element(By.ID, "token").send_keys(TOKEN)
-    browser.find_element(By.CSS_SELECTOR, "#token-form button").click()
-    controls = browser.find_element(By.CSS_SELECTOR, f'tr[data-controls="{hand(1)}"]')
-    controls.find_element(By.CSS_SELECTOR, 'button[data-command="init"]').click()
-    wait_for(browser, "hand 1 initialized", lambda d: cell(d, 1, "initialized") == "yes")
-    force = controls.find_element(By.CSS_SELECTOR, 'input[data-input="force"]')
-    force.clear()
-    force.send_keys("40")
-    controls.find_element(By.CSS_SELECTOR, 'button[data-command="grasp"]').click()
-    wait_for(browser, "GRASPED in the table",
-             lambda d: "grasp: OK GRASPED at position" in cell(d, 1, "result"))
-    wait_for(browser, "the grip GRASPED", lambda d: cell(d, 1, "grip") == "GRASPED")
+
+def requests_written(url: str) -> int:
+    status, health = api(url, "/api/health")
+    assert status == 200, health
+    return health["requests_written"]
+
+
+def open_page(driver, url: str) -> None:
+    driver.get(url)
+    wait_for(driver, "three hands online", lambda d: all(
+        d.find_elements(By.CSS_SELECTOR, f'article[data-hand="{hand(i)}"]')
+        and cell_text(d, i, "online") == "online" for i in (1, 2, 3)))
+    wait_for(driver, "the page live",
+             lambda d: d.find_element(By.ID, "connection").text.startswith("Live"))
+
+
+def test_the_page_is_small_and_self_contained(cell):
+    total = 0
+    for path in ("", "app.js", "style.css"):
+        with urllib.request.urlopen(cell.url + path, timeout=DEADLINE) as response:
+            body = response.read()
+        total += len(body)
+        assert b"http://" not in body and b"https://" not in body, path
+    print(f"page: {total} bytes in three files")
+    assert total < PAGE_LIMIT
+
+
+def test_a_wrong_token_is_said_at_once_and_commands_stay_off(cell, browser):
+    open_page(browser, cell.url)
+    assert "left" in cell_text(browser, 1, "hand")
+    assert not button(browser, 1, "init").is_enabled()
+    assert "commands need the token" in cell_text(browser, 1, "blocked")
+    use_token(browser, "not-the-token-0123456789")
+    wait_for(browser, "the wrong token reported", lambda d: d.find_element(
+        By.ID, "token-state").text.startswith("Error: the token is wrong"))
+    assert not button(browser, 1, "init").is_enabled()
+    assert "the token is wrong" in cell_text(browser, 1, "blocked")
+    use_token(browser, TOKEN)
+    wait_for(browser, "the token accepted", lambda d: d.find_element(
+        By.ID, "token-state").text.startswith("Token accepted"))
+    wait_for(browser, "hand 1's buttons on", lambda d: button(d, 1, "init").is_enabled())
+
+
+def test_an_offline_hand_takes_no_commands(cell, browser):
+    wait_for(browser, "hand 4 offline",
+             lambda d: cell_text(d, 4, "online") == "OFFLINE: the hand does not answer")
+    assert "not-live" in card(browser, 4).get_attribute("class")
+    assert cell_text(browser, 4, "blocked") == "Commands off: the hand is offline"
+    for command in ("init", "move", "stop", "acquire-lease"):
+        assert not button(browser, 4, command).is_enabled(), command
+
+
+def test_a_grasp_shows_on_the_card_and_the_log_and_another_client_is_followed(cell, browser):
+    browser.execute_script("window.dh3NotReloaded = true;")
+    button(browser, 1, "init").click()
+    wait_for(browser, "hand 1 initialized", lambda d: cell_text(d, 1, "initialized") == "yes")
+    set_field(browser, 1, "force", "40")
+    button(browser, 1, "grasp").click()
+    wait_for(browser, "GRASPED on the card",
+             lambda d: "grasp: OK GRASPED at position" in cell_text(d, 1, "result"))
+    wait_for(browser, "the grip GRASPED", lambda d: cell_text(d, 1, "grip") == "GRASPED")
     wait_for(browser, "GRASPED in the log", lambda d: any(
         hand(1) in line and " GRASPED " in line for line in log_lines(d)))
 
@@ -71,17 +141,140 @@ def test_the_page_shows_the_hands_grasps_and_follows_another_client(web_url, bro
     assert dh3ctl("init", hand(2)).returncode == 0
     moved = dh3ctl("move", hand(2), "30")
     assert moved.returncode == 0, moved.stderr
-    wait_for(browser, "dh3ctl's move in the table",
-             lambda d: cell(d, 2, "position") == "30 / 30")
+    wait_for(browser, "dh3ctl's move on the card",
+             lambda d: cell_text(d, 2, "position") == "30 / 30")
     wait_for(browser, "dh3ctl's move in the log", lambda d: any(
         hand(2) in line and " ARRIVED " in line for line in log_lines(d)))
     assert browser.execute_script("return window.dh3NotReloaded === true;")
 
     # A refusal is shown where it happened, in words.
-    controls3 = browser.find_element(By.CSS_SELECTOR, f'tr[data-controls="{hand(3)}"]')
-    controls3.find_element(By.CSS_SELECTOR, 'button[data-command="move"]').click()
+    button(browser, 3, "move").click()
     wait_for(browser, "hand 3's refusal",
-             lambda d: "Error in move (HTTP 409 NOT_INITIALIZED)" in cell(d, 3, "result"))
+             lambda d: "Error in move (HTTP 409 NOT_INITIALIZED)" in cell_text(d, 3, "result"))
 
-    if os.environ.get("DH3_WEB_SCREENSHOT"):
-        browser.save_screenshot(os.environ["DH3_WEB_SCREENSHOT"])
+
+@pytest.mark.parametrize("text,problem", [
+    ("", "empty"), ("150", "150 is out of range"), ("-5", "-5 is out of range"),
+    ("12.5", "is not a whole number")])
+def test_an_invalid_position_sends_nothing(cell, browser, text, problem):
+    written = requests_written(cell.url)
+    set_field(browser, 2, "position", text)
+    button(browser, 2, "move").click()
+    wait_for(browser, "the field's error beside it", lambda d: problem in card(d, 2).find_element(
+        By.CSS_SELECTOR, '[data-error="position"]').text)
+    assert "nothing sent" in card(browser, 2).find_element(
+        By.CSS_SELECTOR, '[data-error="position"]').text
+    wait_for(browser, "the card says it was not sent",
+             lambda d: cell_text(d, 2, "result") == "move: not sent (a field above is not valid)")
+    assert requests_written(cell.url) == written
+    assert cell_text(browser, 2, "position") == "30 / 30"
+
+
+def test_a_typed_position_moves_the_hand(cell, browser):
+    set_field(browser, 2, "position", "70")
+    assert card(browser, 2).find_element(By.CSS_SELECTOR, '[data-error="position"]').text == ""
+    button(browser, 2, "move").click()
+    wait_for(browser, "hand 2 at 70", lambda d: cell_text(d, 2, "position") == "70 / 70")
+
+
+def test_a_hand_leased_by_another_client_takes_no_commands(cell, browser):
+    other, other_url = start_web(cell.token_path)
+    try:
+        wait_for(browser, "the other console sees hand 3",
+                 lambda d: api(other_url, f"/api/hands/{hand(3)}")[0] == 200)
+        status, reply = api(other_url, f"/api/hands/{hand(3)}/acquire-lease", {"ttl_ms": 60000})
+        assert status == 200, reply
+        holder = reply["lease_holder"]
+        program, host = holder.split("@")
+        wait_for(browser, "hand 3 held by the other console", lambda d: cell_text(d, 3, "blocked") ==
+                 f"Commands off: held by {program} on host {host} (its lease)")
+        assert not button(browser, 3, "move").is_enabled()
+        assert not button(browser, 3, "acquire-lease").is_enabled()
+        # This console's own lease leaves its buttons on.
+        set_field(browser, 2, "ttl", "30")
+        button(browser, 2, "acquire-lease").click()
+        wait_for(browser, "hand 2 held by this console",
+                 lambda d: cell_text(d, 2, "lease") == "held by this console")
+        assert button(browser, 2, "move").is_enabled()
+        button(browser, 2, "release-lease").click()
+        wait_for(browser, "hand 2's lease given back", lambda d: cell_text(d, 2, "lease") == "free")
+        status, reply = api(other_url, f"/api/hands/{hand(3)}/release-lease", {})
+        assert status == 200, reply
+        wait_for(browser, "hand 3's buttons on again", lambda d: button(d, 3, "move").is_enabled())
+    finally:
+        stop(other)
+
+
+def beyond_the_right_edge(driver) -> list:
+    return driver.execute_script("""
+        const width = document.documentElement.clientWidth;
+        const out = [...document.querySelectorAll('button, input, label, meter, #connection')]
+            .filter((e) => e.getBoundingClientRect().right > width + 0.5)
+            .map((e) => e.outerHTML.slice(0, 80));
+        if (document.documentElement.scrollWidth > width) out.push('the page scrolls sideways');
+        return out;""")
+
+
+def stop_all_in_view(driver) -> bool:
+    return driver.execute_script("""
+        window.scrollTo(0, document.documentElement.scrollHeight);
+        const r = document.getElementById('stop-all').getBoundingClientRect();
+        return r.top >= 0 && r.bottom <= window.innerHeight && r.right <= window.innerWidth;""")
+
+
+@pytest.mark.parametrize("width", [1280, 800, 400])
+def test_every_control_fits_the_width_and_stop_all_stays_in_view(cell, browser, width):
+    browser.set_window_size(width, 900)
+    inner = browser.execute_script("return window.innerWidth;")
+    browser.set_window_size(width + (width - inner), 900)  # the viewport itself this wide
+    wait_for(browser, f"the viewport {width} px wide",
+             lambda d: d.execute_script("return window.innerWidth;") == width)
+    assert beyond_the_right_edge(browser) == []
+    assert stop_all_in_view(browser)
+    folder = os.environ.get("DH3_WEB_SCREENSHOTS")
+    if folder:
+        os.makedirs(folder, exist_ok=True)
+        browser.execute_script("window.scrollTo(0, 0);")
+        height = browser.execute_script("return document.documentElement.scrollHeight;")
+        browser.set_window_size(width + (width - inner), min(height + 120, 4000))
+        browser.save_screenshot(os.path.join(folder, f"web-console-{width}.png"))
+        browser.set_window_size(width + (width - inner), 900)
+
+
+def test_stop_all_stops_every_hand_the_page_shows(cell, browser):
+    browser.set_window_size(1400, 1400)
+    written = requests_written(cell.url)
+    button(browser, 3, "init").click()
+    wait_for(browser, "hand 3 initialized", lambda d: cell_text(d, 3, "initialized") == "yes")
+    browser.find_element(By.ID, "stop-all").click()
+    # Sent to the offline hand too: it says why it did not stop.
+    wait_for(browser, "every hand answered", lambda d: d.find_element(
+        By.ID, "stop-all-result").text.startswith(
+            f"Error: Stop all: 3 of 4 stopped; not {hand(4)} (Error in stop (HTTP 504 TIMEOUT)"))
+    for can_id in (1, 2, 3):
+        assert cell_text(browser, can_id, "result") == "stop: OK"
+    assert requests_written(cell.url) == written + 5  # init and four stops
+
+
+def test_a_frozen_service_is_stale_and_a_killed_one_lost(cell, browser):
+    """Last: it ends the module's service."""
+    wait_for(browser, "hand 1's buttons on", lambda d: button(d, 1, "init").is_enabled())
+    cell.service.send_signal(signal.SIGSTOP)
+    try:
+        wait_for(browser, "every hand marked not live", lambda d: all(
+            "not-live" in card(d, i).get_attribute("class")
+            and cell_text(d, i, "online").startswith(("STALE", "LOST")) for i in (1, 2, 3)))
+        wait_for(browser, "the page not live",
+                 lambda d: d.find_element(By.ID, "connection").text.startswith("NOT LIVE"))
+    finally:
+        cell.service.send_signal(signal.SIGCONT)
+    wait_for(browser, "live again", lambda d: all(
+        cell_text(d, i, "online") == "online" for i in (1, 2, 3)))
+    cell.service.send_signal(signal.SIGKILL)
+    cell.service.wait()
+    wait_for(browser, "every hand lost", lambda d: all(
+        cell_text(d, i, "online").startswith("LOST: service ") for i in (1, 2, 3)))
+    wait_for(browser, "the page says the service is lost", lambda d: d.find_element(
+        By.ID, "connection").text.startswith("NOT LIVE: service "))
+    assert not button(browser, 1, "move").is_enabled()
+    assert "its service is lost" in cell_text(browser, 1, "blocked")

@@ -19,6 +19,7 @@
 #include "client_json.hpp"
 #include "dh3/base/version.hpp"
 #include "dh3/registers.hpp"
+#include "event_stream.hpp"
 #include "hand_api.hpp"
 #include "support/test_domain.hpp"
 #include "web_assets.hpp"
@@ -301,6 +302,26 @@ TEST(WebOptions, TakesFurtherHostNames) {
   EXPECT_THAT(options.allowed_hosts, ElementsAre("cell-pc.example", "proxy"));
 }
 
+TEST(WebOptions, KeepWorkersBesideTheStreams) {
+  WebOptions defaults;
+  std::ostringstream out;
+  std::ostringstream err;
+  const char* none[] = {"dh3-web"};
+  ASSERT_EQ(parse_web_options(1, none, defaults, out, err), std::nullopt) << err.str();
+  EXPECT_GE(defaults.max_streams, 64);
+  EXPECT_GE(defaults.threads - defaults.max_streams, kWorkersBesideStreams);
+  EXPECT_THAT(defaults.client.participant_name, HasSubstr("dh3-web"));
+
+  WebOptions crowded;
+  const char* argv[] = {"dh3-web", "--threads", "70", "--max-streams", "64"};
+  EXPECT_EQ(parse_web_options(5, argv, crowded, out, err), 2);
+  EXPECT_THAT(err.str(), HasSubstr("--threads 70 leaves too few workers beside --max-streams 64"));
+  WebOptions raised;
+  const char* more[] = {"dh3-web", "--threads", "140", "--max-streams", "128"};
+  EXPECT_EQ(parse_web_options(5, more, raised, out, err), std::nullopt);
+  EXPECT_EQ(raised.max_streams, 128);
+}
+
 TEST(WebOptions, ParsesListenAddresses) {
   EXPECT_EQ(parse_listen("0.0.0.0:80")->host, "0.0.0.0");
   EXPECT_EQ(parse_listen("0.0.0.0:80")->port, 80);
@@ -325,7 +346,8 @@ class HandApiTest : public ::testing::Test {
     AccessPolicy access;
     if (with_token) access.token = BearerToken::from_text(kToken);
     access.view_needs_token = view_needs_token;
-    return HandApi(client_, access, std::chrono::seconds(1), "{\"openapi\":\"3.0.3\"}");
+    return HandApi(client_, access, std::chrono::seconds(1), "{\"openapi\":\"3.0.3\"}",
+                   "dh3-web-1@cell-pc");
   }
   static ApiRequest post(std::string path, std::string body, bool token = true) {
     return ApiRequest{"POST", std::move(path), token ? std::string("Bearer ") + kToken : "",
@@ -390,6 +412,42 @@ TEST_F(HandApiTest, ViewingCanNeedTheTokenToo) {
   EXPECT_EQ(listed.status, 200);
   EXPECT_EQ(listed.body, R"({"services":[],"hands":[]})");
   EXPECT_FALSE(closed.authorize_view(std::string("Bearer ") + kToken).has_value());
+}
+
+TEST_F(HandApiTest, SaysAtOnceWhetherATokenIsTheRightOne) {
+  auto a = api(true);
+  ApiResponse right =
+      a.handle(ApiRequest{"GET", "/api/token", std::string("Bearer ") + kToken, ""});
+  EXPECT_EQ(right.status, 200);
+  expect_described_as("Token", Json::parse(right.body));
+  EXPECT_THAT(right.body, HasSubstr(R"("console":"dh3-web-1@cell-pc")"));
+  ApiResponse wrong =
+      a.handle(ApiRequest{"GET", "/api/token", "Bearer guessed-token-of-some-length", ""});
+  EXPECT_EQ(wrong.status, 401);
+  EXPECT_THAT(wrong.body, HasSubstr("the bearer token is not the right one"));
+  EXPECT_EQ(a.handle(ApiRequest{"GET", "/api/token", "", ""}).status, 401);
+  EXPECT_EQ(a.handle(ApiRequest{"POST", "/api/token", "", ""}).status, 405);
+  EXPECT_EQ(api(false).handle(ApiRequest{"GET", "/api/token", "Bearer x", ""}).status, 403);
+}
+
+TEST_F(HandApiTest, StreamsAreCountedAndTheOnePastTheLimitRefused) {
+  EventStreamOptions limited;
+  limited.max_readers = 2;
+  EventStream stream(client_, limited);
+  auto first = stream.open();
+  auto second = stream.open();
+  ASSERT_NE(first, nullptr);
+  ASSERT_NE(second, nullptr);
+  EXPECT_EQ(stream.open(), nullptr);
+  first.reset();  // a page closed: its place is free again
+  auto third = stream.open();
+  ASSERT_NE(third, nullptr);
+  // The snapshot ends with ready; with nothing new the heartbeat follows.
+  EXPECT_THAT(third->next(std::chrono::seconds(5)).value_or(""), HasSubstr("event: ready"));
+  EXPECT_EQ(third->next(std::chrono::milliseconds(1)), "");
+  EXPECT_EQ(stream.heartbeat(), ": keep-alive\n\n");
+  stream.close();
+  EXPECT_EQ(third->next(std::chrono::milliseconds(1)), std::nullopt);
 }
 
 TEST_F(HandApiTest, HealthAndTheHandListAreDescribed) {

@@ -5,10 +5,14 @@
 // rebinding), an access log that a request cannot forge lines in, and a token
 // file others may read.
 
+#include <arpa/inet.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <httplib.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <thread>
@@ -295,6 +299,110 @@ TEST_F(WebServiceTest, StopsCleanlyWhileAStreamIsOpen) {
   EXPECT_EQ(web_.stop(), 0);
   reader.join();
   EXPECT_TRUE(ended);
+}
+
+/// Open streams, each on its own connection and thread, until closed.
+class OpenStreams {
+ public:
+  OpenStreams(const WebProcess& web, int count) {
+    for (int i = 0; i < count; ++i) {
+      threads_.emplace_back([this, &web] {
+        auto http = web.client();
+        bool counted = false;
+        std::string received;
+        http.Get("/api/stream", [&](const char* data, std::size_t size) {
+          received.append(data, size);
+          if (!counted && received.find("event: ready") != std::string::npos) {
+            counted = true;
+            ++ready_;
+          }
+          return !closing_.load();
+        });
+      });
+    }
+  }
+  ~OpenStreams() { close(); }
+  OpenStreams(const OpenStreams&) = delete;
+  OpenStreams& operator=(const OpenStreams&) = delete;
+
+  /// True once every stream got its snapshot.
+  bool wait_ready(int count) const {
+    const auto deadline = std::chrono::steady_clock::now() + kClientDeadline * 3;
+    while (ready_ < count && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return ready_ >= count;
+  }
+  /// The readers end at their next message (a heartbeat at the latest).
+  void close() {
+    closing_ = true;
+    for (auto& thread : threads_) {
+      if (thread.joinable()) thread.join();
+    }
+  }
+
+ private:
+  std::atomic<int> ready_{0};
+  std::atomic<bool> closing_{false};
+  std::vector<std::thread> threads_;
+};
+
+TEST_F(WebServiceTest, SixtyFourOpenPagesLeaveCommandsAndHealthAnsweringAndTheNextGets503) {
+  OpenStreams pages(web_, 64);
+  ASSERT_TRUE(pages.wait_ready(64)) << "64 streams did not all get their snapshot";
+  auto refused = http_.Get("/api/stream");
+  ASSERT_TRUE(refused);
+  EXPECT_EQ(refused->status, 503);
+  EXPECT_THAT(refused->body, HasSubstr(R"("code":"TOO_MANY_STREAMS")"));
+  auto health = http_.Get("/api/health");
+  ASSERT_TRUE(health);
+  EXPECT_EQ(health->status, 200);
+  auto init = command(2, "init", "");
+  ASSERT_TRUE(init);
+  EXPECT_EQ(init->status, 200) << init->body;
+  auto stop = command(2, "stop", "");
+  ASSERT_TRUE(stop);
+  EXPECT_EQ(stop->status, 200) << stop->body;
+  auto page = http_.Get("/");
+  ASSERT_TRUE(page);
+  EXPECT_EQ(page->status, 200);
+  pages.close();
+  // Closed pages free their places (a worker notices at its next write).
+  const auto deadline = std::chrono::steady_clock::now() + kClientDeadline;
+  bool reopened = false;
+  while (!reopened && std::chrono::steady_clock::now() < deadline) {
+    auto again = web_.client();
+    again.Get("/api/stream", [&](const char* data, std::size_t size) {
+      reopened = std::string_view(data, size).find("event:") != std::string_view::npos;
+      return false;
+    });
+    if (!reopened) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  EXPECT_TRUE(reopened) << "no stream served after the 64 were closed";
+}
+
+TEST_F(WebServiceTest, AConnectionThatSendsNoRequestIsClosed) {
+  // A client that connects and never finishes its headers must not hold a
+  // worker for good: dh3-web closes the connection (read timeout).
+  auto socket = ::socket(AF_INET, SOCK_STREAM, 0);
+  ASSERT_GE(socket, 0);
+  sockaddr_in address{};
+  address.sin_family = AF_INET;
+  address.sin_port = htons(static_cast<std::uint16_t>(web_.port()));
+  address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(::connect(socket, reinterpret_cast<sockaddr*>(&address), sizeof address), 0);
+  const char partial[] = "GET /api/health HTTP/1.1\r\nHost: 127.0.0.1\r\n";
+  ASSERT_EQ(::send(socket, partial, sizeof partial - 1, 0),
+            static_cast<ssize_t>(sizeof partial - 1));
+  timeval wait{60, 0};
+  ::setsockopt(socket, SOL_SOCKET, SO_RCVTIMEO, &wait, sizeof wait);
+  // It may answer 400 first; then it closes. -1 is our own minute passing.
+  char buffer[512];
+  ssize_t got = 0;
+  while ((got = ::recv(socket, buffer, sizeof buffer, 0)) > 0) {
+  }
+  ::close(socket);
+  EXPECT_EQ(got, 0) << "dh3-web did not close a connection whose headers never ended";
 }
 
 TEST(WebViewing, CanNeedTheToken) {

@@ -5,10 +5,14 @@ headless Chromium driven by Selenium.
 DH3_SERVICE, DH3_WEB and DH3CTL name the programs."""
 
 import contextlib
+import json
 import os
 import subprocess
 import sys
 import tempfile
+import urllib.error
+import urllib.request
+from dataclasses import dataclass
 
 from selenium import webdriver
 from selenium.webdriver.chrome.service import Service as ChromeService
@@ -24,10 +28,11 @@ SERVICE = f"web{os.getpid()}"
 
 
 def sim_config(position_speed: int = 100) -> str:
-    """Three hands on bus0; hand 1 ("left") holds an object at 40."""
+    """Three hands on bus0; hand 1 ("left") holds an object at 40; hand 4 is
+    configured but not there (offline)."""
     return f"""buses:
   - name: bus0
-    spec: sim
+    spec: sim:1,2,3
     command_interval_ms: 2
     poll_interval_moving_ms: 20
     poll_interval_idle_ms: 50
@@ -36,6 +41,7 @@ def sim_config(position_speed: int = 100) -> str:
       - {{id: 1, name: left, object: 40}}
       - {{id: 2, name: right}}
       - {{id: 3}}
+      - {{id: 4, name: absent}}
 """
 
 
@@ -53,9 +59,31 @@ def stop(process: subprocess.Popen) -> None:
         process.wait()
 
 
+def start_web(token_path: str) -> tuple:
+    """dh3-web on DOMAIN and a free port; (process, its URL)."""
+    web = subprocess.Popen(
+        [os.environ["DH3_WEB"], "--domain", str(DOMAIN), "--listen", "127.0.0.1:0",
+         "--token-file", token_path, "--log-level", "warn"],
+        stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, text=True)
+    line = web.stdout.readline()
+    if not line.startswith("dh3-web: serving http://127.0.0.1:"):
+        stop(web)
+        raise AssertionError("dh3-web did not start: " + line)
+    return web, line.split()[2]
+
+
+@dataclass
+class Cell:
+    """A running dh3-service (on the simulator) and dh3-web."""
+    url: str
+    service: subprocess.Popen
+    web: subprocess.Popen
+    token_path: str
+
+
 @contextlib.contextmanager
 def service_and_web(position_speed: int = 100):
-    """dh3-service and dh3-web (commands with TOKEN); yields dh3-web's URL."""
+    """dh3-service and dh3-web (commands with TOKEN); yields the Cell."""
     with tempfile.TemporaryDirectory(prefix="dh3-web-test-") as tmp:
         config = os.path.join(tmp, "sim.yaml")
         token = os.path.join(tmp, "token")
@@ -67,17 +95,26 @@ def service_and_web(position_speed: int = 100):
         service = subprocess.Popen(
             [os.environ["DH3_SERVICE"], "--domain", str(DOMAIN), "--name", SERVICE,
              "--config", config, "--log-level", "warn"], stdin=subprocess.DEVNULL)
-        web = subprocess.Popen(
-            [os.environ["DH3_WEB"], "--domain", str(DOMAIN), "--listen", "127.0.0.1:0",
-             "--token-file", token, "--log-level", "warn"],
-            stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, text=True)
+        web = None
         try:
-            line = web.stdout.readline()
-            assert line.startswith("dh3-web: serving http://127.0.0.1:"), line
-            yield line.split()[2]
+            web, url = start_web(token)
+            yield Cell(url, service, web, token)
         finally:
-            stop(web)
+            if web is not None:
+                stop(web)
             stop(service)
+
+
+def api(url: str, path: str, body=None, token: str = TOKEN) -> tuple:
+    """(HTTP status, JSON reply) of GET (or, with a body, POST) url + path."""
+    headers = {"Authorization": "Bearer " + token, "Content-Type": "application/json"}
+    data = None if body is None else json.dumps(body).encode()
+    request = urllib.request.Request(url.rstrip("/") + path, data=data, headers=headers)
+    try:
+        with urllib.request.urlopen(request, timeout=DEADLINE) as response:
+            return response.status, json.loads(response.read())
+    except urllib.error.HTTPError as error:
+        return error.code, json.loads(error.read())
 
 
 @contextlib.contextmanager
