@@ -195,7 +195,7 @@ class Service::Impl {
   ClientShare share_;  ///< before requests_: the tickets in its completions point here
   RequestHandler requests_{
       {options_, directory_, leases_, schedulers_, statuses_, replies_, timer_, share_}};
-  GroupCommands groups_{{options_, clock_, directory_, leases_, schedulers_, replies_}};
+  GroupCommands groups_{{options_, clock_, directory_, leases_, schedulers_, replies_, share_}};
 
   ParticipantListener participant_listener_{*this};
   RequestListener request_listener_{*this};
