@@ -214,8 +214,12 @@ class Service::Impl {
   fdds::DataReader* group_request_reader_ = nullptr;
 
   std::mutex dispatch_mutex_;
-  bool stopping_ = false;            ///< under dispatch_mutex_
-  msg::CommandRequest request_;      ///< reused by the listener thread
+  bool stopping_ = false;  ///< under dispatch_mutex_
+  /// Requests taken from the reader and served together, at most
+  /// kIntakeBatch: a few hundred bytes each, and enough that a flood taken
+  /// ahead of another client's request still shares the batch with it.
+  std::vector<msg::CommandRequest> intake_;  ///< reused by the listener thread
+  static constexpr std::size_t kIntakeBatch = 64;
   msg::GroupRequest group_request_;  ///< reused by the group listener thread
 
   bool started_ = false;
