@@ -30,6 +30,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <thread>
 #include <tuple>
 #include <vector>
 
@@ -51,8 +52,9 @@ class DdsTestClient {
 
   /// Which replies a client's reply reader asks for.
   enum class Replies {
-    all,  ///< the plain reply topic, as a participant of another vendor reads it
-    own,  ///< the reply topic filtered to this client_id, as the client library reads it
+    all,   ///< the plain reply topic, as a participant of another vendor reads it
+    own,   ///< the reply topic filtered to this client_id, as the client library reads it
+    none,  ///< no reply reader until read_replies(): a client that never reads its replies
   };
 
   explicit DdsTestClient(int domain, const std::string& name = "dh3-test",
@@ -78,7 +80,7 @@ class DdsTestClient {
       reply_topic = contract::create_own_replies_topic(participant_->participant(),
                                                        contract_topics.reply, client_id_);
     }
-    if (reply_topic != nullptr) {
+    if (reply_topic != nullptr && replies != Replies::none) {
       subscriber.create_datareader(reply_topic, contract::reader_qos(TopicRole::reply), &listener_,
                                    mask);
     }
@@ -118,6 +120,36 @@ class DdsTestClient {
     }
     request_writer_->write(&request);
     return request.request_seq();
+  }
+
+  /// Waits until every request written so far reached the service's reader
+  /// (acknowledged), whether or not it was answered.
+  bool wait_delivered(std::chrono::milliseconds timeout = kDdsDeadline) {
+    const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(timeout).count();
+    const eprosima::fastrtps::Duration_t wait(static_cast<std::int32_t>(ns / 1'000'000'000),
+                                              static_cast<std::uint32_t>(ns % 1'000'000'000));
+    return request_writer_->wait_for_acknowledgments(wait) ==
+           eprosima::fastrtps::types::ReturnCode_t::RETCODE_OK;
+  }
+
+  /// Waits until a request reader (the service's) has matched this client's
+  /// writer, for a client that cannot probe with requests (Replies::none).
+  bool wait_request_reader(std::chrono::milliseconds timeout = kDdsDeadline) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    eprosima::fastdds::dds::PublicationMatchedStatus status;
+    while (std::chrono::steady_clock::now() < deadline) {
+      request_writer_->get_publication_matched_status(status);
+      if (status.current_count > 0) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return false;
+  }
+
+  /// A client made with Replies::none starts reading the plain reply topic.
+  void read_replies() {
+    participant_->subscriber().create_datareader(
+        participant_->topics().reply, contract::reader_qos(contract::TopicRole::reply), &listener_,
+        eprosima::fastdds::dds::StatusMask::data_available());
   }
 
   /// A request from this client.

@@ -50,8 +50,9 @@ void summarize_group(msg::GroupReply& reply) {
 /// One group's results, filled in by its members' completions on the bus loops.
 struct GroupCommands::Pending {
   std::mutex mutex;
-  msg::GroupReply reply;      ///< under mutex
-  std::size_t remaining = 0;  ///< under mutex
+  msg::GroupReply reply;       ///< under mutex
+  std::size_t remaining = 0;   ///< under mutex
+  ClientShare::Ticket ticket;  ///< under mutex; freed when the reply goes
 };
 
 void GroupCommands::handle(msg::GroupRequest& request, const Caller& caller, bool stopping) {
@@ -74,18 +75,23 @@ void GroupCommands::handle(msg::GroupRequest& request, const Caller& caller, boo
     return;
   }
   const std::string client_id = request.client_id();
-  auto valid = validate_group(request, parts_.directory,
-                              [&](std::uint16_t bus, std::uint8_t can_id) {
-                                return member_facts(bus, can_id, caller, client_id);
-                              });
+  auto valid =
+      validate_group(request, parts_.directory, [&](std::uint16_t bus, std::uint8_t can_id) {
+        return member_facts(bus, can_id, caller, client_id);
+      });
   if (!valid) {
     refuse(reply, valid.error());
+    return;
+  }
+  auto ticket = parts_.share.admit(caller.id, caller.shown_as);
+  if (!ticket) {
+    refuse(reply, GroupRefusal{{}, Rejection{msg::BUSY, std::move(ticket).error()}});
     return;
   }
   const Duration timeout = request.timeout_ms() != 0
                                ? Duration(std::chrono::milliseconds(request.timeout_ms()))
                                : kDefaultGroupReadyTimeout;
-  submit(*valid, std::move(reply), timeout);
+  submit(*valid, std::move(reply), timeout, std::move(ticket).value());
 }
 
 MemberFacts GroupCommands::member_facts(std::uint16_t bus, std::uint8_t can_id,
@@ -126,7 +132,7 @@ void GroupCommands::refuse(msg::GroupReply& reply, const GroupRefusal& refusal) 
 }
 
 void GroupCommands::submit(const std::vector<ValidRequest>& members, msg::GroupReply reply,
-                           Duration timeout) {
+                           Duration timeout, ClientShare::Ticket ticket) {
   bool several_buses = false;
   for (const ValidRequest& member : members) several_buses |= member.bus != members.front().bus;
   auto group = std::make_shared<hand::GroupRelease>(
@@ -134,6 +140,7 @@ void GroupCommands::submit(const std::vector<ValidRequest>& members, msg::GroupR
   auto pending = std::make_shared<Pending>();
   pending->reply = std::move(reply);
   pending->remaining = members.size();
+  pending->ticket = std::move(ticket);
   for (std::size_t i = 0; i < members.size(); ++i) {
     hand::Command command = members[i].command;
     command.group = group;
@@ -162,6 +169,8 @@ void GroupCommands::submit(const std::vector<ValidRequest>& members, msg::GroupR
           if (--pending->remaining > 0) return;
           summarize_group(pending->reply);
           msg::GroupReply done = std::move(pending->reply);
+          // Free before the reply goes: its client may send the next at once.
+          pending->ticket = {};
           lock.unlock();
           parts_.replies.write(done);
         });

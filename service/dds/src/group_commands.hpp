@@ -37,6 +37,8 @@ class GroupCommands {
     const LeaseTable& leases;
     const Schedulers& schedulers;
     ReplySink& replies;
+    /// A group in flight is one of its caller's requests in flight.
+    ClientShare& share;
   };
   explicit GroupCommands(Parts parts) : parts_(parts) {}
   GroupCommands(const GroupCommands&) = delete;
@@ -50,7 +52,8 @@ class GroupCommands {
 
   /// Answers a group that failed its checks: nothing was sent to any hand.
   void refuse(msg::GroupReply& reply, const GroupRefusal& refusal);
-  void submit(const std::vector<ValidRequest>& members, msg::GroupReply reply, Duration timeout);
+  void submit(const std::vector<ValidRequest>& members, msg::GroupReply reply, Duration timeout,
+              ClientShare::Ticket ticket);
   [[nodiscard]] MemberFacts member_facts(std::uint16_t bus, std::uint8_t can_id,
                                          const Caller& caller, const std::string& client_id) const;
 

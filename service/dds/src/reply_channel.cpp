@@ -19,8 +19,8 @@ ReplyChannel::ReplyChannel(const Clock& clock, const RequestTracer& tracer,
                            std::function<void()> on_held)
     : tracer_(tracer),
       on_held_(std::move(on_held)),
-      gate_(clock, kHoldLimit),
-      group_gate_(clock, kHoldLimit) {}
+      gate_(clock, kHoldLimit, kHoldCaps),
+      group_gate_(clock, kHoldLimit, kHoldCaps) {}
 
 void ReplyChannel::WriterListener::on_publication_matched(
     eprosima::fastdds::dds::DataWriter* /*writer*/,
@@ -54,12 +54,33 @@ void ReplyChannel::pass_through(Reply& reply, ReplyGate<Reply>& gate, bool has_w
   if (!has_writer) return;
   const std::uint64_t seq = reply.request_seq();
   const std::string client_id = reply.client_id();
-  if (gate.admit(reply) == GateOutcome::pass) {
+  const Admission admission = gate.admit(reply);
+  if (admission.outcome == GateOutcome::pass) {
     publish(reply);
     return;
   }
   spdlog::debug("{} {}#{} held until the client's reader matches", what, client_id, seq);
+  if (admission.dropped) log_dropped(*admission.dropped, what);
   on_held_();
+}
+
+void ReplyChannel::log_dropped(const DroppedReply& dropped, std::string_view what) {
+  // Once per client: a flood would otherwise log a line per request.
+  if (dropped.client_drops != 1) return;
+  const HoldCaps& caps = kHoldCaps;
+  if (dropped.over_total) {
+    spdlog::warn(
+        "{} {}#{} dropped: {} replies are held for clients whose reply readers have not "
+        "matched, at most {}; the oldest of the client holding the most go (this client's "
+        "further drops are not logged)",
+        what, dropped.client_id, dropped.request_seq, caps.total, caps.total);
+    return;
+  }
+  spdlog::warn(
+      "{} {}#{} dropped: participant {} writes requests but no reply reader of it has "
+      "matched; at most {} of its replies are held, the oldest go (its further drops are "
+      "not logged)",
+      what, dropped.client_id, dropped.request_seq, dropped.client_id, caps.per_client);
 }
 
 void ReplyChannel::write(msg::CommandReply& reply) {
@@ -92,7 +113,17 @@ void ReplyChannel::participant_joined(const std::string& client_id) {
 }
 
 std::size_t ReplyChannel::participant_left(const std::string& client_id) {
+  if (const std::size_t capped = gate_.dropped(client_id) + group_gate_.dropped(client_id)) {
+    spdlog::info(
+        "participant {} left; {} of its replies were dropped over the hold caps ({} "
+        "in all so far)",
+        client_id, capped, dropped_replies());
+  }
   return gate_.participant_left(client_id) + group_gate_.participant_left(client_id);
+}
+
+std::size_t ReplyChannel::dropped_replies() const {
+  return gate_.dropped() + group_gate_.dropped();
 }
 
 std::optional<TimePoint> ReplyChannel::next_expiry() const {

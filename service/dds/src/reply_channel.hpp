@@ -52,7 +52,10 @@ class ReplyChannel final : public ReplySink {
 
   void participant_joined(const std::string& client_id);
   /// Drops the replies held for a participant that left; returns how many.
+  /// Logs how many of its replies the hold caps dropped, if any.
   std::size_t participant_left(const std::string& client_id);
+  /// Replies the gates' hold caps dropped since the start (reply_gate.hpp).
+  [[nodiscard]] std::size_t dropped_replies() const;
 
   /// The earliest time a held reply must go out anyway.
   [[nodiscard]] std::optional<TimePoint> next_expiry() const;
@@ -64,6 +67,8 @@ class ReplyChannel final : public ReplySink {
   /// How long a reply waits for its client's reply reader to match before it
   /// is written anyway: as long as a client waits for a reply at most.
   static constexpr Duration kHoldLimit = std::chrono::milliseconds(limits::REQUEST_TIMEOUT_MAX_MS);
+  /// How many replies each gate holds (reply_gate.hpp says why these).
+  static constexpr HoldCaps kHoldCaps{};
 
  private:
   /// A reply writer's matches: writes the replies a match frees. Fast DDS
@@ -86,6 +91,8 @@ class ReplyChannel final : public ReplySink {
   /// What write() does for either kind of reply (defined in the .cpp only).
   template <typename Reply>
   void pass_through(Reply& reply, ReplyGate<Reply>& gate, bool has_writer, std::string_view what);
+  /// The first drop of each client, in words.
+  static void log_dropped(const DroppedReply& dropped, std::string_view what);
 
   const RequestTracer& tracer_;
   std::function<void()> on_held_;

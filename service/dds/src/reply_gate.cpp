@@ -17,13 +17,13 @@ std::size_t ReplyGate<Reply>::participant_left(const std::string& client_id) {
   const auto it = clients_.find(client_id);
   if (it == clients_.end()) return 0;
   const std::size_t dropped = it->second.held.size();
+  held_ -= dropped;
   clients_.erase(it);
   return dropped;
 }
 
 template <typename Reply>
-std::vector<Reply> ReplyGate<Reply>::reader_matched(const std::string& client_id,
-                                                         bool matched) {
+std::vector<Reply> ReplyGate<Reply>::reader_matched(const std::string& client_id, bool matched) {
   std::lock_guard lock(mutex_);
   // A reader may match before its participant's discovery is reported.
   Client& client = clients_[client_id];
@@ -32,17 +32,42 @@ std::vector<Reply> ReplyGate<Reply>::reader_matched(const std::string& client_id
   if (client.readers == 0) return released;
   released.reserve(client.held.size());
   for (auto& held : client.held) released.push_back(std::move(held.reply));
+  held_ -= client.held.size();
   client.held.clear();
   return released;
 }
 
 template <typename Reply>
-GateOutcome ReplyGate<Reply>::admit(Reply& reply) {
+Admission ReplyGate<Reply>::admit(Reply& reply) {
   std::lock_guard lock(mutex_);
   const auto it = clients_.find(reply.client_id());
-  if (it == clients_.end() || it->second.readers > 0) return GateOutcome::pass;
+  if (it == clients_.end() || it->second.readers > 0) return {};
+  Admission admission{GateOutcome::held, make_room_locked(it)};
   it->second.held.push_back(Held{clock_.now(), std::move(reply)});
-  return GateOutcome::held;
+  ++held_;
+  return admission;
+}
+
+template <typename Reply>
+std::optional<DroppedReply> ReplyGate<Reply>::make_room_locked(typename Clients::iterator client) {
+  auto victim = clients_.end();
+  bool over_total = false;
+  if (client->second.held.size() >= caps_.per_client) {
+    victim = client;
+  } else if (held_ >= caps_.total) {
+    over_total = true;
+    victim = std::max_element(clients_.begin(), clients_.end(), [](const auto& a, const auto& b) {
+      return a.second.held.size() < b.second.held.size();
+    });
+  }
+  if (victim == clients_.end() || victim->second.held.empty()) return std::nullopt;
+  Client& from = victim->second;
+  DroppedReply dropped{victim->first, from.held.front().reply.request_seq(), ++from.dropped,
+                       over_total};
+  from.held.pop_front();
+  --held_;
+  ++dropped_;
+  return dropped;
 }
 
 template <typename Reply>
@@ -64,6 +89,7 @@ std::vector<Reply> ReplyGate<Reply>::take_locked(TimePoint due) {
     // Held in arrival order: those held since before `due` are a prefix.
     const auto end = std::find_if(client.held.begin(), client.held.end(),
                                   [&](const Held& held) { return held.since > due; });
+    held_ -= static_cast<std::size_t>(end - client.held.begin());
     std::move(client.held.begin(), end, std::back_inserter(taken));
     client.held.erase(client.held.begin(), end);
   }
@@ -90,9 +116,20 @@ std::optional<TimePoint> ReplyGate<Reply>::next_expiry() const {
 template <typename Reply>
 std::size_t ReplyGate<Reply>::held() const {
   std::lock_guard lock(mutex_);
-  std::size_t n = 0;
-  for (const auto& [id, client] : clients_) n += client.held.size();
-  return n;
+  return held_;
+}
+
+template <typename Reply>
+std::size_t ReplyGate<Reply>::dropped(const std::string& client_id) const {
+  std::lock_guard lock(mutex_);
+  const auto it = clients_.find(client_id);
+  return it == clients_.end() ? 0 : it->second.dropped;
+}
+
+template <typename Reply>
+std::size_t ReplyGate<Reply>::dropped() const {
+  std::lock_guard lock(mutex_);
+  return dropped_;
 }
 
 template class ReplyGate<msg::CommandReply>;

@@ -12,6 +12,14 @@
 // other reply passes at once: a client whose client_id names no participant
 // (another vendor's client may use any id) is answered as before.
 //
+// A participant that writes requests and never reads replies would make the
+// gate hold every reply for the whole hold limit, so the gate holds at most
+// HoldCaps: beyond a client's cap its own oldest held reply is dropped, beyond
+// the total the oldest of the client that holds the most. The oldest, because
+// it is the one its client is likeliest to have given up on, and the newest
+// are the ones a client that is merely slow to match still waits for; the one
+// that holds the most, so that a flood never pushes out another client's few.
+//
 // One gate per reply writer, for its own matches: ReplyGate<msg::CommandReply>
 // and ReplyGate<msg::GroupReply> (any IDL reply with a client_id()).
 //
@@ -20,6 +28,8 @@
 // service's timer. Knows no Fast DDS entity: the caller writes what it returns.
 
 #include <cstddef>
+#include <cstdint>
+#include <deque>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -36,10 +46,35 @@ enum class GateOutcome : std::uint8_t {
   held,  ///< taken in; released by reader_matched() or expire()
 };
 
+/// How many replies one gate holds at most. A real client holds what it sent
+/// before its reply reader matched: one request, or one per hand it drives
+/// at start, far below the per-client cap; a cell of a few dozen clients stays
+/// far below the total. A held reply is a few hundred bytes, so the total
+/// bounds a gate to about a megabyte.
+/// Each at least 1.
+struct HoldCaps {
+  std::size_t per_client = 256;
+  std::size_t total = 4096;
+};
+
+/// A held reply that the caps pushed out, never to be written.
+struct DroppedReply {
+  std::string client_id;
+  std::uint64_t request_seq = 0;
+  std::size_t client_drops = 0;  ///< the client's drops so far, this one included
+  bool over_total = false;       ///< the gate's total cap, not the client's own
+};
+
+struct Admission {
+  GateOutcome outcome = GateOutcome::pass;
+  std::optional<DroppedReply> dropped;  ///< what holding this reply pushed out
+};
+
 template <typename Reply>
 class ReplyGate {
  public:
-  ReplyGate(const Clock& clock, Duration hold_limit) : clock_(clock), hold_limit_(hold_limit) {}
+  ReplyGate(const Clock& clock, Duration hold_limit, HoldCaps caps = {})
+      : clock_(clock), hold_limit_(hold_limit), caps_(caps) {}
 
   /// A participant with this client_id (its GUID prefix in hex) was discovered.
   void participant_joined(const std::string& client_id);
@@ -50,8 +85,9 @@ class ReplyGate {
   /// participant. On a match, returns the replies held for it, oldest first,
   /// for the caller to write.
   std::vector<Reply> reader_matched(const std::string& client_id, bool matched);
-  /// Whether `reply` may be written now; if held, it is moved in.
-  GateOutcome admit(Reply& reply);
+  /// Whether `reply` may be written now; if held, it is moved in, and an
+  /// older held reply may be dropped for it (the caps).
+  Admission admit(Reply& reply);
   /// Held replies older than hold_limit, oldest first, for the caller to write.
   std::vector<Reply> expire();
   /// Every held reply, oldest first (the service is stopping: written as they are).
@@ -59,6 +95,9 @@ class ReplyGate {
   /// When the oldest held reply reaches hold_limit, nullopt if none is held.
   [[nodiscard]] std::optional<TimePoint> next_expiry() const;
   [[nodiscard]] std::size_t held() const;
+  /// Replies the caps dropped: of one client (while it is known), and of all.
+  [[nodiscard]] std::size_t dropped(const std::string& client_id) const;
+  [[nodiscard]] std::size_t dropped() const;
 
  private:
   struct Held {
@@ -67,16 +106,24 @@ class ReplyGate {
   };
   struct Client {
     int readers = 0;
-    std::vector<Held> held;
+    std::deque<Held> held;
+    std::size_t dropped = 0;
   };
 
   /// The held replies before `due`, oldest first, taken out.
   std::vector<Reply> take_locked(TimePoint due);
+  using Clients = std::map<std::string, Client>;
+
+  /// Makes room for one more reply of `client` within the caps.
+  std::optional<DroppedReply> make_room_locked(typename Clients::iterator client);
 
   const Clock& clock_;
   const Duration hold_limit_;
+  const HoldCaps caps_;
   mutable std::mutex mutex_;
-  std::map<std::string, Client> clients_;  ///< known participants, by client_id
+  Clients clients_;          ///< known participants, by client_id
+  std::size_t held_ = 0;     ///< over every client
+  std::size_t dropped_ = 0;  ///< over every client, ever
 };
 
 // Defined in reply_gate.cpp for these two.

@@ -58,7 +58,7 @@ void RequestHandler::handle(msg::CommandRequest& request, const Caller& caller, 
       submit_command(*valid, caller, std::move(header));
       break;
     case RequestAction::scan:
-      start_scan(*valid, std::move(header));
+      start_scan(*valid, caller, std::move(header));
       break;
     case RequestAction::acquire_lease:
     case RequestAction::renew_lease:
@@ -76,22 +76,26 @@ void RequestHandler::submit_command(const ValidRequest& valid, const Caller& cal
                             ? parts_.leases.blocking_holder_on_bus(valid.bus, caller.id)
                             : parts_.leases.blocking_holder(hand, caller.id);
     if (holder) {
-      auto reply = make_reply(
-          header, msg::DENIED,
-          lease_refusal(hand_text(header.hand.bus(), valid.can_id), *holder,
-                        "only it may send " + command_name(header.command),
-                        parts_.leases.held_by(hand, header.client_id)));
+      auto reply = make_reply(header, msg::DENIED,
+                              lease_refusal(hand_text(header.hand.bus(), valid.can_id), *holder,
+                                            "only it may send " + command_name(header.command),
+                                            parts_.leases.held_by(hand, header.client_id)));
       reply.lease_holder(*holder);
       if (valid.can_id != 0) parts_.statuses.attach_to(reply, valid.bus, valid.can_id);
       parts_.replies.write(reply);
       return;
     }
   }
+  auto ticket = take_slot(caller, header);
+  if (!ticket) return;
   const std::uint8_t can_id = valid.can_id;
   const std::uint16_t bus = valid.bus;
   parts_.schedulers[bus]->submit(
       can_id, valid.command,
-      [this, bus, can_id, header = std::move(header)](const hand::CommandResult& result) {
+      [this, bus, can_id, header = std::move(header),
+       ticket = std::move(*ticket)](const hand::CommandResult& result) mutable {
+        // Free before the reply goes: its client may send the next at once.
+        ticket = {};
         msg::CommandReply reply;
         if (result) {
           reply = make_reply(header, msg::OK);
@@ -109,9 +113,22 @@ void RequestHandler::submit_command(const ValidRequest& valid, const Caller& cal
       });
 }
 
-void RequestHandler::start_scan(const ValidRequest& valid, ReplyHeader header) {
+std::optional<ClientShare::Ticket> RequestHandler::take_slot(const Caller& caller,
+                                                             const ReplyHeader& header) {
+  auto ticket = parts_.share.admit(caller.id, caller.shown_as);
+  if (ticket) return std::move(ticket).value();
+  auto reply = make_reply(header, msg::BUSY, std::move(ticket).error());
+  parts_.replies.write(reply);
+  return std::nullopt;
+}
+
+void RequestHandler::start_scan(const ValidRequest& valid, const Caller& caller,
+                                ReplyHeader header) {
+  auto ticket = take_slot(caller, header);
+  if (!ticket) return;
   auto scan = std::make_shared<PendingScan>();
   scan->header = std::move(header);
+  scan->ticket = std::move(*ticket);
   {
     std::lock_guard lock(scans_mutex_);
     scans_.push_back(scan);
@@ -139,6 +156,7 @@ void RequestHandler::finish_scan(const std::shared_ptr<PendingScan>& scan, msg::
     std::lock_guard lock(scans_mutex_);
     std::erase(scans_, scan);
   }
+  scan->ticket = {};
   auto reply = make_reply(scan->header, code, std::move(message));
   reply.found_ids().assign(found.begin(), found.end());
   parts_.replies.write(reply);
@@ -168,9 +186,10 @@ void RequestHandler::handle_lease(const ValidRequest& valid, const Caller& calle
           std::chrono::duration_cast<std::chrono::milliseconds>(valid.lease_ttl).count()));
       break;
     case LeaseOutcome::held_by_other:
-      reply = make_reply(header, msg::DENIED,
-                         lease_refusal(who, answer.holder, command_name(header.command) + " refused",
-                                       parts_.leases.held_by(hand, header.client_id)));
+      reply =
+          make_reply(header, msg::DENIED,
+                     lease_refusal(who, answer.holder, command_name(header.command) + " refused",
+                                   parts_.leases.held_by(hand, header.client_id)));
       break;
     case LeaseOutcome::not_held:
       reply = make_reply(header, msg::DENIED,

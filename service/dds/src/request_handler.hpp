@@ -9,9 +9,11 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "client_share.hpp"
 #include "dh3/contract/dh3.h"
 #include "dh3/dds/service.hpp"
 #include "dh3/hand/bus_scheduler.hpp"
@@ -59,6 +61,8 @@ class RequestHandler {
     StatusPublisher& statuses;
     ReplySink& replies;
     ExpiryTimer& timer;
+    /// Bounds each caller's commands and scans in flight (BUSY beyond).
+    ClientShare& share;
   };
   explicit RequestHandler(Parts parts) : parts_(parts) {}
   RequestHandler(const RequestHandler&) = delete;
@@ -73,11 +77,15 @@ class RequestHandler {
  private:
   struct PendingScan {
     ReplyHeader header;
+    ClientShare::Ticket ticket;  ///< freed when it is answered
     std::atomic<bool> answered{false};
   };
 
   void submit_command(const ValidRequest& valid, const Caller& caller, ReplyHeader header);
-  void start_scan(const ValidRequest& valid, ReplyHeader header);
+  void start_scan(const ValidRequest& valid, const Caller& caller, ReplyHeader header);
+  /// A slot of the caller's share for a request that will be in flight, or
+  /// nullopt when it was answered BUSY instead.
+  std::optional<ClientShare::Ticket> take_slot(const Caller& caller, const ReplyHeader& header);
   void finish_scan(const std::shared_ptr<PendingScan>& scan, msg::ResultCode code,
                    const std::vector<std::uint8_t>& found, std::string message);
   void handle_lease(const ValidRequest& valid, const Caller& caller, const ReplyHeader& header);

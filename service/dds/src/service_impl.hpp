@@ -3,14 +3,15 @@
 // owns the participant and its endpoints, the buses' schedulers, and wires
 // the parts that do the work: StatusPublisher (statuses, events, service
 // info), ReplyChannel (replies and their gates), RequestHandler and
-// GroupCommands (requests), LeaseTable and the ExpiryTimer (leases),
-// ParticipantNames (how lease holders are shown).
+// GroupCommands (requests), ClientShare (each client's requests in flight),
+// LeaseTable and the ExpiryTimer (leases), ParticipantNames (how lease
+// holders are shown).
 //
 // Locks. dispatch_mutex_ (here) is outermost: one request or group request at
 // a time, and stop() takes it to know none is in flight. Under it a request
 // may take a bus's status mutex (StatusPublisher), and under that the status
 // write and info mutexes. The scans mutex (RequestHandler), each group's
-// mutex (GroupCommands), the lease table's and the reply gates' are leaves,
+// mutex (GroupCommands), the lease table's, the client share's and the reply gates' are leaves,
 // never held while a sample is written; the timer's mutex is held only around
 // the lease table's and gates' next_expiry(). Fast DDS writes happen under
 // dispatch_mutex_ (an answer given at once) and under a bus's status mutex
@@ -191,9 +192,10 @@ class Service::Impl {
   ReplyChannel replies_{clock_, options_.test_seam_tracer, [this] { timer_.wake(); }};
   StatusPublisher statuses_{options_, clock_, leases_, directory_};
   ExpiryTimer timer_;
+  ClientShare share_;  ///< before requests_: the tickets in its completions point here
   RequestHandler requests_{
-      {options_, directory_, leases_, schedulers_, statuses_, replies_, timer_}};
-  GroupCommands groups_{{options_, clock_, directory_, leases_, schedulers_, replies_}};
+      {options_, directory_, leases_, schedulers_, statuses_, replies_, timer_, share_}};
+  GroupCommands groups_{{options_, clock_, directory_, leases_, schedulers_, replies_, share_}};
 
   ParticipantListener participant_listener_{*this};
   RequestListener request_listener_{*this};
@@ -212,8 +214,12 @@ class Service::Impl {
   fdds::DataReader* group_request_reader_ = nullptr;
 
   std::mutex dispatch_mutex_;
-  bool stopping_ = false;            ///< under dispatch_mutex_
-  msg::CommandRequest request_;      ///< reused by the listener thread
+  bool stopping_ = false;  ///< under dispatch_mutex_
+  /// Requests taken from the reader and served together, at most
+  /// kIntakeBatch: a few hundred bytes each, and enough that a flood taken
+  /// ahead of another client's request still shares the batch with it.
+  std::vector<msg::CommandRequest> intake_;  ///< reused by the listener thread
+  static constexpr std::size_t kIntakeBatch = 64;
   msg::GroupRequest group_request_;  ///< reused by the group listener thread
 
   bool started_ = false;

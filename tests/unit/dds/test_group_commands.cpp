@@ -83,7 +83,8 @@ class GroupCommandsRefusalTest : public ::testing::Test {
   HandDirectory directory_;
   Schedulers schedulers_;  // no bus runs: only answers given at once are tested
   RecordingReplySink sink_;
-  GroupCommands groups_{{options_, clock_, directory_, leases_, schedulers_, sink_}};
+  ClientShare share_;
+  GroupCommands groups_{{options_, clock_, directory_, leases_, schedulers_, sink_, share_}};
 };
 
 TEST_F(GroupCommandsRefusalTest, AnotherServicesGroupIsNotAnswered) {

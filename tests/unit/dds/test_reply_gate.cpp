@@ -1,7 +1,8 @@
 // dds/reply_gate: a reply waits for its client's reply reader to match, at
 // most the hold limit; replies to unknown clients, or to clients whose reader
-// matched, pass at once. Every test runs for both gates the service keeps:
-// command replies and group replies.
+// matched, pass at once; a client that never matches gets at most its cap of
+// replies held, the gate at most its total. Every test runs for both gates
+// the service keeps: command replies and group replies.
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -19,6 +20,7 @@ namespace {
 using std::chrono::seconds;
 
 constexpr Duration kHoldLimit = seconds(60);
+constexpr HoldCaps kCaps{.per_client = 3, .total = 5};
 
 template <typename Reply>
 Reply reply_to(const std::string& client_id, std::uint64_t seq) {
@@ -39,12 +41,15 @@ template <typename Reply>
 class ReplyGateTest : public ::testing::Test {
  protected:
   GateOutcome admit(const std::string& client_id, std::uint64_t seq) {
+    return admit_with(client_id, seq).outcome;
+  }
+  Admission admit_with(const std::string& client_id, std::uint64_t seq) {
     auto reply = reply_to<Reply>(client_id, seq);
     return gate_.admit(reply);
   }
 
   FakeClock clock_;
-  ReplyGate<Reply> gate_{clock_, kHoldLimit};
+  ReplyGate<Reply> gate_{clock_, kHoldLimit, kCaps};
 };
 
 using ReplyTypes = ::testing::Types<msg::CommandReply, msg::GroupReply>;
@@ -119,6 +124,68 @@ TYPED_TEST(ReplyGateTest, StoppingTakesEveryHeldReply) {
   this->admit("bb", 2);
   EXPECT_THAT(seqs(this->gate_.take_all()), ::testing::ElementsAre(1u, 2u));
   EXPECT_EQ(this->gate_.held(), 0u);
+}
+
+TYPED_TEST(ReplyGateTest, AClientThatNeverMatchesHasAtMostItsCapHeldTheOldestDropped) {
+  this->gate_.participant_joined("flood");
+  for (std::uint64_t seq = 1; seq <= 3; ++seq) {
+    EXPECT_FALSE(this->admit_with("flood", seq).dropped) << "request " << seq;
+  }
+  for (std::uint64_t seq = 4; seq <= 10; ++seq) {
+    const Admission admission = this->admit_with("flood", seq);
+    EXPECT_EQ(admission.outcome, GateOutcome::held);
+    ASSERT_TRUE(admission.dropped);
+    EXPECT_EQ(admission.dropped->client_id, "flood");
+    EXPECT_EQ(admission.dropped->request_seq, seq - 3);
+    // 1 the first time: the caller logs once per client.
+    EXPECT_EQ(admission.dropped->client_drops, seq - 3);
+    EXPECT_FALSE(admission.dropped->over_total);
+  }
+  EXPECT_EQ(this->gate_.held(), 3u);
+  EXPECT_EQ(this->gate_.dropped("flood"), 7u);
+  EXPECT_EQ(this->gate_.dropped(), 7u);
+  // A late reader gets the newest, which its client still waits for.
+  EXPECT_THAT(seqs(this->gate_.reader_matched("flood", true)), ::testing::ElementsAre(8u, 9u, 10u));
+}
+
+TYPED_TEST(ReplyGateTest, OverTheTotalTheClientHoldingTheMostLosesItsOldestNeverAnothersFew) {
+  for (const char* id : {"flood", "slow", "late"}) this->gate_.participant_joined(id);
+  this->admit("slow", 1);
+  this->admit("flood", 10);
+  this->admit("flood", 11);
+  this->admit("flood", 12);
+  this->admit("late", 20);
+  EXPECT_EQ(this->gate_.held(), 5u);
+  const Admission admission = this->admit_with("late", 21);
+  ASSERT_TRUE(admission.dropped);
+  EXPECT_EQ(admission.dropped->client_id, "flood");
+  EXPECT_EQ(admission.dropped->request_seq, 10u);
+  EXPECT_TRUE(admission.dropped->over_total);
+  EXPECT_EQ(this->gate_.held(), 5u);
+  EXPECT_EQ(this->gate_.dropped("slow"), 0u);
+  EXPECT_THAT(seqs(this->gate_.reader_matched("slow", true)), ::testing::ElementsAre(1u));
+  EXPECT_THAT(seqs(this->gate_.reader_matched("late", true)), ::testing::ElementsAre(20u, 21u));
+}
+
+TYPED_TEST(ReplyGateTest, HeldRepliesReleasedExpiredOrLeftFreeTheirRoomInTheTotal) {
+  for (const char* id : {"aa", "bb", "cc"}) this->gate_.participant_joined(id);
+  this->admit("aa", 1);
+  this->admit("aa", 2);
+  this->admit("bb", 3);
+  this->clock_.advance(kHoldLimit);
+  this->admit("bb", 4);
+  this->admit("cc", 5);
+  EXPECT_THAT(seqs(this->gate_.expire()), ::testing::ElementsAre(1u, 2u, 3u));
+  this->gate_.reader_matched("bb", true);
+  this->gate_.participant_left("cc");
+  EXPECT_EQ(this->gate_.held(), 0u);
+  this->gate_.participant_joined("dd");
+  for (std::uint64_t seq = 6; seq <= 8; ++seq) this->admit("dd", seq);
+  this->gate_.participant_joined("ee");
+  this->admit("ee", 9);
+  this->admit("ee", 10);
+  EXPECT_EQ(this->gate_.held(), 5u);
+  EXPECT_EQ(this->gate_.dropped(), 0u);
 }
 
 }  // namespace

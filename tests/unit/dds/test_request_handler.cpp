@@ -74,7 +74,9 @@ class RequestHandlerTest : public ::testing::Test {
   StatusPublisher statuses_{options_, clock_, leases_, directory_};
   RecordingReplySink sink_;
   ExpiryTimer timer_{[] { return std::optional<TimePoint>{}; }, [] {}};
-  RequestHandler handler_{{options_, directory_, leases_, schedulers_, statuses_, sink_, timer_}};
+  ClientShare share_;
+  RequestHandler handler_{
+      {options_, directory_, leases_, schedulers_, statuses_, sink_, timer_, share_}};
 };
 
 TEST_F(RequestHandlerTest, AnotherServicesRequestIsNotAnswered) {
@@ -146,8 +148,8 @@ TEST_F(RequestHandlerTest, AClientIdNamingTheHolderFromAnotherParticipantIsDenie
   const auto taken = answer(request(msg::ACQUIRE_LEASE, 2000, holder.id), false, holder);
   ASSERT_EQ(taken.code(), msg::OK);
   for (const auto command : {msg::MOVE, msg::ACQUIRE_LEASE, msg::RENEW_LEASE, msg::RELEASE_LEASE}) {
-    const auto forged = answer(request(command, command == msg::MOVE ? 30 : 2000, "0A.1B.2C"),
-                               false, forger);
+    const auto forged =
+        answer(request(command, command == msg::MOVE ? 30 : 2000, "0A.1B.2C"), false, forger);
     EXPECT_EQ(forged.code(), msg::DENIED) << command;
     EXPECT_THAT(forged.message(), HasSubstr("is leased by client 'dh3-web@cell-pc'")) << command;
     EXPECT_THAT(forged.message(), HasSubstr("a lease belongs to the participant that took it"))
