@@ -50,8 +50,10 @@ class RosServiceServer : private eprosima::fastdds::dds::DataReaderListener {
   [[nodiscard]] bool ok() const { return writer_ != nullptr && reader_ != nullptr; }
 
   /// Writes the reply to request `id`. Like rmw_fastrtps, it first waits a
-  /// little for the reply writer to match the client's reply reader, so a
-  /// client that just appeared does not miss it.
+  /// while for the reply writer to match the client's reply reader, so a
+  /// client that just appeared does not miss it: the client sees its own
+  /// endpoints matched before this side may, and on a loaded machine a
+  /// one-second wait left a goal unanswered.
   bool reply(const RequestId& id, Reply reply) {
     wait_for_reader(id.writer_guid());
     eprosima::fastrtps::rtps::WriteParams params;
@@ -60,7 +62,7 @@ class RosServiceServer : private eprosima::fastdds::dds::DataReaderListener {
   }
 
  private:
-  static constexpr auto kMatchWait = std::chrono::milliseconds(1000);
+  static constexpr auto kMatchWait = std::chrono::milliseconds(3000);
   static constexpr auto kMatchPoll = std::chrono::milliseconds(5);
 
   void wait_for_reader(const eprosima::fastrtps::rtps::GUID_t& reader) {
