@@ -29,8 +29,9 @@ SERVICE = f"web{os.getpid()}"
 
 def sim_config(position_speed: int = 100) -> str:
     """Three hands on bus0; hand 1 ("left") holds an object at 40; hand 4 is
-    configured but not there (offline)."""
-    return f"""buses:
+    configured but not there (offline). CAN ID and baud-rate changes allowed."""
+    return f"""allow_admin: true
+buses:
   - name: bus0
     spec: sim:1,2,3
     command_interval_ms: 2
