@@ -415,3 +415,30 @@ def test_a_frozen_service_is_stale_and_a_killed_one_lost(cell, browser):
              and alarm(d, key).get_attribute("class") == "active")
     assert f"Service {SERVICE} lost: its hands take no commands" in alarm(browser, key).text
     acknowledge(browser, key)
+
+
+def test_a_service_without_admin_commands_has_them_off_with_the_reason(cell, browser):
+    """After the module's service is gone: a cell of its own."""
+    name = SERVICE + "noadmin"
+    with service_and_web(allow_admin=False, name=name) as other:
+        browser.get(other.url)
+        use_token(browser, TOKEN)
+        address = f"{name}/bus0/1"
+        wait_for(browser, "its hand 1 online", lambda d: d.find_elements(
+            By.CSS_SELECTOR, f'article[data-hand="{address}"]') and d.find_element(
+            By.CSS_SELECTOR, f'article[data-hand="{address}"] [data-field="online"]').text == "online")
+        wait_for(browser, "the token accepted", lambda d: d.find_element(
+            By.ID, "token-state").text.startswith("Token accepted"))
+        panel = f'article.service[data-service="{name}"]'
+        wait_for(browser, "admin not allowed in its health", lambda d: d.find_element(
+            By.CSS_SELECTOR, f'{panel} [data-field="admin"]').text == "not allowed (its allow_admin is off)")
+        Select(browser.find_element(By.ID, "commission-hand")).select_by_value(address)
+        wait_for(browser, "the reason", lambda d: d.find_element(By.ID, "admin-blocked").text ==
+                 f"CAN ID and baud rate off: admin only: service {name} does not allow CAN ID and "
+                 "baud-rate changes (allow_admin)")
+        for command in ("set-can-id", "set-baud"):
+            assert not browser.find_element(
+                By.CSS_SELECTOR, f'button[data-commission="{command}"]').is_enabled(), command
+        for command in ("scan", "versions", "read", "force"):
+            assert browser.find_element(
+                By.CSS_SELECTOR, f'button[data-commission="{command}"]').is_enabled(), command

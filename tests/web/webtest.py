@@ -27,10 +27,11 @@ DOMAIN = pick_domain()
 SERVICE = f"web{os.getpid()}"
 
 
-def sim_config(position_speed: int = 100) -> str:
+def sim_config(position_speed: int = 100, allow_admin: bool = True) -> str:
     """Three hands on bus0; hand 1 ("left") holds an object at 40; hand 4 is
-    configured but not there (offline). CAN ID and baud-rate changes allowed."""
-    return f"""allow_admin: true
+    configured but not there (offline). CAN ID and baud-rate changes allowed
+    unless `allow_admin` is False."""
+    return f"""allow_admin: {str(allow_admin).lower()}
 buses:
   - name: bus0
     spec: sim:1,2,3
@@ -83,18 +84,18 @@ class Cell:
 
 
 @contextlib.contextmanager
-def service_and_web(position_speed: int = 100):
-    """dh3-service and dh3-web (commands with TOKEN); yields the Cell."""
+def service_and_web(position_speed: int = 100, allow_admin: bool = True, name: str = SERVICE):
+    """dh3-service (named `name`) and dh3-web (commands with TOKEN); yields the Cell."""
     with tempfile.TemporaryDirectory(prefix="dh3-web-test-") as tmp:
         config = os.path.join(tmp, "sim.yaml")
         token = os.path.join(tmp, "token")
         with open(config, "w") as f:
-            f.write(sim_config(position_speed))
+            f.write(sim_config(position_speed, allow_admin))
         with open(token, "w") as f:
             f.write(TOKEN + "\n")
         os.chmod(token, 0o600)  # dh3-web refuses a token others may read
         service = subprocess.Popen(
-            [os.environ["DH3_SERVICE"], "--domain", str(DOMAIN), "--name", SERVICE,
+            [os.environ["DH3_SERVICE"], "--domain", str(DOMAIN), "--name", name,
              "--config", config, "--log-level", "warn"], stdin=subprocess.DEVNULL)
         web = None
         try:
