@@ -39,6 +39,7 @@ let token = sessionStorage.getItem("dh3-token") || "";
 let tokenState = token ? "unknown" : "none";
 let consoleName = "";        // how the services show this console as a lease holder
 let consoleHealth = null;    // dh3-web's /api/health
+let healthError = "asking…"; // why there is no consoleHealth
 let stream = {open: false, lastChunk: 0, error: "connecting…"};
 
 function headers(extra) {
@@ -264,7 +265,7 @@ function showServiceHealth(info) {
 
 function showConsoleHealth() {
   const h = consoleHealth;
-  const text = h === null ? "dh3-web: no answer to /api/health"
+  const text = h === null ? "dh3-web's health: " + healthError
       : "dh3-web " + (h.console || "") + " on DDS domain " + h.domain + ": " +
         (h.connected ? "connected" : "NOT connected to the domain") +
         ", services ready: " + h.services_ready + ", hands seen: " + h.hands + "; commands " +
@@ -856,12 +857,13 @@ async function checkToken() {
 async function loadHealth() {
   try {
     const response = await fetch("/api/health", {headers: headers()});
-    if (response.ok) {
-      consoleHealth = await response.json();
-      consoleName = consoleHealth.console || consoleName;
-    }
+    const reply = await response.json();
+    consoleHealth = response.ok ? reply : null;
+    if (response.ok) consoleName = reply.console || consoleName;
+    else healthError = "HTTP " + response.status + ": " + reply.message;
   } catch (err) {
-    consoleHealth = null;  // the stream's own error says that dh3-web is not there
+    consoleHealth = null;
+    healthError = "no answer from dh3-web (" + err.message + ")";
   }
   showConsoleHealth();
 }
@@ -873,6 +875,7 @@ document.getElementById("token-form").addEventListener("submit", (event) => {
   if (token) sessionStorage.setItem("dh3-token", token);
   else sessionStorage.removeItem("dh3-token");
   checkToken();
+  loadHealth();
   streamForever();
 });
 document.getElementById("stop-all").addEventListener("click", stopAll);
