@@ -10,15 +10,18 @@ one's lost. The health panel shows each service's host, version, domain,
 admin and buses; commissioning scans a bus, reads firmware and registers,
 sets forces, and asks before a CAN ID change (cancelled: nothing sent);
 alarms list an offline hand, a failed command and a lost service until
-acknowledged.
+acknowledged, and on a transfer box (dh3-sim) a dropped object and the bus
+going down too; a service that allows no admin commands has them off, with
+the reason.
 
 Needs chromium, chromium-driver and python3-selenium (deploy/install-deps.sh).
-DH3_SERVICE, DH3_WEB and DH3CTL name the programs (ctest sets them);
+DH3_SERVICE, DH3_WEB, DH3CTL and DH3_SIM name the programs (ctest sets them);
 DH3_WEB_SCREENSHOTS=DIR keeps the pictures there (ctest: the build tree)."""
 
 import os
 import re
 import signal
+import subprocess
 import sys
 import urllib.request
 
@@ -87,13 +90,23 @@ def requests_written(url: str) -> int:
 
 
 def alarm(driver, key: str):
-    """The alarm listed under `key`, or None."""
-    found = driver.find_elements(By.CSS_SELECTOR, f'#alarms li[data-alarm="{key}"]')
-    return found[0] if found else None
+    """The alarm listed under `key` as {"state": "active" or "over", "text"},
+    or None; read in one go in the page, which may be updating the list."""
+    return driver.execute_script("""
+        const item = [...document.querySelectorAll('#alarms li')].find((i) => i.dataset.alarm === arguments[0]);
+        return item ? {state: item.className, text: item.textContent} : null;""", key)
+
+
+def alarm_keys(driver, prefix: str) -> list:
+    return driver.execute_script("""
+        return [...document.querySelectorAll('#alarms li')].map((i) => i.dataset.alarm)
+            .filter((key) => key.startsWith(arguments[0]));""", prefix)
 
 
 def acknowledge(driver, key: str) -> None:
-    alarm(driver, key).find_element(By.TAG_NAME, "button").click()
+    driver.execute_script("""
+        [...document.querySelectorAll('#alarms li')].find((i) => i.dataset.alarm === arguments[0])
+            .querySelector('button').click();""", key)
     wait_for(driver, f"alarm {key} gone", lambda d: alarm(d, key) is None)
 
 
@@ -170,8 +183,8 @@ def test_the_health_panel_shows_each_service(cell, browser):
 def test_an_offline_hand_is_an_alarm_until_acknowledged(cell, browser):
     key = f"offline:{hand(4)}"
     wait_for(browser, "hand 4's alarm", lambda d: alarm(d, key) is not None)
-    assert alarm(browser, key).get_attribute("class") == "active"
-    assert f"hand {hand(4)} (absent) OFFLINE: the hand does not answer" in alarm(browser, key).text
+    assert alarm(browser, key)["state"] == "active"
+    assert f"hand {hand(4)} (absent) OFFLINE: the hand does not answer" in alarm(browser, key)["text"]
     assert browser.find_element(By.ID, "alarm-summary").text.startswith("ALARMS: ")
     acknowledge(browser, key)
     # Still offline: not raised again while the condition lasts.
@@ -218,11 +231,11 @@ def test_a_grasp_shows_on_the_card_and_the_log_and_another_client_is_followed(ce
 
 
 def test_a_failed_command_is_an_alarm_until_acknowledged(cell, browser):
-    failed = [item for item in browser.find_elements(By.CSS_SELECTOR, "#alarms li")
-              if item.get_attribute("data-alarm").startswith("command:")]
+    failed = alarm_keys(browser, "command:")
     assert len(failed) == 1
-    assert f"Command to hand {hand(3)} failed: Error in move (HTTP 409 NOT_INITIALIZED)" in failed[0].text
-    acknowledge(browser, failed[0].get_attribute("data-alarm"))
+    assert (f"Command to hand {hand(3)} failed: Error in move (HTTP 409 NOT_INITIALIZED)"
+            in alarm(browser, failed[0])["text"])
+    acknowledge(browser, failed[0])
 
 
 def test_the_log_says_where_motions_stopped_in_the_cards_words(cell, browser):
@@ -411,9 +424,8 @@ def test_a_frozen_service_is_stale_and_a_killed_one_lost(cell, browser):
     assert not button(browser, 1, "move").is_enabled()
     assert "its service is lost" in cell_text(browser, 1, "blocked")
     key = f"service:{SERVICE}"
-    wait_for(browser, "the service's alarm", lambda d: alarm(d, key) is not None
-             and alarm(d, key).get_attribute("class") == "active")
-    assert f"Service {SERVICE} lost: its hands take no commands" in alarm(browser, key).text
+    wait_for(browser, "the service's alarm", lambda d: (alarm(d, key) or {}).get("state") == "active")
+    assert f"Service {SERVICE} lost: its hands take no commands" in alarm(browser, key)["text"]
     acknowledge(browser, key)
 
 
@@ -442,3 +454,65 @@ def test_a_service_without_admin_commands_has_them_off_with_the_reason(cell, bro
         for command in ("scan", "versions", "read", "force"):
             assert browser.find_element(
                 By.CSS_SELECTOR, f'button[data-commission="{command}"]').is_enabled(), command
+
+
+def box_config(port: int) -> str:
+    """Hand 2 behind a transfer box (dh3-sim on `port`)."""
+    return f"""buses:
+  - name: bus0
+    spec: tcp:127.0.0.1:{port}
+    command_interval_ms: 2
+    poll_interval_moving_ms: 20
+    poll_interval_idle_ms: 50
+    hands:
+      - {{id: 2, name: holder}}
+"""
+
+
+def tell(sim: subprocess.Popen, line: str) -> None:
+    """One line to dh3-sim's standard input; its answer must be ok."""
+    sim.stdin.write(line + "\n")
+    sim.stdin.flush()
+    answer = sim.stdout.readline()
+    assert answer.startswith("ok"), f"{line}: {answer}"
+
+
+def test_a_dropped_object_and_a_bus_down_are_alarms(cell, browser):
+    """After the module's service is gone: a cell of its own, on a transfer box."""
+    sim = subprocess.Popen([os.environ["DH3_SIM"], "--listen", "127.0.0.1:0", "--hands", "2",
+                            "--object", "2:40"], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                           stderr=subprocess.DEVNULL, text=True)
+    try:
+        line = sim.stdout.readline()
+        assert line.startswith("listening 127.0.0.1:"), line
+        port = int(line.split(":")[-1])
+        name = SERVICE + "box"
+        with service_and_web(name=name, config_text=box_config(port)) as other:
+            address = f"{name}/bus0/2"
+            card_of = f'article[data-hand="{address}"]'
+            browser.get(other.url)
+            wait_for(browser, "hand 2 online", lambda d: d.find_elements(By.CSS_SELECTOR, card_of)
+                     and d.find_element(By.CSS_SELECTOR, f'{card_of} [data-field="online"]').text
+                     == "online")
+            assert api(other.url, f"/api/hands/{address}/init", {})[0] == 200
+            status, reply = api(other.url, f"/api/hands/{address}/grasp", {"force": 40})
+            assert status == 200 and reply["grasp"] == "GRASPED", reply
+            tell(sim, "drop 2")
+            wait_for(browser, "the drop's alarm", lambda d: alarm_keys(d, f"event:{address}:"))
+            drop = alarm_keys(browser, f"event:{address}:")[0]
+            assert (f"hand {address} (holder) DROPPED: the object fell from the fingers"
+                    in alarm(browser, drop)["text"])
+            acknowledge(browser, drop)
+
+            tell(sim, "quit")
+            sim.wait(timeout=DEADLINE)
+            key = f"bus:{name}/bus0"
+            wait_for(browser, "the bus's alarm", lambda d: alarm(d, key) is not None)
+            assert (f"Bus {name}/bus0 down (tcp:127.0.0.1:{port}): its hands cannot be reached"
+                    in alarm(browser, key)["text"])
+            wait_for(browser, "the link DOWN in the health panel", lambda d: d.find_element(
+                By.CSS_SELECTOR, f'article.service[data-service="{name}"] [data-field="buses"]')
+                .text.startswith(f"bus0 (tcp:127.0.0.1:{port}): link DOWN"))
+            acknowledge(browser, key)
+    finally:
+        stop(sim)

@@ -511,22 +511,28 @@ function acknowledge(key) {
   showAlarms();
 }
 
+/// Updates the list in place: an item, and the button under the operator's
+/// finger, stays the same element while its alarm lasts.
 function showAlarms() {
   const list = document.getElementById("alarms");
-  list.replaceChildren(...[...alarms.entries()].sort((a, b) => b[1].since - a[1].since).map(([key, alarm]) => {
-    const item = document.createElement("li");
-    item.dataset.alarm = key;
+  const items = new Map([...list.children].map((item) => [item.dataset.alarm, item]));
+  items.forEach((item, key) => { if (!alarms.has(key)) item.remove(); });
+  [...alarms.entries()].sort((a, b) => b[1].since - a[1].since).forEach(([key, alarm], i) => {
+    let item = items.get(key);
+    if (!item) {
+      item = document.createElement("li");
+      item.dataset.alarm = key;
+      const button = document.createElement("button");
+      button.type = "button";
+      button.textContent = "Acknowledge";
+      button.addEventListener("click", () => acknowledge(key));
+      item.append(document.createElement("span"), " ", button);
+    }
     item.className = alarm.active ? "active" : "over";
-    const words = document.createElement("span");
-    words.textContent = timeOfDay(alarm.since) + " " + alarm.text +
-        (alarm.active ? "" : " (over since " + timeOfDay(alarm.over) + ")");
-    const button = document.createElement("button");
-    button.type = "button";
-    button.textContent = "Acknowledge";
-    button.addEventListener("click", () => acknowledge(key));
-    item.append(words, " ", button);
-    return item;
-  }));
+    setText(item.firstChild, timeOfDay(alarm.since) + " " + alarm.text +
+            (alarm.active ? "" : " (over since " + timeOfDay(alarm.over) + ")"));
+    if (list.children[i] !== item) list.insertBefore(item, list.children[i] || null);
+  });
   document.getElementById("no-alarms").hidden = alarms.size > 0;
   const active = [...alarms.values()].filter((alarm) => alarm.active).length;
   const summary = document.getElementById("alarm-summary");
