@@ -6,24 +6,33 @@ reload; an emptied or invalid field sends nothing; an offline hand and a hand
 leased by another client take no commands, with the reason; STOP ALL stays
 in view and nothing is beyond the right edge at 1280, 800 and 400 px
 (screenshots kept); a frozen service's hands are marked not live, a killed
-one's lost.
+one's lost. The health panel shows each service's host, version, domain,
+admin and buses; commissioning scans a bus, reads firmware and registers,
+sets forces, and asks before a CAN ID change (cancelled: nothing sent);
+alarms list an offline hand, a failed command and a lost service until
+acknowledged, and on a transfer box (dh3-sim) a dropped object and the bus
+going down too; a service that allows no admin commands has them off, with
+the reason.
 
 Needs chromium, chromium-driver and python3-selenium (deploy/install-deps.sh).
-DH3_SERVICE, DH3_WEB and DH3CTL name the programs (ctest sets them);
+DH3_SERVICE, DH3_WEB, DH3CTL and DH3_SIM name the programs (ctest sets them);
 DH3_WEB_SCREENSHOTS=DIR keeps the pictures there (ctest: the build tree)."""
 
 import os
+import re
 import signal
+import subprocess
 import sys
 import urllib.request
 
 import pytest
 from selenium.webdriver.common.by import By
+from selenium.webdriver.support.ui import Select
 from selenium.webdriver.support.ui import WebDriverWait
 
 sys.path.insert(0, os.path.dirname(__file__))
-from webtest import (DEADLINE, TOKEN, api, dh3ctl, hand, headless_chromium,  # noqa: E402
-                     service_and_web, start_web, stop)
+from webtest import (DEADLINE, DOMAIN, SERVICE, TOKEN, api, dh3ctl, hand,  # noqa: E402
+                     headless_chromium, service_and_web, start_web, stop)
 
 PAGE_LIMIT = 100 * 1024
 
@@ -80,6 +89,41 @@ def requests_written(url: str) -> int:
     return health["requests_written"]
 
 
+def alarm(driver, key: str):
+    """The alarm listed under `key` as {"state": "active" or "over", "text"},
+    or None; read in one go in the page, which may be updating the list."""
+    return driver.execute_script("""
+        const item = [...document.querySelectorAll('#alarms li')].find((i) => i.dataset.alarm === arguments[0]);
+        return item ? {state: item.className, text: item.textContent} : null;""", key)
+
+
+def alarm_keys(driver, prefix: str) -> list:
+    return driver.execute_script("""
+        return [...document.querySelectorAll('#alarms li')].map((i) => i.dataset.alarm)
+            .filter((key) => key.startsWith(arguments[0]));""", prefix)
+
+
+def acknowledge(driver, key: str) -> None:
+    driver.execute_script("""
+        [...document.querySelectorAll('#alarms li')].find((i) => i.dataset.alarm === arguments[0])
+            .querySelector('button').click();""", key)
+    wait_for(driver, f"alarm {key} gone", lambda d: alarm(d, key) is None)
+
+
+def commission(driver, can_id: int, command: str) -> None:
+    """Selects the hand in the commissioning panel and clicks `command`."""
+    Select(driver.find_element(By.ID, "commission-hand")).select_by_value(hand(can_id))
+    button = driver.find_element(By.CSS_SELECTOR, f'button[data-commission="{command}"]')
+    wait_for(driver, f"{command} on", lambda d: button.is_enabled())
+    button.click()
+
+
+def commission_result(driver, command: str) -> str:
+    """The newest result of `command` in the commissioning panel ("" before any)."""
+    found = driver.find_elements(By.CSS_SELECTOR, f'#commission-results li[data-command="{command}"]')
+    return found[0].text if found else ""
+
+
 def open_page(driver, url: str) -> None:
     driver.get(url)
     wait_for(driver, "three hands online", lambda d: all(
@@ -114,6 +158,39 @@ def test_a_wrong_token_is_said_at_once_and_commands_stay_off(cell, browser):
     wait_for(browser, "the token accepted", lambda d: d.find_element(
         By.ID, "token-state").text.startswith("Token accepted"))
     wait_for(browser, "hand 1's buttons on", lambda d: button(d, 1, "init").is_enabled())
+
+
+def test_the_health_panel_shows_each_service(cell, browser):
+    status, listed = api(cell.url, "/api/hands")
+    assert status == 200, listed
+    info = next(s for s in listed["services"] if s["service"] == SERVICE)
+    assert info["host"]
+    panel = f'article.service[data-service="{SERVICE}"]'
+
+    def shown(d, name):
+        return d.find_element(By.CSS_SELECTOR, f'{panel} [data-field="{name}"]').text
+    wait_for(browser, "the service's card", lambda d: shown(d, "state") == "ready")
+    assert shown(browser, "host") == info["host"]
+    assert shown(browser, "version") == info["version"]
+    wait_for(browser, "the domain", lambda d: shown(d, "domain") == str(DOMAIN))
+    assert shown(browser, "admin") == "allowed"
+    wait_for(browser, "bus0, its link and its hands", lambda d: shown(d, "buses").startswith(
+        "bus0 (sim:1,2,3): link up; 3 of 4 hands online; hand 4 reports "))
+    assert "dh3_bus_load_percent" in browser.find_element(By.CSS_SELECTOR, f"{panel} .note").text
+    assert f"on DDS domain {DOMAIN}: connected" in browser.find_element(By.ID, "console-health").text
+
+
+def test_an_offline_hand_is_an_alarm_until_acknowledged(cell, browser):
+    key = f"offline:{hand(4)}"
+    wait_for(browser, "hand 4's alarm", lambda d: alarm(d, key) is not None)
+    assert alarm(browser, key)["state"] == "active"
+    assert f"hand {hand(4)} (absent) OFFLINE: the hand does not answer" in alarm(browser, key)["text"]
+    assert browser.find_element(By.ID, "alarm-summary").text.startswith("ALARMS: ")
+    acknowledge(browser, key)
+    # Still offline: not raised again while the condition lasts.
+    wait_for(browser, "the card still offline", lambda d: cell_text(d, 4, "online").startswith("OFFLINE"))
+    browser.execute_script("refresh();")
+    assert alarm(browser, key) is None
 
 
 def test_an_offline_hand_takes_no_commands(cell, browser):
@@ -151,6 +228,28 @@ def test_a_grasp_shows_on_the_card_and_the_log_and_another_client_is_followed(ce
     button(browser, 3, "move").click()
     wait_for(browser, "hand 3's refusal",
              lambda d: "Error in move (HTTP 409 NOT_INITIALIZED)" in cell_text(d, 3, "result"))
+
+
+def test_a_failed_command_is_an_alarm_until_acknowledged(cell, browser):
+    failed = alarm_keys(browser, "command:")
+    assert len(failed) == 1
+    assert (f"Command to hand {hand(3)} failed: Error in move (HTTP 409 NOT_INITIALIZED)"
+            in alarm(browser, failed[0])["text"])
+    acknowledge(browser, failed[0])
+
+
+def test_the_log_says_where_motions_stopped_in_the_cards_words(cell, browser):
+    # An event goes out on the status read that shows the end; where the
+    # fingers stopped may be read in the frame after it: the log then takes it
+    # from the status read just after the event.
+    def line(d, can_id, kind):
+        return next(text for text in log_lines(d) if hand(can_id) in text and f" {kind} " in text)
+    wait_for(browser, "where the grasp stopped", lambda d: re.search(
+        r"\(left\) GRASPED at position 40( \(read just after\))? with force 40$", line(d, 1, "GRASPED")))
+    wait_for(browser, "where the move stopped", lambda d: re.search(
+        r"\(right\) ARRIVED at position 30( \(read just after\))? \(target 30\)$", line(d, 2, "ARRIVED")))
+    grasped = line(browser, 1, "GRASPED")
+    assert cell_text(browser, 1, "grip") in grasped
 
 
 @pytest.mark.parametrize("text,problem", [
@@ -203,6 +302,52 @@ def test_a_hand_leased_by_another_client_takes_no_commands(cell, browser):
         wait_for(browser, "hand 3's buttons on again", lambda d: button(d, 3, "move").is_enabled())
     finally:
         stop(other)
+
+
+def test_a_scan_from_the_page_lists_the_hands(cell, browser):
+    commission(browser, 1, "scan")
+    wait_for(browser, "the scan's result", lambda d: commission_result(d, "scan").endswith(
+        f"{hand(1)} scan of bus {SERVICE}/bus0: hands 1, 2, 3 answered; configured but silent: 4"))
+
+
+def test_firmware_and_a_register_are_read_and_forces_set(cell, browser):
+    commission(browser, 2, "versions")
+    wait_for(browser, "the firmware", lambda d: "firmware: hand 1 " in commission_result(d, "versions"))
+    versions = commission_result(browser, "versions")
+    for can_id in (1, 2, 3):
+        assert f"hand {can_id} Error" not in versions
+    assert "hand 4 Error in version (HTTP 504 TIMEOUT)" in versions  # offline: said, not skipped
+    browser.find_element(By.ID, "register").clear()
+    browser.find_element(By.ID, "register").send_keys("position")
+    commission(browser, 2, "read")
+    wait_for(browser, "the register's value",
+             lambda d: commission_result(d, "read").endswith("read position: value 70"))
+    panel = browser.find_element(By.ID, "commission-title").find_element(By.XPATH, "..")
+    for name, value in (("closing", "60"), ("opening", "30")):
+        field = panel.find_element(By.CSS_SELECTOR, f'input[data-input="{name}"]')
+        field.clear()
+        field.send_keys(value)
+    commission(browser, 2, "force")
+    wait_for(browser, "the forces on the card", lambda d: cell_text(d, 2, "force") == "60 / 30")
+    assert commission_result(browser, "force").endswith("force: OK")
+
+
+def test_a_can_id_change_asks_first_and_sends_nothing_when_cancelled(cell, browser):
+    written = requests_written(cell.url)
+    panel = browser.find_element(By.ID, "commission-title").find_element(By.XPATH, "..")
+    field = panel.find_element(By.CSS_SELECTOR, 'input[data-input="can_id"]')
+    field.clear()
+    field.send_keys("9")
+    commission(browser, 3, "set-can-id")
+    dialog = browser.find_element(By.ID, "confirm")
+    wait_for(browser, "the confirmation", lambda d: dialog.get_attribute("open") is not None)
+    assert f"Change the CAN ID of hand {hand(3)} from 3 to 9?" in dialog.text
+    assert "must then be rebooted" in dialog.text
+    browser.find_element(By.ID, "confirm-cancel").click()
+    wait_for(browser, "cancelled", lambda d: commission_result(d, "set-can-id").endswith(
+        "set-can-id: not sent (cancelled)"))
+    assert dialog.get_attribute("open") is None
+    assert requests_written(cell.url) == written
 
 
 def beyond_the_right_edge(driver) -> list:
@@ -278,3 +423,96 @@ def test_a_frozen_service_is_stale_and_a_killed_one_lost(cell, browser):
         By.ID, "connection").text.startswith("NOT LIVE: service "))
     assert not button(browser, 1, "move").is_enabled()
     assert "its service is lost" in cell_text(browser, 1, "blocked")
+    key = f"service:{SERVICE}"
+    wait_for(browser, "the service's alarm", lambda d: (alarm(d, key) or {}).get("state") == "active")
+    assert f"Service {SERVICE} lost: its hands take no commands" in alarm(browser, key)["text"]
+    acknowledge(browser, key)
+
+
+def test_a_service_without_admin_commands_has_them_off_with_the_reason(cell, browser):
+    """After the module's service is gone: a cell of its own."""
+    name = SERVICE + "noadmin"
+    with service_and_web(allow_admin=False, name=name) as other:
+        browser.get(other.url)
+        use_token(browser, TOKEN)
+        address = f"{name}/bus0/1"
+        wait_for(browser, "its hand 1 online", lambda d: d.find_elements(
+            By.CSS_SELECTOR, f'article[data-hand="{address}"]') and d.find_element(
+            By.CSS_SELECTOR, f'article[data-hand="{address}"] [data-field="online"]').text == "online")
+        wait_for(browser, "the token accepted", lambda d: d.find_element(
+            By.ID, "token-state").text.startswith("Token accepted"))
+        panel = f'article.service[data-service="{name}"]'
+        wait_for(browser, "admin not allowed in its health", lambda d: d.find_element(
+            By.CSS_SELECTOR, f'{panel} [data-field="admin"]').text == "not allowed (its allow_admin is off)")
+        Select(browser.find_element(By.ID, "commission-hand")).select_by_value(address)
+        wait_for(browser, "the reason", lambda d: d.find_element(By.ID, "admin-blocked").text ==
+                 f"CAN ID and baud rate off: admin only: service {name} does not allow CAN ID and "
+                 "baud-rate changes (allow_admin)")
+        for command in ("set-can-id", "set-baud"):
+            assert not browser.find_element(
+                By.CSS_SELECTOR, f'button[data-commission="{command}"]').is_enabled(), command
+        for command in ("scan", "versions", "read", "force"):
+            assert browser.find_element(
+                By.CSS_SELECTOR, f'button[data-commission="{command}"]').is_enabled(), command
+
+
+def box_config(port: int) -> str:
+    """Hand 2 behind a transfer box (dh3-sim on `port`)."""
+    return f"""buses:
+  - name: bus0
+    spec: tcp:127.0.0.1:{port}
+    command_interval_ms: 2
+    poll_interval_moving_ms: 20
+    poll_interval_idle_ms: 50
+    hands:
+      - {{id: 2, name: holder}}
+"""
+
+
+def tell(sim: subprocess.Popen, line: str) -> None:
+    """One line to dh3-sim's standard input; its answer must be ok."""
+    sim.stdin.write(line + "\n")
+    sim.stdin.flush()
+    answer = sim.stdout.readline()
+    assert answer.startswith("ok"), f"{line}: {answer}"
+
+
+def test_a_dropped_object_and_a_bus_down_are_alarms(cell, browser):
+    """After the module's service is gone: a cell of its own, on a transfer box."""
+    sim = subprocess.Popen([os.environ["DH3_SIM"], "--listen", "127.0.0.1:0", "--hands", "2",
+                            "--object", "2:40"], stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                           stderr=subprocess.DEVNULL, text=True)
+    try:
+        line = sim.stdout.readline()
+        assert line.startswith("listening 127.0.0.1:"), line
+        port = int(line.split(":")[-1])
+        name = SERVICE + "box"
+        with service_and_web(name=name, config_text=box_config(port)) as other:
+            address = f"{name}/bus0/2"
+            card_of = f'article[data-hand="{address}"]'
+            browser.get(other.url)
+            wait_for(browser, "hand 2 online", lambda d: d.find_elements(By.CSS_SELECTOR, card_of)
+                     and d.find_element(By.CSS_SELECTOR, f'{card_of} [data-field="online"]').text
+                     == "online")
+            assert api(other.url, f"/api/hands/{address}/init", {})[0] == 200
+            status, reply = api(other.url, f"/api/hands/{address}/grasp", {"force": 40})
+            assert status == 200 and reply["grasp"] == "GRASPED", reply
+            tell(sim, "drop 2")
+            wait_for(browser, "the drop's alarm", lambda d: alarm_keys(d, f"event:{address}:"))
+            drop = alarm_keys(browser, f"event:{address}:")[0]
+            assert (f"hand {address} (holder) DROPPED: the object fell from the fingers"
+                    in alarm(browser, drop)["text"])
+            acknowledge(browser, drop)
+
+            tell(sim, "quit")
+            sim.wait(timeout=DEADLINE)
+            key = f"bus:{name}/bus0"
+            wait_for(browser, "the bus's alarm", lambda d: alarm(d, key) is not None)
+            assert (f"Bus {name}/bus0 down (tcp:127.0.0.1:{port}): its hands cannot be reached"
+                    in alarm(browser, key)["text"])
+            wait_for(browser, "the link DOWN in the health panel", lambda d: d.find_element(
+                By.CSS_SELECTOR, f'article.service[data-service="{name}"] [data-field="buses"]')
+                .text.startswith(f"bus0 (tcp:127.0.0.1:{port}): link DOWN"))
+            acknowledge(browser, key)
+    finally:
+        stop(sim)

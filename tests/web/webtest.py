@@ -2,7 +2,7 @@
 their own, dh3-service on the simulator and dh3-web as child processes, and
 headless Chromium driven by Selenium.
 
-DH3_SERVICE, DH3_WEB and DH3CTL name the programs."""
+DH3_SERVICE, DH3_WEB, DH3CTL and DH3_SIM name the programs."""
 
 import contextlib
 import json
@@ -27,10 +27,12 @@ DOMAIN = pick_domain()
 SERVICE = f"web{os.getpid()}"
 
 
-def sim_config(position_speed: int = 100) -> str:
+def sim_config(position_speed: int = 100, allow_admin: bool = True) -> str:
     """Three hands on bus0; hand 1 ("left") holds an object at 40; hand 4 is
-    configured but not there (offline)."""
-    return f"""buses:
+    configured but not there (offline). CAN ID and baud-rate changes allowed
+    unless `allow_admin` is False."""
+    return f"""allow_admin: {str(allow_admin).lower()}
+buses:
   - name: bus0
     spec: sim:1,2,3
     command_interval_ms: 2
@@ -82,18 +84,20 @@ class Cell:
 
 
 @contextlib.contextmanager
-def service_and_web(position_speed: int = 100):
-    """dh3-service and dh3-web (commands with TOKEN); yields the Cell."""
+def service_and_web(position_speed: int = 100, allow_admin: bool = True, name: str = SERVICE,
+                    config_text: str = ""):
+    """dh3-service (named `name`, on sim_config() unless `config_text` is
+    given) and dh3-web (commands with TOKEN); yields the Cell."""
     with tempfile.TemporaryDirectory(prefix="dh3-web-test-") as tmp:
         config = os.path.join(tmp, "sim.yaml")
         token = os.path.join(tmp, "token")
         with open(config, "w") as f:
-            f.write(sim_config(position_speed))
+            f.write(config_text or sim_config(position_speed, allow_admin))
         with open(token, "w") as f:
             f.write(TOKEN + "\n")
         os.chmod(token, 0o600)  # dh3-web refuses a token others may read
         service = subprocess.Popen(
-            [os.environ["DH3_SERVICE"], "--domain", str(DOMAIN), "--name", SERVICE,
+            [os.environ["DH3_SERVICE"], "--domain", str(DOMAIN), "--name", name,
              "--config", config, "--log-level", "warn"], stdin=subprocess.DEVNULL)
         web = None
         try:

@@ -17,12 +17,17 @@ const STALE_MS = 8000;
 /// dh3-web sends the services every 2 s when nothing else happens: a stream
 /// silent for longer than this is stalled and is opened again.
 const SILENT_MS = 6000;
+/// How often the page asks dh3-web for its own health.
+const HEALTH_MS = 5000;
 /// The fields a command takes its value from, with the API's ranges.
 const FIELDS = {
   position: {label: "Position", min: 0, max: 100},
   rotation: {label: "Rotation", min: 0, max: 100},
   force: {label: "Force", min: 20, max: 100},
   ttl: {label: "Lease (s)", min: 1, max: 600},
+  closing: {label: "Closing force", min: 20, max: 100},
+  opening: {label: "Opening force", min: 20, max: 100},
+  can_id: {label: "New CAN ID", min: 1, max: 255},
 };
 const COMMAND_FIELD = {move: "position", release: "position", rotate: "rotation", grasp: "force",
                        "acquire-lease": "ttl"};
@@ -33,6 +38,8 @@ let token = sessionStorage.getItem("dh3-token") || "";
 /// "unknown" (not checked yet), "checking", "accepted", "wrong", "disabled", "none"
 let tokenState = token ? "unknown" : "none";
 let consoleName = "";        // how the services show this console as a lease holder
+let consoleHealth = null;    // dh3-web's /api/health
+let healthError = "asking…"; // why there is no consoleHealth
 let stream = {open: false, lastChunk: 0, error: "connecting…"};
 
 function headers(extra) {
@@ -118,6 +125,7 @@ function showStatus(s) {
   field(c, "read_at").textContent = s.read_at_ns && s.read_at_ns !== "0"
       ? timeOfDay(nsToMs(s.read_at_ns)) : "never";
   showLiveness(entry);
+  showStop(s);
 }
 
 function serviceLost(status) {
@@ -139,12 +147,19 @@ function liveness(entry) {
   return {text: "online", live: true};
 }
 
-/// Why this hand takes no commands now, or "" when it does.
-function blockReason(s) {
+/// Why no command leaves this console now, or "" when they do.
+function tokenBlock() {
   if (tokenState === "disabled") return "this dh3-web takes no commands (started without --token-file)";
   if (tokenState === "wrong") return "the token is wrong; enter the right one above";
   if (tokenState === "none") return "commands need the token; enter it above";
   if (tokenState !== "accepted") return "checking the token…";
+  return "";
+}
+
+/// Why this hand takes no commands now, or "" when it does.
+function blockReason(s) {
+  const token = tokenBlock();
+  if (token) return token;
   if (serviceLost(s)) return "its service is lost";
   if (!s.online) return "the hand is offline";
   if (s.lease_holder && !isThisConsole(s.lease_holder)) {
@@ -194,23 +209,133 @@ function showConnection() {
   connection.className = text.startsWith("Live") ? "live" : "not-live";
 }
 
+function setText(element, text) {
+  if (element.textContent !== text) element.textContent = text;
+}
+
+function nsTimeOfDay(ns) { return ns ? timeOfDay(Math.round(Number(ns) / 1e6)) : "never"; }
+
+// ---- Health: per service what its info says (host, version, admin, buses and
+// their links), the domain from dh3-web, what the hands' statuses say per bus.
+
+function serviceCard(name) {
+  const found = document.querySelector('article.service[data-service="' + CSS.escape(name) + '"]');
+  if (found) return found;
+  const card = document.getElementById("service-card").content.firstElementChild.cloneNode(true);
+  card.dataset.service = name;
+  const list = document.getElementById("services");
+  const after = [...list.children].find((other) => other.dataset.service > name);
+  list.insertBefore(card, after || null);
+  document.getElementById("no-services").hidden = true;
+  return card;
+}
+
+/// "bus0 (sim:1,2,3): link up; 3 of 4 hands online; hand 4 reports TIMEOUT"
+function busInWords(service, bus) {
+  const statuses = [...hands.values()].map((entry) => entry.status)
+      .filter((s) => s && s.service === service && s.bus === bus.name);
+  const online = statuses.filter((s) => s.online && !s.service_lost).length;
+  const errors = statuses.filter((s) => s.last_error !== "OK")
+      .map((s) => "hand " + s.can_id + " reports " + s.last_error);
+  return bus.name + " (" + bus.spec + "): link " + (bus.link_up ? "up" : "DOWN") + "; " + online + " of " +
+         bus.hands.length + " hands online" + (errors.length ? "; " + errors.join(", ") : "");
+}
+
+function showServiceHealth(info) {
+  const card = serviceCard(info.service);
+  setText(field(card, "service"), info.service);
+  setText(field(card, "state"), info.ready ? "ready" : "LOST: the service left the domain; last known values");
+  card.classList.toggle("not-live", !info.ready);
+  setText(field(card, "host"), info.host || "?");
+  setText(field(card, "version"), info.version || "?");
+  setText(field(card, "domain"), consoleHealth ? String(consoleHealth.domain) : "?");
+  setText(field(card, "admin"), info.admin_allowed ? "allowed" : "not allowed (its allow_admin is off)");
+  setText(field(card, "started"), nsTimeOfDay(info.started_ns));
+  const list = field(card, "buses");
+  const lines = info.buses.map((bus) => busInWords(info.service, bus));
+  if ([...list.children].map((item) => item.textContent).join("\n") !== lines.join("\n")) {
+    list.replaceChildren(...info.buses.map((bus, i) => {
+      const item = document.createElement("li");
+      item.textContent = lines[i];
+      item.className = bus.link_up ? "" : "error";
+      return item;
+    }));
+  }
+}
+
+function showConsoleHealth() {
+  const h = consoleHealth;
+  const text = h === null ? "dh3-web's health: " + healthError
+      : "dh3-web " + (h.console || "") + " on DDS domain " + h.domain + ": " +
+        (h.connected ? "connected" : "NOT connected to the domain") +
+        ", services ready: " + h.services_ready + ", hands seen: " + h.hands + "; commands " +
+        (h.commands_enabled ? (h.read_only ? "refused (a read-only identity)" : "taken with the token")
+                            : "off (started without --token-file)");
+  setText(document.getElementById("console-health"), text);
+}
+
 function showService(info) {
   services.set(info.service, info);
-  const list = document.getElementById("services");
-  list.replaceChildren(...[...services.values()].map((s) => {
-    const item = document.createElement("li");
-    const buses = s.buses.map((b) => b.name + " (" + b.spec + ", link " + (b.link_up ? "up" : "DOWN") + ")");
-    item.textContent = s.service + (s.ready ? ": ready" : ": LOST") + " on host " + (s.host || "?") +
-        ", version " + (s.version || "?") + ", admin " + (s.admin_allowed ? "allowed" : "not allowed") +
-        "; buses " + (buses.join(", ") || "none");
-    item.className = s.ready ? "" : "error";
-    return item;
-  }));
+  showServiceHealth(info);
+  watchService(info);
+  showCommissioning();
 }
 
 function refresh() {
   showConnection();
   hands.forEach((entry) => { if (entry.status) showLiveness(entry); });
+  services.forEach(showServiceHealth);
+  watchHands();
+  showCommissioning();
+}
+
+const NOT_READ = "position not read yet (the next status says it)";
+/// Log lines of motions whose end position was not read yet as the event went
+/// out, by hand: the next status read after the event says it.
+const awaitingStop = new Map();
+
+/// "at position 30" or, before the service read it, why there is no position.
+function where(position) { return position === null ? NOT_READ : "at position " + position; }
+
+function awaitStop(e, item) {
+  // A newer motion ends the wait of an older one: the next read is the newer one's.
+  if (e.position === null && ["ARRIVED", "GRASPED", "MISSED"].includes(e.kind)) {
+    awaitingStop.set(e.hand, {item, timestamp_ns: e.timestamp_ns});
+  } else if (["ARRIVED", "GRASPED", "MISSED", "DROPPED"].includes(e.kind)) {
+    awaitingStop.delete(e.hand);
+  }
+}
+
+function showStop(s) {
+  const waiting = awaitingStop.get(s.hand);
+  if (!waiting || s.position === null || s.grip === "MOVING" || s.read_at_ns < waiting.timestamp_ns) return;
+  awaitingStop.delete(s.hand);
+  waiting.item.textContent = waiting.item.textContent.replace(NOT_READ, "at position " + s.position +
+                                                              " (read just after)");
+}
+
+/// An event in the words of the cards: the grip and rotation states, where the
+/// motion stopped, the state of the hand as its card shows it.
+function eventInWords(e) {
+  switch (e.kind) {
+    case "ONLINE": return "ONLINE: the hand answers";
+    case "OFFLINE":
+      return e.from_client ? "LOST: service " + e.hand.split("/")[0] + " lost (seen by dh3-web)"
+          : "OFFLINE: the hand does not answer (" + e.value + " requests unanswered)";
+    case "INITIALIZED": return "INITIALIZED";
+    case "INIT_FAILED": return "Error: initialization failed";
+    case "ARRIVED": return "ARRIVED " + where(e.position) + " (target " + numberOrDash(e.target) + ")";
+    case "GRASPED": return "GRASPED " + where(e.position) + " with force " + e.value;
+    case "MISSED": return "MISSED: closed " + where(e.position) + " without an object (target " +
+                          numberOrDash(e.target) + ")";
+    case "DROPPED": return "DROPPED: the object fell from the fingers " + where(e.position);
+    case "ROTATION_ARRIVED": return "rotation ARRIVED at " + numberOrDash(e.position) + " (target " +
+                                    numberOrDash(e.target) + ")";
+    case "ROTATION_BLOCKED": return "rotation BLOCKED at " + numberOrDash(e.position) + " (target " +
+                                    numberOrDash(e.target) + ")";
+    case "FAULT": return "Error: fault";
+    default: return e.kind;
+  }
 }
 
 function showEvent(e) {
@@ -218,18 +343,14 @@ function showEvent(e) {
   const item = document.createElement("li");
   item.className = e.kind.toLowerCase();
   item.dataset.hand = e.hand;
-  const when = e.timestamp_ns && e.timestamp_ns !== "0" ? nsToMs(e.timestamp_ns) : Date.now();
-  let text = timeOfDay(when) + " " + e.hand + (e.name ? " (" + e.name + ")" : "") + " " + e.kind;
-  if (["ARRIVED", "GRASPED", "MISSED", "DROPPED"].includes(e.kind)) {
-    text += " position " + (e.position === null ? "not read yet" : e.position) + ", target " +
-            numberOrDash(e.target);
-  }
-  if (e.kind === "GRASPED") text += ", force " + e.value;
-  if (e.from_client) text += " (seen by dh3-web)";
-  if (e.message) text += ": " + e.message;
-  item.textContent = text;
+  const when = e.timestamp_ns ? nsToMs(e.timestamp_ns) : Date.now();
+  let words = e.hand + (e.name ? " (" + e.name + ")" : "") + " " + eventInWords(e);
+  if (e.message) words += ": " + e.message;
+  item.textContent = timeOfDay(when) + " " + words;
   log.insertBefore(item, log.firstChild);
   while (log.children.length > LOG_LIMIT) log.removeChild(log.lastChild);
+  awaitStop(e, item);
+  alarmForEvent(e, "hand " + words);
 }
 
 /// The field's whole number, or null with the reason shown beside the field.
@@ -270,12 +391,14 @@ function describeReply(command, reply, httpStatus) {
     if (reply.lease_holder) text += " (lease held by " + holderInWords(reply.lease_holder) + ")";
     return {text, error: false};
   }
+  if (httpStatus === 0) return {text: "Error in " + command + ": " + reply.message, error: true};
   return {text: "Error in " + command + " (HTTP " + httpStatus + " " + reply.code + "): " + reply.message,
           error: true};
 }
 
-/// POSTs a command; the reply in words.
-async function send(address, command, body) {
+/// POSTs a command: its reply and HTTP status (0 and a reply in words when
+/// dh3-web did not answer).
+async function post(address, command, body) {
   try {
     const path = "/api/hands/" + address.split("/").map(encodeURIComponent).join("/") + "/" + command;
     const response = await fetch(path, {
@@ -284,10 +407,18 @@ async function send(address, command, body) {
       body: JSON.stringify(body),
     });
     if (response.status === 401 && token) setTokenState("wrong");
-    return describeReply(command, await response.json(), response.status);
+    return {reply: await response.json(), status: response.status};
   } catch (err) {
-    return {text: "Error in " + command + ": no answer from dh3-web (" + err.message + ")", error: true};
+    return {reply: {ok: false, message: "no answer from dh3-web (" + err.message + ")"}, status: 0};
   }
+}
+
+/// POSTs a command; the reply in words.
+async function send(address, command, body) {
+  const {reply, status} = await post(address, command, body);
+  const described = describeReply(command, reply, status);
+  if (described.error) alarmForFailure(address, described);
+  return described;
 }
 
 function showResult(address, described) {
@@ -334,11 +465,282 @@ async function stopAll() {
   result.className = failed.length ? "error" : "ok";
 }
 
+// ---- Alarms: what needs an operator. A condition (a hand offline, a bus
+// down, a service lost) stays listed until acknowledged, marked "over" once
+// it ends; acknowledged while it lasts, it is not raised again until it ends
+// and comes back. An occurrence (an object dropped, a command failed) is
+// listed once until acknowledged.
+
+const alarms = new Map();        // key -> {text, since, active, over, once}
+const acknowledged = new Set();  // conditions acknowledged while they last
+const seenEvents = new Set();    // a new stream sends the last events again
+let occurrences = 0;
+
+function raise(key, text) {
+  const alarm = alarms.get(key);
+  if (alarm && alarm.active) {
+    if (alarm.text !== text) { alarm.text = text; showAlarms(); }
+    return;
+  }
+  if (acknowledged.has(key)) return;
+  alarms.set(key, {text, since: Date.now(), active: true, over: 0, once: false});
+  showAlarms();
+}
+
+function holds(key, condition, text) {
+  if (condition) { raise(key, text); return; }
+  acknowledged.delete(key);
+  const alarm = alarms.get(key);
+  if (alarm && alarm.active) {
+    alarm.active = false;
+    alarm.over = Date.now();
+    showAlarms();
+  }
+}
+
+function raiseOnce(key, text) {
+  alarms.set(key, {text, since: Date.now(), active: true, over: 0, once: true});
+  showAlarms();
+}
+
+function acknowledge(key) {
+  const alarm = alarms.get(key);
+  if (!alarm) return;
+  if (alarm.active && !alarm.once) acknowledged.add(key);
+  alarms.delete(key);
+  showAlarms();
+}
+
+/// Updates the list in place: an item, and the button under the operator's
+/// finger, stays the same element while its alarm lasts.
+function showAlarms() {
+  const list = document.getElementById("alarms");
+  const items = new Map([...list.children].map((item) => [item.dataset.alarm, item]));
+  items.forEach((item, key) => { if (!alarms.has(key)) item.remove(); });
+  [...alarms.entries()].sort((a, b) => b[1].since - a[1].since).forEach(([key, alarm], i) => {
+    let item = items.get(key);
+    if (!item) {
+      item = document.createElement("li");
+      item.dataset.alarm = key;
+      const button = document.createElement("button");
+      button.type = "button";
+      button.textContent = "Acknowledge";
+      button.addEventListener("click", () => acknowledge(key));
+      item.append(document.createElement("span"), " ", button);
+    }
+    item.className = alarm.active ? "active" : "over";
+    setText(item.firstChild, timeOfDay(alarm.since) + " " + alarm.text +
+            (alarm.active ? "" : " (over since " + timeOfDay(alarm.over) + ")"));
+    if (list.children[i] !== item) list.insertBefore(item, list.children[i] || null);
+  });
+  document.getElementById("no-alarms").hidden = alarms.size > 0;
+  const active = [...alarms.values()].filter((alarm) => alarm.active).length;
+  const summary = document.getElementById("alarm-summary");
+  summary.textContent = alarms.size === 0 ? "No alarms"
+      : "ALARMS: " + active + " active" + (alarms.size > active ? ", " + (alarms.size - active) + " over" : "");
+  summary.className = active ? "error" : "";
+}
+
+function handName(s) { return "hand " + s.hand + (s.name ? " (" + s.name + ")" : ""); }
+
+function watchService(info) {
+  holds("service:" + info.service, !info.ready,
+        "Service " + info.service + " lost: its hands take no commands; their values are the last known");
+  for (const bus of info.buses) {
+    holds("bus:" + info.service + "/" + bus.name, info.ready && !bus.link_up,
+          "Bus " + info.service + "/" + bus.name + " down (" + bus.spec + "): its hands cannot be reached");
+  }
+}
+
+/// Conditions read from the statuses (a read-only identity sees no service info).
+function watchHands() {
+  hands.forEach((entry, address) => {
+    const s = entry.status;
+    if (!s) return;
+    if (s.service_lost) raise("service:" + s.service, "Service " + s.service + " lost: its hands take no " +
+                              "commands; their values are the last known");
+    if (serviceLost(s)) return;  // whether the hand answers is not known now
+    holds("offline:" + address, !s.online, handName(s) + " OFFLINE: the hand does not answer");
+  });
+}
+
+function alarmForEvent(e, text) {
+  if (!["DROPPED", "INIT_FAILED", "FAULT"].includes(e.kind) || e.from_client) return;
+  const key = "event:" + e.hand + ":" + e.event_seq + ":" + e.timestamp_ns;
+  if (seenEvents.has(key)) return;
+  seenEvents.add(key);
+  raiseOnce(key, text);
+}
+
+function alarmForFailure(address, described) {
+  raiseOnce("command:" + ++occurrences, "Command to hand " + address + " failed: " + described.text);
+}
+
+// ---- Commissioning: scan a bus, firmware, a register, forces; CAN ID and
+// baud rate (administrative: the service must allow them, and they are
+// confirmed in a dialog that says the hand must then be rebooted).
+
+const BUS_WIDE = ["scan", "versions"];
+
+function commissionSection() { return document.getElementById("commission-title").parentElement; }
+
+function selectedStatus() {
+  const entry = hands.get(document.getElementById("commission-hand").value);
+  return entry ? entry.status : null;
+}
+
+function commissionBlock(command, s) {
+  if (!s) return "no hand seen yet";
+  const token = tokenBlock();
+  if (token) return token;
+  if (serviceLost(s)) return "its service is lost";
+  if (BUS_WIDE.includes(command)) return "";
+  const hand = blockReason(s);
+  if (hand) return hand;
+  const info = services.get(s.service);
+  if (command.startsWith("set-") && !(info && info.admin_allowed)) {
+    return "admin only: service " + s.service + " does not allow CAN ID and baud-rate changes (allow_admin)";
+  }
+  return "";
+}
+
+function showCommissioning() {
+  const select = document.getElementById("commission-hand");
+  const addresses = [...hands.keys()].sort();
+  if ([...select.options].map((o) => o.value).join() !== addresses.join()) {
+    const chosen = select.value;
+    select.replaceChildren(...addresses.map((a) => {
+      const s = hands.get(a).status;
+      return new Option(a + (s && s.name ? " (" + s.name + ")" : ""), a);
+    }));
+    if (addresses.includes(chosen)) select.value = chosen;
+  }
+  const s = selectedStatus();
+  commissionSection().querySelectorAll("button[data-commission]").forEach((button) => {
+    const reason = commissionBlock(button.dataset.commission, s);
+    button.disabled = reason !== "";
+    if (reason) button.title = reason; else button.removeAttribute("title");
+  });
+  const bus = commissionBlock("scan", s);
+  const hand = commissionBlock("read", s);
+  const admin = commissionBlock("set-can-id", s);
+  setText(document.getElementById("commission-blocked"), bus ? "Commands off: " + bus
+      : (hand ? "Register, forces, CAN ID and baud rate off: " + hand : ""));
+  setText(document.getElementById("admin-blocked"),
+          admin && admin !== hand ? "CAN ID and baud rate off: " + admin : "");
+}
+
+function showCommissionResult(address, command, described) {
+  const item = document.createElement("li");
+  item.dataset.command = command;
+  item.textContent = timeOfDay(Date.now()) + " " + address + " " + described.text;
+  item.className = described.error ? "error" : "";
+  const list = document.getElementById("commission-results");
+  list.insertBefore(item, list.firstChild);
+  while (list.children.length > LOG_LIMIT) list.removeChild(list.lastChild);
+  if (described.error && !described.alarmed) alarmForFailure(address, described);
+}
+
+/// The dialog for an administrative command; true if the operator confirmed.
+function confirmed(text) {
+  const dialog = document.getElementById("confirm");
+  document.getElementById("confirm-text").textContent = text;
+  dialog.returnValue = "";
+  dialog.showModal();
+  return new Promise((resolve) => dialog.addEventListener(
+      "close", () => resolve(dialog.returnValue === "confirm"), {once: true}));
+}
+
+async function scanBus(s) {
+  const {reply, status} = await post(s.hand, "scan", {});
+  if (!reply.ok) return describeReply("scan", reply, status);
+  const info = services.get(s.service);
+  const bus = info && info.buses.find((b) => b.name === s.bus);
+  const found = reply.found_ids;
+  const silent = bus ? bus.hands.map((h) => h.can_id).filter((id) => !found.includes(id)) : [];
+  return {text: "scan of bus " + s.service + "/" + s.bus + ": " + (found.length
+      ? "hands " + found.join(", ") + " answered" : "no hand answered") +
+      (silent.length ? "; configured but silent: " + silent.join(", ") : ""), error: false};
+}
+
+async function readVersions(s) {
+  const addresses = [...hands.values()].map((entry) => entry.status)
+      .filter((o) => o && o.service === s.service && o.bus === s.bus).map((o) => o.hand).sort();
+  const replies = await Promise.all(addresses.map((address) => post(address, "version", {})));
+  replies.forEach(({reply, status}, i) => {
+    if (!reply.ok) alarmForFailure(addresses[i], describeReply("version", reply, status));
+  });
+  return {alarmed: true, text: "firmware: " + replies.map(({reply, status}, i) => "hand " + addresses[i].split("/")[2] + " " +
+      (reply.ok ? reply.firmware_version_text + " (raw " + reply.value + ")"
+                : describeReply("version", reply, status).text)).join("; "),
+          error: replies.some(({reply}) => !reply.ok)};
+}
+
+/// The body of a commissioning command from its fields, or null (the reason is
+/// beside the field that is not valid).
+function commissionBody(command) {
+  const section = commissionSection();
+  if (command === "read") {
+    const register = document.getElementById("register").value.trim();
+    setText(document.getElementById("register-error"),
+            register ? "" : "Error: empty (a name such as position, or 0xNNNN); nothing sent");
+    return register ? {register} : null;
+  }
+  if (command === "force") {
+    const closing = checkField(section, "closing");
+    const opening = checkField(section, "opening");
+    return closing === null || opening === null ? null : {closing, opening};
+  }
+  if (command === "set-can-id") {
+    const id = checkField(section, "can_id");
+    return id === null ? null : {can_id: id, confirm: true};
+  }
+  if (command === "set-baud") return {index: Number(document.getElementById("baud").value), confirm: true};
+  return {};
+}
+
+function adminQuestion(command, s, body) {
+  if (command === "set-can-id") {
+    return "Change the CAN ID of " + handName(s) + " from " + s.can_id + " to " + body.can_id + "?";
+  }
+  const baud = document.getElementById("baud");
+  return "Change the CAN baud rate of " + handName(s) + " to " + baud.options[baud.selectedIndex].text +
+         " (index " + body.index + ")?";
+}
+
+async function commission(button) {
+  const command = button.dataset.commission;
+  const s = selectedStatus();
+  if (!s) return;
+  const body = commissionBody(command);
+  if (body === null) {
+    showCommissionResult(s.hand, command, {text: command + ": not sent (a field is not valid)", error: false});
+    return;
+  }
+  if (body.confirm && !(await confirmed(adminQuestion(command, s, body)))) {
+    showCommissionResult(s.hand, command, {text: command + ": not sent (cancelled)", error: false});
+    return;
+  }
+  button.setAttribute("aria-busy", "true");
+  let described;
+  if (command === "scan") described = await scanBus(s);
+  else if (command === "versions") described = await readVersions(s);
+  else {
+    const {reply, status} = await post(s.hand, command, body);
+    described = describeReply(command, reply, status);
+    if (reply.ok && command === "read") described.text = "read " + body.register + ": value " + reply.value;
+    if (reply.ok && command.startsWith("set-")) described.text += ": reboot the hand now";
+  }
+  button.removeAttribute("aria-busy");
+  showCommissionResult(s.hand, command, described);
+}
+
 function dispatch(name, data) {
   if (name === "status") showStatus(JSON.parse(data));
   else if (name === "event") showEvent(JSON.parse(data));
   else if (name === "service") showService(JSON.parse(data));
   else if (name === "ready") { stream.open = true; refresh(); }
+  if (name === "status") showCommissioning();
 }
 
 /// Reads the SSE stream; returns true when it ended and should be opened again.
@@ -456,13 +858,20 @@ async function checkToken() {
   }
 }
 
-async function loadConsoleName() {
+/// dh3-web's own health (its domain, its name as a lease holder), again every
+/// HEALTH_MS.
+async function loadHealth() {
   try {
     const response = await fetch("/api/health", {headers: headers()});
-    if (response.ok) consoleName = (await response.json()).console || consoleName;
+    const reply = await response.json();
+    consoleHealth = response.ok ? reply : null;
+    if (response.ok) consoleName = reply.console || consoleName;
+    else healthError = "HTTP " + response.status + ": " + reply.message;
   } catch (err) {
-    // The stream's own error says that dh3-web is not there.
+    consoleHealth = null;
+    healthError = "no answer from dh3-web (" + err.message + ")";
   }
+  showConsoleHealth();
 }
 
 document.getElementById("token-form").addEventListener("submit", (event) => {
@@ -472,11 +881,20 @@ document.getElementById("token-form").addEventListener("submit", (event) => {
   if (token) sessionStorage.setItem("dh3-token", token);
   else sessionStorage.removeItem("dh3-token");
   checkToken();
+  loadHealth();
   streamForever();
 });
 document.getElementById("stop-all").addEventListener("click", stopAll);
+commissionSection().querySelectorAll("button[data-commission]").forEach((button) => {
+  button.addEventListener("click", () => commission(button));
+});
+commissionSection().querySelectorAll("input[data-input]").forEach((input) => {
+  input.addEventListener("input", () => checkField(commissionSection(), input.dataset.input));
+});
+document.getElementById("commission-hand").addEventListener("change", showCommissioning);
 
 setInterval(refresh, 500);
-loadConsoleName();
+setInterval(loadHealth, HEALTH_MS);
+loadHealth();
 checkToken();
 streamForever();
