@@ -464,9 +464,10 @@ def main():
         if service_status != 0:
             log.seek(0)
             failures.append(f"the examples' dh3-service exited {service_status}:\n{log.read()}")
-    marked = sum(1 for b in blocks if b.marker and b.marker != "alternatives")
-    print(f"{len(blocks)} shell blocks: {ran} runs of the rest ({len(blocks) - marked} blocks), "
-          f"{marked} marked")
+    covered = sum(1 for b in blocks if (b.marker or "").startswith("covered by "))
+    not_run = sum(1 for b in blocks if (b.marker or "").startswith("not run:"))
+    print(f"{len(blocks)} shell blocks: {len(blocks) - covered - not_run} ran ({ran} runs), "
+          f"{covered} covered by other tests, {not_run} not run")
     if failures:
         print("\n".join(f"FAILED: {f}" for f in failures))
         return 1
