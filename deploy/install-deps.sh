@@ -36,6 +36,7 @@ test_pkgs=(
   cyclonedds-dev cyclonedds-tools   # another DDS vendor's participant against dh3-service (tests/integration/vendor)
   tshark   # tests/ros2: the ROS 2 topic and type names as announced on the wire
   iproute2 iputils-ping procps python3 python3-yaml openssl systemd
+  curl   # tests/docs (docs.examples): the HTTP API examples of README.md and docs/
   python3-pytest   # the Python module's tests (client/python/tests, ctest label python)
   # tests/kernel: a real Linux kernel with CAN, vcan and vxcan as a process
   # (the build machines' kernel has no CAN), insmod, and candump/cangen.

@@ -255,7 +255,11 @@ int cmd_events(Context& c, const Args& a) {
   if (auto found = c.client.wait_for_service(only ? only->service : "", c.timeout()); !found) {
     c.err << "dh3ctl: events: " << found.message() << "; listening anyway" << std::endl;
   }
-  if (!c.globals.json) {
+  // With --json the line goes to stderr, so that stdout stays one JSON object
+  // a line while a person or a script still learns that nothing is missed now.
+  if (c.globals.json) {
+    c.err << "watching events of " << which << " (Ctrl-C to stop)" << std::endl;
+  } else {
     std::lock_guard lock(mutex);
     c.out << "watching events of " << which << " (Ctrl-C to stop)" << std::endl;
     for (const std::string& line : held) c.out << line << std::endl;
