@@ -124,7 +124,7 @@ class Ros2ActionTest : public ::testing::Test {
 
   RunningService service_{slow_sim_config()};
   Process ros2_{DH3_ROS2_PATH,
-                {"--domain", std::to_string(test_domain()), "--log-level", "warn"},
+                {"--domain", std::to_string(test_domain()), "--log-level", "debug"},
                 Process::Stdin::dev_null};
   Client client_{client_options()};
   std::unique_ptr<ros2::RosParticipant> participant_;
@@ -134,7 +134,12 @@ class Ros2ActionTest : public ::testing::Test {
 TEST_F(Ros2ActionTest, AGoalMovesTheHandWithFeedbackAndReachesIt) {
   auto hand = client_.hand(hand_address(2));
   ASSERT_TRUE(hand.initialize());
+  // A move is answered when the hand takes it: the goal must start from the
+  // closed hand, far from its target, for feedback to come while it moves.
   ASSERT_TRUE(hand.move_to(0));
+  ASSERT_TRUE(hand.wait_until([](const HandStatus& s) {
+    return s.position == 0 && s.grip != GripState::moving;
+  })) << "the hand did not close before the goal";
   auto& gripper = action(2);
   ASSERT_TRUE(gripper.wait_for_server());
   ASSERT_EQ(gripper.send(goal_id(1), 0.095, 45.0), true);
@@ -190,6 +195,9 @@ TEST_F(Ros2ActionTest, ACancelStopsTheHand) {
   auto hand = client_.hand(hand_address(3));
   ASSERT_TRUE(hand.initialize());
   ASSERT_TRUE(hand.move_to(100));
+  ASSERT_TRUE(hand.wait_until([](const HandStatus& s) {
+    return s.position == 100 && s.grip != GripState::moving;
+  })) << "the hand did not open before the goal";
   auto& gripper = action(3);
   ASSERT_TRUE(gripper.wait_for_server());
   ASSERT_EQ(gripper.send(goal_id(3), 0.0, 0.0), true);
