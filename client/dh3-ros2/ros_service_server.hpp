@@ -5,20 +5,21 @@
 // rmw_fastrtps clients filter on. A request's id is its related writer GUID
 // (the client's reply reader, which rmw_fastrtps clients send) or, when that
 // is unknown, its writer's GUID, with the request's sequence number.
+// A reply to a client whose reply reader has not matched yet is held until it
+// does (HeldReplies), never waited for on the calling thread.
 // `on_request` runs on a Fast DDS listener thread and must not block; reply()
-// may be called from any thread.
+// may be called from any thread and does not block.
 
 #include <fastdds/rtps/common/InstanceHandle.h>
 #include <fastdds/rtps/common/WriteParams.h>
 
-#include <algorithm>
 #include <chrono>
+#include <fastdds/dds/publisher/DataWriterListener.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 #include <functional>
 #include <string>
-#include <thread>
-#include <vector>
 
+#include "held_replies.hpp"
 #include "ros_participant.hpp"
 
 namespace dh3::ros2 {
@@ -26,7 +27,8 @@ namespace dh3::ros2 {
 using RequestId = eprosima::fastrtps::rtps::SampleIdentity;
 
 template <typename Request, typename RequestType, typename Reply, typename ReplyType>
-class RosServiceServer : private eprosima::fastdds::dds::DataReaderListener {
+class RosServiceServer : private eprosima::fastdds::dds::DataReaderListener,
+                         private eprosima::fastdds::dds::DataWriterListener {
  public:
   using Handler = std::function<void(const Request&, const RequestId&)>;
 
@@ -36,46 +38,67 @@ class RosServiceServer : private eprosima::fastdds::dds::DataReaderListener {
       : on_request_(std::move(on_request)) {
     writer_ =
         participant.writer("rr" + service + "Reply",
-                           eprosima::fastdds::dds::TypeSupport(new ReplyType()), RosQos::standard);
+                           eprosima::fastdds::dds::TypeSupport(new ReplyType()), RosQos::standard,
+                           this);
     reader_ = participant.reader("rq" + service + "Request",
                                  eprosima::fastdds::dds::TypeSupport(new RequestType()),
                                  RosQos::standard, this);
   }
   ~RosServiceServer() override {
     if (reader_ != nullptr) reader_->set_listener(nullptr);
+    if (writer_ != nullptr) writer_->set_listener(nullptr);
   }
   RosServiceServer(const RosServiceServer&) = delete;
   RosServiceServer& operator=(const RosServiceServer&) = delete;
 
   [[nodiscard]] bool ok() const { return writer_ != nullptr && reader_ != nullptr; }
 
-  /// Writes the reply to request `id`. Like rmw_fastrtps, it first waits a
-  /// while for the reply writer to match the client's reply reader, so a
-  /// client that just appeared does not miss it: the client sees its own
-  /// endpoints matched before this side may, and on a loaded machine a
-  /// one-second wait left a goal unanswered.
-  bool reply(const RequestId& id, Reply reply) {
-    wait_for_reader(id.writer_guid());
-    eprosima::fastrtps::rtps::WriteParams params;
-    params.related_sample_identity(id);
-    return writer_->write(&reply, params);
+  /// Writes the reply to request `id`, at once if the client's reply reader
+  /// has matched (or the id names no reader), else once it matches: within
+  /// kHoldLimit, after which it is dropped (see HeldReplies).
+  void reply(const RequestId& id, Reply reply) {
+    const auto& reader = id.writer_guid();
+    // The entity kind's reader bit: the id names the client's reply reader.
+    if ((reader.entityId.value[3] & 0x04) == 0) {
+      write(id, reply);
+      return;
+    }
+    auto write_it = [this, id, reply]() mutable { write(id, reply); };
+    if (held_.admit(reader_key(eprosima::fastrtps::rtps::InstanceHandle_t(reader)), write_it,
+                    HeldReplies::Clock::now())) {
+      write_it();
+    }
   }
 
- private:
-  static constexpr auto kMatchWait = std::chrono::milliseconds(3000);
-  static constexpr auto kMatchPoll = std::chrono::milliseconds(5);
+  /// Replies held now for readers not matched yet.
+  [[nodiscard]] std::size_t held_replies() const { return held_.held(); }
 
-  void wait_for_reader(const eprosima::fastrtps::rtps::GUID_t& reader) {
-    // The entity kind's reader bit: the id names the client's reply reader.
-    if ((reader.entityId.value[3] & 0x04) == 0) return;
-    const eprosima::fastrtps::rtps::InstanceHandle_t handle(reader);
-    const auto deadline = std::chrono::steady_clock::now() + kMatchWait;
-    std::vector<eprosima::fastrtps::rtps::InstanceHandle_t> matched;
-    while (std::chrono::steady_clock::now() < deadline) {
-      matched.clear();
-      writer_->get_matched_subscriptions(matched);
-      if (std::find(matched.begin(), matched.end(), handle) != matched.end()) return;
-      std::this_thread::sleep_for(kMatchPoll);
+ private:
+  // As long as a client may take to match after its request: rmw_fastrtps
+  // clients match their own endpoints first, and a loaded machine took over
+  // a second.
+  static constexpr auto kHoldLimit = std::chrono::seconds(10);
+  static constexpr std::size_t kHoldCap = 256;
+
+  static std::string reader_key(const eprosima::fastrtps::rtps::InstanceHandle_t& handle) {
+    std::string key(16, '\0');
+    for (std::size_t i = 0; i < key.size(); ++i) key[i] = static_cast<char>(handle.value[i]);
+    return key;
+  }
+
+  void write(const RequestId& id, Reply& reply) {
+    eprosima::fastrtps::rtps::WriteParams params;
+    params.related_sample_identity(id);
+    writer_->write(&reply, params);
+  }
+
+  void on_publication_matched(
+      eprosima::fastdds::dds::DataWriter* /*writer*/,
+      const eprosima::fastdds::dds::PublicationMatchedStatus& status) override {
+    for (auto& due : held_.reader_matched(reader_key(status.last_subscription_handle),
+                                          status.current_count_change > 0,
+                                          HeldReplies::Clock::now())) {
+      due();
     }
   }
 
@@ -96,6 +119,7 @@ class RosServiceServer : private eprosima::fastdds::dds::DataReaderListener {
   }
 
   Handler on_request_;
+  HeldReplies held_{kHoldLimit, kHoldCap};
   eprosima::fastdds::dds::DataWriter* writer_ = nullptr;
   eprosima::fastdds::dds::DataReader* reader_ = nullptr;
 };
