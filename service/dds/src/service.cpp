@@ -289,6 +289,22 @@ Caller Service::Impl::caller_of(const fdds::SampleInfo& info) const {
   return {std::move(id), std::move(shown)};
 }
 
+contract::PeerDiscoveryListener::Callbacks Service::Impl::peer_callbacks() {
+  return {[this](const std::string& participant_id, const std::string& name) {
+            spdlog::debug("participant {} '{}': discovered", participant_id, name);
+            owner_->announced(participant_id, name);
+            replies_.participant_joined(participant_id);
+          },
+          [this](const std::string& participant_id, bool dropped) {
+            spdlog::debug("participant {}: {}", participant_id,
+                          dropped ? "dropped (lease expired)" : "left");
+            on_participant_left(participant_id, dropped);
+          },
+          [this](const eprosima::fastrtps::rtps::ParticipantProxyData& data) {
+            names_.discovered(data);
+          }};
+}
+
 void Service::Impl::on_participant_left(const std::string& participant_id, bool dropped) {
   if (const std::size_t dropped_replies = replies_.participant_left(participant_id)) {
     spdlog::info("{} held replies to {} dropped: it left before its reply reader matched",
