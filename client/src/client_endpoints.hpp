@@ -13,8 +13,8 @@
 #include <string_view>
 
 #include "client_core.hpp"
+#include "dh3/contract/listened_participant.hpp"
 #include "dh3/contract/participant_setup.hpp"
-#include "dh3/contract/peer_discovery_listener.hpp"
 #include "endpoint_creator.hpp"
 
 namespace dh3::detail {
@@ -138,10 +138,10 @@ class ClientEndpoints {
 
  public:
   explicit ClientEndpoints(ClientCore& core)
-      : participant_listener_(peer_callbacks(core)),
-        request_listener_(core, ServiceTracker::Endpoint::request_reader),
+      : request_listener_(core, ServiceTracker::Endpoint::request_reader),
         group_request_listener_(core, ServiceTracker::Endpoint::group_request_reader),
-        reader_listener_(core) {}
+        reader_listener_(core),
+        participant_(peer_callbacks(core)) {}
   ClientEndpoints(const ClientEndpoints&) = delete;
   ClientEndpoints& operator=(const ClientEndpoints&) = delete;
 
@@ -198,12 +198,11 @@ class ClientEndpoints {
   void create_watch_endpoints(const EndpointCreator& creator,
                               const std::optional<contract::Follow>& follow);
 
-  contract::PeerDiscoveryListener participant_listener_;
   RequestWriterListener request_listener_;
   RequestWriterListener group_request_listener_;
   ReaderListener reader_listener_;
   /// After the listeners: deleted (with every reader and writer) before them.
-  std::unique_ptr<contract::Participant> participant_;
+  contract::ListenedParticipant participant_;
   fdds::DataWriter* request_writer_ = nullptr;
   fdds::DataReader* reply_reader_ = nullptr;
   fdds::DataReader* status_reader_ = nullptr;

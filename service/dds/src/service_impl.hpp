@@ -35,8 +35,8 @@
 #include "conversions.hpp"
 #include "dh3/contract/dh3PubSubTypes.h"
 #include "dh3/contract/participant.hpp"
+#include "dh3/contract/listened_participant.hpp"
 #include "dh3/contract/participant_setup.hpp"
-#include "dh3/contract/peer_discovery_listener.hpp"
 #include "dh3/contract/qos.hpp"
 #include "dh3/dds/service.hpp"
 #include "dh3/dds/standby_presence.hpp"
@@ -157,13 +157,12 @@ class Service::Impl {
       {options_, directory_, leases_, schedulers_, statuses_, replies_, timer_, share_}};
   GroupCommands groups_{{options_, clock_, directory_, leases_, schedulers_, replies_, share_}};
 
-  contract::PeerDiscoveryListener participant_listener_{peer_callbacks()};
   RequestListener request_listener_{*this};
   GroupRequestListener group_request_listener_{*this};
-  /// The participant, its topics, publisher and subscriber (null until init()
-  /// has made them); the writers and readers below are made on them and
-  /// deleted with them.
-  std::unique_ptr<contract::Participant> participant_;
+  /// The participant, its topics, publisher and subscriber (not joined until
+  /// init() has made them); the writers and readers below are made on them and
+  /// deleted with them, before the listeners above.
+  contract::ListenedParticipant participant_{peer_callbacks()};
   /// Real time, whatever clock_ is: it waits on DDS discovery and liveliness.
   std::unique_ptr<OwnerBeacon> owner_ = std::make_unique<OwnerBeacon>(SystemClock::instance());
   fdds::DataWriter* status_writer_ = nullptr;
