@@ -5,7 +5,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
+
+#include "dh3/motion_end.hpp"
 
 namespace dh3::ros2 {
 
@@ -31,38 +32,6 @@ constexpr std::size_t kTerminalGoalsKept = 16;
 bool terminal(std::int8_t status) {
   return status >= kSucceeded;
 }
-
-/// The first event that ends a motion, handed from the client's dispatcher
-/// thread to the goal's.
-class MotionEnd {
- public:
-  void on_event(const HandEvent& event) {
-    switch (event.kind) {
-      case EventKind::arrived:
-      case EventKind::grasped:
-      case EventKind::missed:
-      case EventKind::dropped:
-      case EventKind::fault:
-      case EventKind::offline:
-        break;
-      default:
-        return;
-    }
-    std::lock_guard lock(mutex_);
-    if (!event_) event_ = event;
-    changed_.notify_all();
-  }
-  std::optional<HandEvent> wait(std::chrono::milliseconds timeout) {
-    std::unique_lock lock(mutex_);
-    changed_.wait_for(lock, timeout, [this] { return event_.has_value(); });
-    return event_;
-  }
-
- private:
-  std::mutex mutex_;
-  std::condition_variable changed_;
-  std::optional<HandEvent> event_;
-};
 
 builtin_interfaces::msg::dds_::Time_ now() {
   const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
@@ -207,8 +176,11 @@ std::int8_t GripperActionServer::move(Hand& hand, const std::shared_ptr<Goal>& g
     if (!goal->cancel) set_status(*goal, kExecuting);  // CANCELING stays
   }
   // A move is answered when the hand took it; the motion's end is an event.
-  MotionEnd end;
-  auto watching = hand.subscribe([&end](const HandEvent& event) { end.on_event(event); });
+  // Any end of a finger motion, a drop or a fault ends the goal.
+  MotionEnd::Rule rule;
+  rule.faults_end = true;
+  MotionEnd end(rule);
+  auto watching = hand.subscribe([&end](const HandEvent& event) { end.offer(event); });
   if (auto started = hand.move_to(target.position); !started) {
     if (goal->cancel) return kCanceled;
     spdlog::warn("dh3-ros2: {} aborts a goal: {}: {}", action_, to_string(started.code),
@@ -217,7 +189,7 @@ std::int8_t GripperActionServer::move(Hand& hand, const std::shared_ptr<Goal>& g
   }
   const auto deadline = std::chrono::steady_clock::now() + kMotionDeadline;
   std::optional<HandEvent> ended;
-  while (!(ended = end.wait(kFeedbackPeriod))) {
+  while (!(ended = end.wait(std::chrono::steady_clock::now() + kFeedbackPeriod))) {
     if (goal->cancel) {
       hand.stop();
       return kCanceled;

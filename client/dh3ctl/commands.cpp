@@ -19,8 +19,8 @@
 #include "client_options_cli.hpp"
 #include "dh3/base/version.hpp"
 #include "dh3/client.hpp"
+#include "dh3/motion_end.hpp"
 #include "dh3/registers.hpp"
-#include "motion_end.hpp"
 #include "output.hpp"
 
 namespace dh3::ctl {
@@ -324,7 +324,10 @@ int cmd_motion(Context& c, const std::string& command, const Args& a, Hand& hand
   const bool rotation = command == "rotate";
   const std::string target = hand.address().to_string();
   const Timeout t = c.timeout();
-  MotionEnd end(rotation, a.value);
+  MotionEnd::Rule rule;
+  rule.rotation = rotation;
+  rule.target = a.value;
+  MotionEnd end(rule);
   // Subscribed before the command goes out, so an end that comes fast is not missed.
   Subscription watching;
   if (a.wait) watching = hand.subscribe([&end](const HandEvent& e) { end.offer(e); });

@@ -134,11 +134,7 @@ Result<void, std::string> ClientEndpoints::create_participant(const ClientOption
   // The library writes no log, so the report is not shown; what an XML profile
   // overrides is said where ClientOptions is documented.
   contract::SetupReport report;
-  auto created =
-      contract::Participant::create(participant_options(options), report, &participant_listener_);
-  if (!created) return fail(std::move(created).error());
-  participant_ = std::move(created).value();
-  return {};
+  return participant_.join(participant_options(options), report);
 }
 
 Result<void, std::string> ClientEndpoints::create_endpoints(
@@ -189,12 +185,12 @@ bool ClientEndpoints::requests_acknowledged() const {
 }
 
 std::uint64_t ClientEndpoints::replies_filtered() const {
-  if (participant_ == nullptr) return 0;
+  if (!participant_.joined()) return 0;
   return participant_->reply_filter_counts().rejected.load(std::memory_order_relaxed);
 }
 
 std::uint64_t ClientEndpoints::follow_filtered() const {
-  if (participant_ == nullptr) return 0;
+  if (!participant_.joined()) return 0;
   return participant_->follow_filter_counts().rejected.load(std::memory_order_relaxed);
 }
 

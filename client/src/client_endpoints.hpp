@@ -6,7 +6,6 @@
 // its listeners run on Fast DDS threads, call only ClientCore and never write.
 
 #include <cstdint>
-#include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 #include <memory>
 #include <optional>
@@ -14,12 +13,11 @@
 #include <string_view>
 
 #include "client_core.hpp"
+#include "dh3/contract/listened_participant.hpp"
 #include "dh3/contract/participant_setup.hpp"
 #include "endpoint_creator.hpp"
 
 namespace dh3::detail {
-
-namespace frtps = eprosima::fastrtps::rtps;
 
 /// True on a thread that runs a Fast DDS listener of this library: such a
 /// thread does not write requests (ClientCore::call() leaves them to its io thread).
@@ -39,26 +37,6 @@ class OnDdsListener {
 
 class ClientEndpoints {
   // The listeners: each hands what Fast DDS reports to ClientCore.
-  class ParticipantListener final : public fdds::DomainParticipantListener {
-   public:
-    explicit ParticipantListener(ClientCore& core) : core_(core) {}
-    void on_participant_discovery(fdds::DomainParticipant* /*participant*/,
-                                  frtps::ParticipantDiscoveryInfo&& info) override {
-      const OnDdsListener on_listener;
-      using Status = frtps::ParticipantDiscoveryInfo;
-      const std::string prefix = contract::client_id_for(info.info.m_guid.guidPrefix);
-      if (info.status == Status::DISCOVERED_PARTICIPANT) {
-        core_.on_participant_found(prefix, info.info.m_participantName.to_string());
-      } else if (info.status == Status::REMOVED_PARTICIPANT ||
-                 info.status == Status::DROPPED_PARTICIPANT) {
-        core_.on_participant_left(prefix);
-      }
-    }
-
-   private:
-    ClientCore& core_;
-  };
-
   /// Tells the core when a service's reader of one request topic matches or leaves.
   class RequestWriterListener final : public fdds::DataWriterListener {
    public:
@@ -160,10 +138,10 @@ class ClientEndpoints {
 
  public:
   explicit ClientEndpoints(ClientCore& core)
-      : participant_listener_(core),
-        request_listener_(core, ServiceTracker::Endpoint::request_reader),
+      : request_listener_(core, ServiceTracker::Endpoint::request_reader),
         group_request_listener_(core, ServiceTracker::Endpoint::group_request_reader),
-        reader_listener_(core) {}
+        reader_listener_(core),
+        participant_(peer_callbacks(core)) {}
   ClientEndpoints(const ClientEndpoints&) = delete;
   ClientEndpoints& operator=(const ClientEndpoints&) = delete;
 
@@ -198,6 +176,18 @@ class ClientEndpoints {
   [[nodiscard]] std::uint64_t follow_filtered() const;
 
  private:
+  /// Hands each participant that joins or leaves to the core.
+  static contract::PeerDiscoveryListener::Callbacks peer_callbacks(ClientCore& core) {
+    return {[&core](const std::string& participant, const std::string& name) {
+              const OnDdsListener on_listener;
+              core.on_participant_found(participant, name);
+            },
+            [&core](const std::string& participant, bool /*dropped*/) {
+              const OnDdsListener on_listener;
+              core.on_participant_left(participant);
+            },
+            {}};
+  }
   void create_command_endpoints(const EndpointCreator& creator, const std::string& client_id,
                                 const std::optional<contract::Follow>& follow);
   void create_group_endpoints(const EndpointCreator& creator,
@@ -208,12 +198,11 @@ class ClientEndpoints {
   void create_watch_endpoints(const EndpointCreator& creator,
                               const std::optional<contract::Follow>& follow);
 
-  ParticipantListener participant_listener_;
   RequestWriterListener request_listener_;
   RequestWriterListener group_request_listener_;
   ReaderListener reader_listener_;
   /// After the listeners: deleted (with every reader and writer) before them.
-  std::unique_ptr<contract::Participant> participant_;
+  contract::ListenedParticipant participant_;
   fdds::DataWriter* request_writer_ = nullptr;
   fdds::DataReader* reply_reader_ = nullptr;
   fdds::DataReader* status_reader_ = nullptr;

@@ -19,7 +19,6 @@
 
 #include <cstdint>
 #include <optional>
-#include <tuple>
 #include <vector>
 
 #include "dh3/base/clock.hpp"
@@ -41,45 +40,16 @@ class PrimaryWatch {
   /// `self`: this standby's claim (its participant and start rank it among
   /// the standbys); `vacancy_wait`: how long after `started` a cell that no
   /// owner served counts as vacant, nullopt: never.
-  PrimaryWatch(contract::OwnerClaim self, TimePoint started, std::optional<Duration> vacancy_wait)
-      : self_(std::move(self)) {
-    if (vacancy_wait) vacant_from_ = started + *vacancy_wait;
-  }
+  PrimaryWatch(contract::OwnerClaim self, TimePoint started, std::optional<Duration> vacancy_wait);
 
   /// The confirmed loss of the primary, or the cell's vacancy (a lapse
   /// without a primary), when this standby is to take the cell; nullopt
   /// otherwise. `changed` is set when the owner is not the one seen before.
-  std::optional<PrimaryLapse> look(const OwnerView& view, TimePoint now, bool* changed = nullptr) {
-    if (changed) *changed = false;
-    if (view.owner) {
-      if (changed) *changed = !primary_ || primary_->participant != view.owner->participant;
-      primary_ = view.owner;
-      lost_since_.reset();
-      return std::nullopt;
-    }
-    if (primary_) {
-      if (!lost_since_) lost_since_ = now;
-      if (now - *lost_since_ < contract::kOwnerLapseConfirm || !senior(view)) return std::nullopt;
-      return PrimaryLapse{primary_, *lost_since_, view.highest_epoch};
-    }
-    if (!vacant_from_ || now < *vacant_from_) return std::nullopt;
-    if (view.claim_awaited && now < *vacant_from_ + contract::kStartClaimAwait) return std::nullopt;
-    if (!senior(view)) return std::nullopt;
-    return PrimaryLapse{std::nullopt, *vacant_from_, view.highest_epoch};
-  }
+  std::optional<PrimaryLapse> look(const OwnerView& view, TimePoint now, bool* changed = nullptr);
 
  private:
   /// No other standby of the name started before this one.
-  [[nodiscard]] bool senior(const OwnerView& view) const {
-    for (const auto& other : view.standbys) {
-      if (other.participant == self_.participant) continue;
-      if (std::tie(other.started_ns, other.participant) <
-          std::tie(self_.started_ns, self_.participant)) {
-        return false;
-      }
-    }
-    return true;
-  }
+  [[nodiscard]] bool senior(const OwnerView& view) const;
 
   contract::OwnerClaim self_;
   std::optional<TimePoint> vacant_from_;

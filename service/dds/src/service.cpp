@@ -40,22 +40,19 @@ Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups,
                                               StandbyPresence::Handover standby) {
   const bool taking_over = standby.participant != nullptr;
   if (taking_over) {
-    participant_ = std::move(standby.participant);
     owner_ = std::move(standby.beacon);
-    // Participants discovered from now on; the clients it knew already are
-    // shown by their id until they change.
-    participant_->participant().set_listener(&participant_listener_, fdds::StatusMask::none());
+    // The clients it knew already are shown by their id until they change.
+    participant_.adopt(std::move(standby.participant));
   } else {
     contract::ParticipantOptions participant = options_.participant;
     participant.name = std::string(contract::kServiceParticipantPrefix) + options_.name;
     participant.cell = options_.name;
     contract::SetupReport report;
-    auto made = contract::Participant::create(participant, report, &participant_listener_);
+    auto joined = participant_.join(participant, report);
     // Before the outcome: an ignored option may explain a failure.
     for (const auto& warning : report.warnings) spdlog::warn("{}", warning);
     for (const auto& note : report.notes) spdlog::info("{}", note);
-    if (!made) return fail(std::move(made).error());
-    participant_ = std::move(made).value();
+    if (!joined) return joined;
   }
   if (const auto& cell = participant_->published_cell()) {
     spdlog::info("publishing in the default partition and in '{}', for followers of the cell",
@@ -224,7 +221,7 @@ void Service::Impl::stop() {
 }
 
 void Service::Impl::destroy_dds() {
-  if (participant_ == nullptr) return;
+  if (!participant_.joined()) return;
   owner_->stop();
   if (request_reader_ != nullptr) request_reader_->set_listener(nullptr);
   if (group_request_reader_ != nullptr) group_request_reader_->set_listener(nullptr);
@@ -234,7 +231,7 @@ void Service::Impl::destroy_dds() {
   statuses_.detach();
   status_writer_ = event_writer_ = reply_writer_ = nullptr;
   request_reader_ = nullptr;
-  participant_.reset();  // its listener first, then everything it contains
+  participant_.leave();
 }
 
 // ---------------------------------------------------------------------------
@@ -287,6 +284,22 @@ Caller Service::Impl::caller_of(const fdds::SampleInfo& info) const {
   std::string id = contract::client_id_for(info.publication_handle);
   std::string shown = names_.shown_as(id);
   return {std::move(id), std::move(shown)};
+}
+
+contract::PeerDiscoveryListener::Callbacks Service::Impl::peer_callbacks() {
+  return {[this](const std::string& participant_id, const std::string& name) {
+            spdlog::debug("participant {} '{}': discovered", participant_id, name);
+            owner_->announced(participant_id, name);
+            replies_.participant_joined(participant_id);
+          },
+          [this](const std::string& participant_id, bool dropped) {
+            spdlog::debug("participant {}: {}", participant_id,
+                          dropped ? "dropped (lease expired)" : "left");
+            on_participant_left(participant_id, dropped);
+          },
+          [this](const eprosima::fastrtps::rtps::ParticipantProxyData& data) {
+            names_.discovered(data);
+          }};
 }
 
 void Service::Impl::on_participant_left(const std::string& participant_id, bool dropped) {

@@ -22,7 +22,6 @@
 #include <spdlog/spdlog.h>
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
-#include <fastdds/dds/domain/DomainParticipantListener.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
@@ -36,6 +35,7 @@
 #include "conversions.hpp"
 #include "dh3/contract/dh3PubSubTypes.h"
 #include "dh3/contract/participant.hpp"
+#include "dh3/contract/listened_participant.hpp"
 #include "dh3/contract/participant_setup.hpp"
 #include "dh3/contract/qos.hpp"
 #include "dh3/dds/service.hpp"
@@ -118,53 +118,13 @@ class Service::Impl {
     Impl& impl_;
   };
 
-  class ParticipantListener final : public fdds::DomainParticipantListener {
-   public:
-    explicit ParticipantListener(Impl& impl) : impl_(impl) {}
-    void on_participant_discovery(
-        fdds::DomainParticipant* /*participant*/,
-        eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
-      using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo;
-      const std::string participant_id = contract::client_id_for(info.info.m_guid.guidPrefix);
-      spdlog::debug("participant {} '{}': {}", participant_id,
-                    info.info.m_participantName.to_string(), status_name(info.status));
-      if (info.status == Status::DISCOVERED_PARTICIPANT ||
-          info.status == Status::CHANGED_QOS_PARTICIPANT) {
-        impl_.names_.discovered(info.info);
-      }
-      if (info.status == Status::DISCOVERED_PARTICIPANT) {
-        impl_.owner_->announced(participant_id, info.info.m_participantName.to_string());
-        impl_.replies_.participant_joined(participant_id);
-      } else if (info.status == Status::REMOVED_PARTICIPANT ||
-                 info.status == Status::DROPPED_PARTICIPANT) {
-        impl_.on_participant_left(participant_id, info.status == Status::DROPPED_PARTICIPANT);
-      }
-    }
-
-   private:
-    static const char* status_name(
-        eprosima::fastrtps::rtps::ParticipantDiscoveryInfo::DISCOVERY_STATUS status) {
-      using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo;
-      switch (status) {
-        case Status::DISCOVERED_PARTICIPANT:
-          return "discovered";
-        case Status::CHANGED_QOS_PARTICIPANT:
-          return "changed its QoS";
-        case Status::REMOVED_PARTICIPANT:
-          return "left";
-        case Status::DROPPED_PARTICIPANT:
-          return "dropped (lease expired)";
-      }
-      return "?";
-    }
-    Impl& impl_;
-  };
-
   // Requests (DDS listener threads), under dispatch_mutex_.
   void on_requests(fdds::DataReader& reader);
   void on_group_requests(fdds::DataReader& reader);
   /// Who wrote a request sample: its participant, never the request's client_id.
   [[nodiscard]] Caller caller_of(const fdds::SampleInfo& info) const;
+  /// What the participant listener does with each participant that joins or leaves.
+  contract::PeerDiscoveryListener::Callbacks peer_callbacks();
   /// A client that leaves the domain loses its held replies and its leases at once.
   void on_participant_left(const std::string& participant_id, bool dropped);
   /// The timer's job: held replies past their limit, then expired leases.
@@ -197,13 +157,12 @@ class Service::Impl {
       {options_, directory_, leases_, schedulers_, statuses_, replies_, timer_, share_}};
   GroupCommands groups_{{options_, clock_, directory_, leases_, schedulers_, replies_, share_}};
 
-  ParticipantListener participant_listener_{*this};
   RequestListener request_listener_{*this};
   GroupRequestListener group_request_listener_{*this};
-  /// The participant, its topics, publisher and subscriber (null until init()
-  /// has made them); the writers and readers below are made on them and
-  /// deleted with them.
-  std::unique_ptr<contract::Participant> participant_;
+  /// The participant, its topics, publisher and subscriber (not joined until
+  /// init() has made them); the writers and readers below are made on them and
+  /// deleted with them, before the listeners above.
+  contract::ListenedParticipant participant_{peer_callbacks()};
   /// Real time, whatever clock_ is: it waits on DDS discovery and liveliness.
   std::unique_ptr<OwnerBeacon> owner_ = std::make_unique<OwnerBeacon>(SystemClock::instance());
   fdds::DataWriter* status_writer_ = nullptr;

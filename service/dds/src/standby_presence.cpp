@@ -5,46 +5,21 @@
 
 #include <spdlog/spdlog.h>
 
-#include <fastdds/dds/domain/DomainParticipantListener.hpp>
-
 #include "conversions.hpp"
 #include "dh3/contract/participant.hpp"
 #include "dh3/contract/participant_setup.hpp"
+#include "dh3/contract/peer_discovery_listener.hpp"
 #include "owner_beacon.hpp"
 #include "primary_watch.hpp"
 
 namespace dh3::dds {
-
-namespace fdds = eprosima::fastdds::dds;
-
-/// Tells the beacon which participants are services or standbys, and which
-/// left: a standby judging its cell vacant awaits their claims.
-class ClaimantListener final : public fdds::DomainParticipantListener {
- public:
-  explicit ClaimantListener(OwnerBeacon& beacon) : beacon_(beacon) {}
-  void on_participant_discovery(
-      fdds::DomainParticipant* /*participant*/,
-      eprosima::fastrtps::rtps::ParticipantDiscoveryInfo&& info) override {
-    using Status = eprosima::fastrtps::rtps::ParticipantDiscoveryInfo;
-    const std::string participant = contract::client_id_for(info.info.m_guid.guidPrefix);
-    if (info.status == Status::DISCOVERED_PARTICIPANT) {
-      beacon_.announced(participant, info.info.m_participantName.to_string());
-    } else if (info.status == Status::REMOVED_PARTICIPANT ||
-               info.status == Status::DROPPED_PARTICIPANT) {
-      beacon_.left(participant);
-    }
-  }
-
- private:
-  OwnerBeacon& beacon_;
-};
 
 class StandbyPresence::Impl {
  public:
   explicit Impl(std::string name)
       : name_(std::move(name)),
         beacon_(new OwnerBeacon(SystemClock::instance())),
-        listener_(*beacon_) {
+        listener_(claimant_callbacks(*beacon_)) {
     handover_.beacon.reset(beacon_);
   }
   ~Impl() {
@@ -101,7 +76,18 @@ class StandbyPresence::Impl {
   /// The beacon (real time: it waits on DDS liveliness); handover_ owns it
   /// until the takeover, the service after it.
   OwnerBeacon* beacon_;
-  ClaimantListener listener_;
+  /// Tells the beacon which participants are services or standbys, and
+  /// which left: a standby judging its cell vacant awaits their claims.
+  static contract::PeerDiscoveryListener::Callbacks claimant_callbacks(OwnerBeacon& beacon) {
+    return {
+        [&beacon](const std::string& participant, const std::string& name) {
+          beacon.announced(participant, name);
+        },
+        [&beacon](const std::string& participant, bool /*dropped*/) { beacon.left(participant); },
+        {}};
+  }
+
+  contract::PeerDiscoveryListener listener_;
   /// The participant and the beacon.
   Handover handover_;
   std::optional<Duration> vacancy_wait_;

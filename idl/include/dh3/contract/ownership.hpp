@@ -7,14 +7,12 @@
 //
 // Not thread-safe: each user keeps its table under its own lock.
 
-#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
 #include <string_view>
-#include <tuple>
 #include <vector>
 
 #include "dh3/base/clock.hpp"
@@ -60,10 +58,7 @@ inline constexpr std::string_view kServiceParticipantPrefix = "dh3-service ";
 inline constexpr std::string_view kStandbyParticipantPrefix = "dh3-standby ";
 
 /// The cell name a participant's announced name says it serves, if it is a service's.
-inline std::optional<std::string> announced_service(std::string_view participant_name) {
-  if (!participant_name.starts_with(kServiceParticipantPrefix)) return std::nullopt;
-  return std::string(participant_name.substr(kServiceParticipantPrefix.size()));
-}
+std::optional<std::string> announced_service(std::string_view participant_name);
 
 /// How much longer than the window a starting service waits for the claim of
 /// a participant that announced itself as a service of its name: on a loaded
@@ -82,130 +77,63 @@ struct OwnerClaim {
   std::uint64_t epoch = 0;
 
   /// "pid 4711 on host 'cellpc1' (participant 01f2...)", for error messages.
-  [[nodiscard]] std::string describe() const {
-    return "pid " + std::to_string(pid) + " on host '" + host + "' (participant " + participant +
-           ")";
-  }
+  [[nodiscard]] std::string describe() const;
 };
 
 /// A ServiceOwner sample in these terms, written by `participant`.
-inline OwnerClaim to_claim(const msg::ServiceOwner& sample, const std::string& participant) {
-  OwnerClaim claim;
-  claim.participant = participant;
-  claim.service = sample.service();
-  claim.host = sample.host();
-  claim.pid = sample.pid();
-  claim.started_ns = sample.started_ns();
-  claim.standby = sample.role() == msg::ServiceRole::ROLE_STANDBY;
-  claim.epoch = sample.epoch();
-  return claim;
-}
+OwnerClaim to_claim(const msg::ServiceOwner& sample, const std::string& participant);
 
 /// True if `a` rather than `b` owns their name when both are live and active:
 /// the higher epoch (a takeover raised it), then the later start (a restart
 /// supersedes what it replaced), then the higher participant prefix. A total
 /// order on what both sides read, so two services that meet after a
 /// partition agree on which one stops.
-inline bool outranks(const OwnerClaim& a, const OwnerClaim& b) {
-  return std::tie(a.epoch, a.started_ns, a.participant) >
-         std::tie(b.epoch, b.started_ns, b.participant);
-}
+bool outranks(const OwnerClaim& a, const OwnerClaim& b);
 
 /// Every claim seen, and which writers are alive now.
 class OwnerTable {
  public:
   /// A claim sample arrived (a participant has one claim; a new one replaces it).
-  void claim(OwnerClaim claim) {
-    auto& entry = entries_[claim.participant];
-    entry.claim = std::move(claim);
-    entry.has_claim = true;
-  }
+  void claim(OwnerClaim claim);
   /// The writer of `participant` asserted its liveliness (true) or missed its
   /// lease (false). May come before or after the claim sample.
-  void set_alive(const std::string& participant, bool alive) {
-    entries_[participant].liveliness = alive ? Liveliness::alive : Liveliness::lapsed;
-  }
+  void set_alive(const std::string& participant, bool alive);
   /// The participant left the domain or its writer was deleted.
-  void forget(const std::string& participant) {
-    entries_.erase(participant);
-    announced_.erase(participant);
-  }
+  void forget(const std::string& participant);
   /// `participant` announced itself in discovery as a service of `service`
   /// (its claim sample may follow later).
-  void announced(const std::string& participant, std::string service) {
-    announced_[participant] = std::move(service);
-  }
+  void announced(const std::string& participant, std::string service);
   /// A participant announced as a service of `service` whose claim has not arrived.
-  [[nodiscard]] bool claim_awaited(std::string_view service) const {
-    for (const auto& [participant, announced_service] : announced_) {
-      if (announced_service == service && !claim_of(participant)) return true;
-    }
-    return false;
-  }
+  [[nodiscard]] bool claim_awaited(std::string_view service) const;
 
   /// The claim of `participant`, if its sample arrived.
-  [[nodiscard]] std::optional<OwnerClaim> claim_of(const std::string& participant) const {
-    const auto it = entries_.find(participant);
-    if (it == entries_.end() || !it->second.has_claim) return std::nullopt;
-    return it->second.claim;
-  }
+  [[nodiscard]] std::optional<OwnerClaim> claim_of(const std::string& participant) const;
   /// Its liveliness was seen asserted and has not lapsed since.
-  [[nodiscard]] bool alive(const std::string& participant) const {
-    const auto it = entries_.find(participant);
-    return it != entries_.end() && it->second.liveliness == Liveliness::alive;
-  }
+  [[nodiscard]] bool alive(const std::string& participant) const;
   /// Its liveliness was seen and then lapsed (killed, frozen or cut off).
-  [[nodiscard]] bool lapsed(const std::string& participant) const {
-    const auto it = entries_.find(participant);
-    return it != entries_.end() && it->second.liveliness == Liveliness::lapsed;
-  }
+  [[nodiscard]] bool lapsed(const std::string& participant) const;
   /// The owner of `service`: the highest-ranking active claim that has not
   /// lapsed. A claim whose liveliness is not seen yet counts: its sample came
   /// from a writer alive when it wrote it, and the first assertion may
   /// arrive after the sample (unknown is not dead).
-  [[nodiscard]] std::optional<OwnerClaim> owner(std::string_view service) const {
-    std::optional<OwnerClaim> best;
-    for (const auto& [participant, entry] : entries_) {
-      if (!entry.has_claim || entry.liveliness == Liveliness::lapsed || entry.claim.standby) {
-        continue;
-      }
-      if (entry.claim.service != service) continue;
-      if (!best || outranks(entry.claim, *best)) best = entry.claim;
-    }
-    return best;
-  }
+  [[nodiscard]] std::optional<OwnerClaim> owner(std::string_view service) const;
   /// The standbys' claims on `service` that have not lapsed (unknown
   /// liveliness counts, as for owner()).
-  [[nodiscard]] std::vector<OwnerClaim> standbys(std::string_view service) const {
-    std::vector<OwnerClaim> found;
-    for (const auto& [participant, entry] : entries_) {
-      if (entry.has_claim && entry.claim.standby && entry.liveliness != Liveliness::lapsed &&
-          entry.claim.service == service) {
-        found.push_back(entry.claim);
-      }
-    }
-    return found;
-  }
+  [[nodiscard]] std::vector<OwnerClaim> standbys(std::string_view service) const;
   /// The highest epoch any claim on `service` carried, live or not (0: none).
-  [[nodiscard]] std::uint64_t highest_epoch(std::string_view service) const {
-    std::uint64_t highest = 0;
-    for (const auto& [participant, entry] : entries_) {
-      if (entry.has_claim && entry.claim.service == service) {
-        highest = std::max(highest, entry.claim.epoch);
-      }
-    }
-    return highest;
-  }
+  [[nodiscard]] std::uint64_t highest_epoch(std::string_view service) const;
 
  private:
   enum class Liveliness : std::uint8_t { unknown, alive, lapsed };
+  /// What is known of one participant, from discovery and the owner topic.
   struct Entry {
     OwnerClaim claim;
     bool has_claim = false;
     Liveliness liveliness = Liveliness::unknown;
+    /// The service it announced itself as in discovery, if it did.
+    std::optional<std::string> announced_service;
   };
-  std::map<std::string, Entry> entries_;
-  std::map<std::string, std::string> announced_;  ///< participant -> the service it announced
+  std::map<std::string, Entry> entries_;  ///< by participant
 };
 
 /// A service's decision at start: it serves only once it has listened for a
@@ -216,32 +144,17 @@ class StartClaim {
  public:
   enum class Verdict : std::uint8_t { wait, serve, refuse };
 
-  StartClaim(std::string service, std::string self, Duration window, const Clock& clock)
-      : service_(std::move(service)),
-        self_(std::move(self)),
-        deadline_(clock.now() + window),
-        clock_(clock) {}
+  StartClaim(std::string service, std::string self, Duration window, const Clock& clock);
 
   /// What to do now, given what `table` holds: refuse as soon as a live
   /// active owner of the name (not ourselves) is known, serve once the window
   /// has passed without one, and without a service of the name announced
   /// whose claim is still awaited (kStartClaimAwait at most).
-  [[nodiscard]] Verdict decide(const OwnerTable& table) {
-    if (const auto owner = table.owner(service_); owner && owner->participant != self_) {
-      other_ = owner;
-      return Verdict::refuse;
-    }
-    const TimePoint now = clock_.now();
-    if (now < deadline_) return Verdict::wait;
-    if (table.claim_awaited(service_) && now < deadline_ + kStartClaimAwait) return Verdict::wait;
-    return Verdict::serve;
-  }
+  [[nodiscard]] Verdict decide(const OwnerTable& table);
   /// The owner that made decide() refuse.
   [[nodiscard]] const std::optional<OwnerClaim>& other() const { return other_; }
   /// The epoch to claim when serving: above every claim on the name seen.
-  [[nodiscard]] std::uint64_t epoch(const OwnerTable& table) const {
-    return table.highest_epoch(service_) + 1;
-  }
+  [[nodiscard]] std::uint64_t epoch(const OwnerTable& table) const;
   [[nodiscard]] TimePoint deadline() const { return deadline_; }
 
  private:
