@@ -303,6 +303,14 @@ void ClientCore::apply_locked(const ServiceTracker::Outcome& outcome, Actions& o
       subscriptions_.post_event(made_events_.offline(status, outcome.why, made_ns));
     }
   }
+  if (!outcome.taken_over_by.empty()) {
+    const auto made_ns = ClientMadeEvents::now_ns();
+    for (const HandStatus& status : cache_.all()) {
+      if (status.address.service != outcome.service) continue;
+      subscriptions_.post_event(ClientMadeEvents::taken_over(status, outcome.taken_over_from,
+                                                             outcome.taken_over_by, made_ns));
+    }
+  }
   for (const HandStatus& status : cache_.mark_regained(outcome.regained)) {
     post_status_locked(outcome.regained, status);
   }

@@ -1,4 +1,5 @@
-// ClientMadeEvents: OFFLINE for the hands of a lost service, ONLINE once it is back.
+// ClientMadeEvents: OFFLINE for the hands of a lost service, TAKEN_OVER when
+// another process serves it, ONLINE once it is back.
 
 #include "client_made_events.hpp"
 
@@ -35,6 +36,14 @@ HandEvent ClientMadeEvents::offline(const HandStatus& status, const std::string&
   owed_[status.address] = "";
   told_online_.erase(status.address);
   return made_event(status, EventKind::offline, why, made_ns);
+}
+
+HandEvent ClientMadeEvents::taken_over(const HandStatus& status, const std::string& from,
+                                        const std::string& by, std::uint64_t made_ns) {
+  return made_event(status, EventKind::taken_over,
+                    "service '" + status.address.service + "' is now served by " + by +
+                        ", which took over from " + from,
+                    made_ns);
 }
 
 std::optional<HandEvent> ClientMadeEvents::online(const std::string& incarnation,

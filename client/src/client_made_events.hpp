@@ -13,6 +13,12 @@
 // come, and the client tells none. The service's own ONLINE for a hand, if it
 // still arrives after the client told one, is a double and is not passed on.
 //
+// TAKEN_OVER, for each hand the client knows of a service, when another
+// process than before serves the service (a standby took over, a restart):
+// the client tells it as it switches to the new owner, which no event of the
+// new owner could do reliably (its event writer is new, its events volatile,
+// and they are believed only once the client knows it as the owner).
+//
 // Not thread-safe: ClientCore keeps it under its state mutex, beside the
 // StatusCache whose changes it follows. Knows no DDS.
 
@@ -33,6 +39,10 @@ class ClientMadeEvents {
   /// The OFFLINE event for a hand whose service was lost (`why`), made at
   /// `made_ns`; an ONLINE is owed for the hand from now on.
   HandEvent offline(const HandStatus& status, const std::string& why, std::uint64_t made_ns);
+  /// The TAKEN_OVER event for a hand whose service is now served by `by`
+  /// (in words) instead of `from`, made at `made_ns`.
+  static HandEvent taken_over(const HandStatus& status, const std::string& from,
+                              const std::string& by, std::uint64_t made_ns);
   /// A status now cached, from the service participant `incarnation`: the
   /// ONLINE event owed for its hand if it shows the hand online, made at `made_ns`.
   std::optional<HandEvent> online(const std::string& incarnation, const HandStatus& status,

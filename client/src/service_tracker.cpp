@@ -39,10 +39,19 @@ void ServiceTracker::start_owner_wait(const std::string& prefix,
   if (endpoints_matched(prefix)) it->second.owner_wait_until = now + kOwnerWait;
 }
 
+std::string ServiceTracker::describe(const std::string& prefix) const {
+  if (const auto claim = owners_.claim_of(prefix)) return claim->describe();
+  return "participant " + prefix;
+}
+
 void ServiceTracker::make_current(const std::string& service, const std::string& prefix,
                                   Outcome& out) {
   auto& state = services_[service];
   if (state.incarnation != prefix) {
+    if (!state.incarnation.empty()) {
+      out.taken_over_from = describe(state.incarnation);
+      out.taken_over_by = describe(prefix);
+    }
     state.incarnation = prefix;
     // The info of another incarnation is not this one's.
     const auto it = participants_.find(prefix);

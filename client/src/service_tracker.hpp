@@ -60,6 +60,11 @@ class ServiceTracker {
     /// continued, a cut-off one reached again): its hands come back.
     std::string regained;
     bool may_dispatch = false;
+    /// The service is now served by another process than before (a standby
+    /// took over, a restart, a higher-ranking owner): who served it, and
+    /// who serves it now, in words; empty if it did not change hands.
+    std::string taken_over_from;
+    std::string taken_over_by;
   };
 
   /// How long a service whose other endpoints matched waits for its owner
@@ -153,6 +158,8 @@ class ServiceTracker {
   };
 
   void make_current(const std::string& service, const std::string& prefix, Outcome& out);
+  /// A service participant in words: its claim's process and host if known.
+  [[nodiscard]] std::string describe(const std::string& prefix) const;
   /// Follows the owner table: the owner of `service` (if any) becomes
   /// current, a current participant that is no longer the owner is lost.
   void follow_owner(const std::string& service, Outcome& out);

@@ -104,6 +104,8 @@ std::string_view to_string(EventKind kind) {
       return "ROTATION_BLOCKED";
     case EventKind::fault:
       return "FAULT";
+    case EventKind::taken_over:
+      return "TAKEN_OVER";
   }
   return "FAULT";
 }

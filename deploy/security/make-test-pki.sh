@@ -141,6 +141,7 @@ reply=dh3/command_reply
 group_request=dh3/group_request
 group_reply=dh3/group_reply
 owner=dh3/service_owner
+lease=dh3/hand_lease
 
 domains_xml="<domains><id_range><min>$domain_min</min><max>$domain_max</max></id_range></domains>"
 
@@ -218,7 +219,8 @@ EOF
 }
 
 # A service reads the owner topic too: a second service of its name must not serve.
-permissions service "$status $event $info $reply $group_reply $owner" "$request $group_request $owner"
+# The lease topic is the service's and its standby's only (docs/hot-standby.md).
+permissions service "$status $event $info $reply $group_reply $owner $lease" "$request $group_request $owner $lease"
 permissions operator "$request $group_request" "$status $event $info $reply $group_reply $owner"
 permissions monitor "" "$status $event $owner"
 

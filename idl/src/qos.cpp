@@ -20,6 +20,7 @@ Qos qos_for(TopicRole role) {
       [[fallthrough]];
     case TopicRole::hand_status:
     case TopicRole::service_info:
+    case TopicRole::hand_lease:
       qos.durability().kind = dds::TRANSIENT_LOCAL_DURABILITY_QOS;
       qos.history().depth = 1;
       // Fast DDS keeps at most 10 instances (keys) per writer and reader by

@@ -32,6 +32,7 @@ Topics create_topics(eprosima::fastdds::dds::DomainParticipant& participant) {
       topic(dh3::topics::GROUP_REPLY, new TypeSupport<msg::GroupReplyPubSubType>());
   topics.owner =
       topic(dh3::topics::SERVICE_OWNER, new TypeSupport<msg::ServiceOwnerPubSubType>());
+  topics.lease = topic(dh3::topics::HAND_LEASE, new TypeSupport<msg::HandLeasePubSubType>());
   return topics;
 }
 

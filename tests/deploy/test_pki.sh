@@ -69,12 +69,13 @@ topics = dict(re.findall(r'const string (\w+) = "([^"]+)";', topics_module))
 requests = {t for name, t in topics.items() if name.endswith("_REQUEST")}
 replies = {t for name, t in topics.items() if name.endswith("_REPLY")}
 status, event, info = topics["HAND_STATUS"], topics["HAND_EVENT"], topics["SERVICE_INFO"]
-owner = topics["SERVICE_OWNER"]
-assert len(topics) == len(requests | replies | {status, event, info, owner}), f"a topic of no known role: {topics}"
+owner, lease = topics["SERVICE_OWNER"], topics["HAND_LEASE"]
+assert len(topics) == len(requests | replies | {status, event, info, owner, lease}), f"a topic of no known role: {topics}"
 # Every client reads who owns a name (and sees its death); a service also
-# reads it, to meet any other service of its name.
+# reads it, to meet any other service of its name. The lease topic is a
+# service's and its standby's alone.
 want = {
-    "service": ({status, event, info, owner} | replies, requests | {owner}),
+    "service": ({status, event, info, owner, lease} | replies, requests | {owner, lease}),
     "operator": (requests, {status, event, info, owner} | replies),
     "monitor": (set(), {status, event, owner}),
 }

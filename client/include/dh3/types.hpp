@@ -63,6 +63,10 @@ enum class EventKind : std::uint8_t {
   rotation_arrived,
   rotation_blocked,
   fault,
+  /// Made by the client library, never sent by a service: another process
+  /// serves the hand's service now (a standby took over, a restart); the
+  /// message says which, and which one served it before.
+  taken_over,
 };
 DH3_CLIENT_API std::string_view to_string(EventKind kind);
 

@@ -132,6 +132,7 @@ class EventKind(_Spelled):
     ROTATION_ARRIVED = 8
     ROTATION_BLOCKED = 9
     FAULT = 10
+    TAKEN_OVER = 11
 
 
 class Error(Exception):

@@ -62,6 +62,7 @@ class EventKind(_Spelled):
     ROTATION_ARRIVED = 8
     ROTATION_BLOCKED = 9
     FAULT = 10
+    TAKEN_OVER = 11
 
 class Error(Exception):
     """A lookup that found nothing or a closed client: code says why."""

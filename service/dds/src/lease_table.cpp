@@ -24,43 +24,56 @@ LeaseAnswer LeaseTable::acquire(HandKey hand, std::string_view client, Duration 
                                 std::string_view shown_as) {
   const TimePoint now = clock_.now();
   if (shown_as.empty()) shown_as = client;
-  std::lock_guard lock(mutex_);
-  if (const Lease* lease = live_locked(hand, now); lease != nullptr && lease->holder != client) {
-    return {LeaseOutcome::held_by_other, lease->shown, false};
+  LeaseAnswer answer;
+  {
+    std::lock_guard lock(mutex_);
+    if (const Lease* lease = live_locked(hand, now); lease != nullptr && lease->holder != client) {
+      return {LeaseOutcome::held_by_other, lease->shown, false};
+    }
+    auto [it, inserted] = leases_.try_emplace(hand);
+    const bool changed = inserted || it->second.holder != client ||
+                         it->second.shown != shown_as || it->second.expires <= now;
+    it->second.holder.assign(client);
+    it->second.shown.assign(shown_as);
+    it->second.expires = now + ttl;
+    count_.store(leases_.size());
+    answer = {LeaseOutcome::granted, it->second.shown, changed};
   }
-  auto [it, inserted] = leases_.try_emplace(hand);
-  const bool changed = inserted || it->second.holder != client ||
-                       it->second.shown != shown_as || it->second.expires <= now;
-  it->second.holder.assign(client);
-  it->second.shown.assign(shown_as);
-  it->second.expires = now + ttl;
-  count_.store(leases_.size());
-  return {LeaseOutcome::granted, it->second.shown, changed};
+  tell_changed(hand);
+  return answer;
 }
 
 LeaseAnswer LeaseTable::renew(HandKey hand, std::string_view client, Duration ttl) {
   const TimePoint now = clock_.now();
-  std::lock_guard lock(mutex_);
-  const auto it = leases_.find(hand);
-  if (it == leases_.end() || it->second.expires <= now) {
-    return {LeaseOutcome::not_held, {}, false};
+  LeaseAnswer answer;
+  {
+    std::lock_guard lock(mutex_);
+    const auto it = leases_.find(hand);
+    if (it == leases_.end() || it->second.expires <= now) {
+      return {LeaseOutcome::not_held, {}, false};
+    }
+    if (it->second.holder != client) return {LeaseOutcome::held_by_other, it->second.shown, false};
+    it->second.expires = now + ttl;
+    answer = {LeaseOutcome::granted, it->second.shown, false};
   }
-  if (it->second.holder != client) return {LeaseOutcome::held_by_other, it->second.shown, false};
-  it->second.expires = now + ttl;
-  return {LeaseOutcome::granted, it->second.shown, false};
+  tell_changed(hand);
+  return answer;
 }
 
 LeaseAnswer LeaseTable::release(HandKey hand, std::string_view client) {
   const TimePoint now = clock_.now();
-  std::lock_guard lock(mutex_);
-  const auto it = leases_.find(hand);
-  if (it == leases_.end()) return {LeaseOutcome::granted, {}, false};
-  if (it->second.expires > now && it->second.holder != client) {
-    return {LeaseOutcome::held_by_other, it->second.shown, false};
+  {
+    std::lock_guard lock(mutex_);
+    const auto it = leases_.find(hand);
+    if (it == leases_.end()) return {LeaseOutcome::granted, {}, false};
+    if (it->second.expires > now && it->second.holder != client) {
+      return {LeaseOutcome::held_by_other, it->second.shown, false};
+    }
+    // An expired lease still in the table ends here; its end was not yet published.
+    leases_.erase(it);
+    count_.store(leases_.size());
   }
-  // An expired lease still in the table ends here; its end was not yet published.
-  leases_.erase(it);
-  count_.store(leases_.size());
+  tell_changed(hand);
   return {LeaseOutcome::granted, {}, true};
 }
 
@@ -119,16 +132,26 @@ std::vector<EndedLease> LeaseTable::end_locked(const std::function<bool(const Le
 
 std::vector<EndedLease> LeaseTable::expire() {
   const TimePoint now = clock_.now();
-  std::lock_guard lock(mutex_);
-  return end_locked([now](const Lease& lease) { return lease.expires <= now; });
+  std::vector<EndedLease> ended;
+  {
+    std::lock_guard lock(mutex_);
+    ended = end_locked([now](const Lease& lease) { return lease.expires <= now; });
+  }
+  tell_ended(ended);
+  return ended;
 }
 
 std::vector<EndedLease> LeaseTable::drop_client(std::string_view participant_id) {
   const std::string wanted = canonical_client_id(participant_id);
   if (wanted.empty()) return {};
-  std::lock_guard lock(mutex_);
-  return end_locked(
-      [&wanted](const Lease& lease) { return canonical_client_id(lease.holder) == wanted; });
+  std::vector<EndedLease> ended;
+  {
+    std::lock_guard lock(mutex_);
+    ended = end_locked(
+        [&wanted](const Lease& lease) { return canonical_client_id(lease.holder) == wanted; });
+  }
+  tell_ended(ended);
+  return ended;
 }
 
 std::optional<TimePoint> LeaseTable::next_expiry() const {
@@ -138,6 +161,41 @@ std::optional<TimePoint> LeaseTable::next_expiry() const {
     if (!earliest || lease.expires < *earliest) earliest = lease.expires;
   }
   return earliest;
+}
+
+std::optional<HeldLease> LeaseTable::lease_of(HandKey hand) const {
+  const TimePoint now = clock_.now();
+  std::lock_guard lock(mutex_);
+  const Lease* lease = live_locked(hand, now);
+  if (lease == nullptr) return std::nullopt;
+  return HeldLease{hand, lease->holder, lease->shown, lease->expires - now};
+}
+
+std::vector<HeldLease> LeaseTable::leases() const {
+  const TimePoint now = clock_.now();
+  std::lock_guard lock(mutex_);
+  std::vector<HeldLease> held;
+  for (const auto& [hand, lease] : leases_) {
+    if (lease.expires > now) held.push_back({hand, lease.holder, lease.shown, lease.expires - now});
+  }
+  return held;
+}
+
+void LeaseTable::load(const std::vector<HeldLease>& leases) {
+  const TimePoint now = clock_.now();
+  std::vector<HandKey> loaded;
+  {
+    std::lock_guard lock(mutex_);
+    for (const auto& lease : leases) {
+      if (lease.left <= Duration::zero() || lease.holder_id.empty()) continue;
+      leases_[lease.hand] = {lease.holder_id,
+                             lease.holder.empty() ? lease.holder_id : lease.holder,
+                             now + lease.left};
+      loaded.push_back(lease.hand);
+    }
+    count_.store(leases_.size());
+  }
+  for (const HandKey hand : loaded) tell_changed(hand);
 }
 
 }  // namespace dh3::dds

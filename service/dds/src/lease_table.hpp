@@ -10,6 +10,10 @@
 // field of the request. People see the holder under the name it is shown as
 // (its participant's announced name), which is no credential.
 //
+// A standby learns the table (LeasePublisher writes each change, LeaseFollower
+// reads it) and the service that takes over loads it: leases() and load()
+// carry each lease with its holder and the time it has left.
+//
 // Thread-safe: requests (DDS listener threads), the expiry timer and the
 // participant listener all use one table. Knows no DDS.
 
@@ -57,9 +61,24 @@ struct EndedLease {
   std::string holder_id;  ///< the client id
 };
 
+/// A live lease and the time it has left.
+struct HeldLease {
+  HandKey hand;
+  std::string holder_id;  ///< the client id
+  std::string holder;     ///< as shown
+  Duration left{};
+};
+
 class LeaseTable {
  public:
+  /// Told the hand whose lease changed (taken, extended, released or
+  /// ended), after the change, outside the table's lock.
+  using Changed = std::function<void(HandKey hand)>;
+
   explicit LeaseTable(const Clock& clock) : clock_(clock) {}
+
+  /// Set once, before the table is used from more than one thread.
+  void on_change(Changed changed) { changed_ = std::move(changed); }
 
   /// Takes the lease, or extends it if `client` already holds it. The holder is
   /// shown as `shown_as` (the id itself when empty).
@@ -92,6 +111,15 @@ class LeaseTable {
   /// When the next lease runs out, nullopt if none is held.
   [[nodiscard]] std::optional<TimePoint> next_expiry() const;
 
+  /// The live lease on `hand`, nullopt if the hand is free.
+  [[nodiscard]] std::optional<HeldLease> lease_of(HandKey hand) const;
+  /// Every live lease.
+  [[nodiscard]] std::vector<HeldLease> leases() const;
+  /// Takes over leases another service granted (a takeover): each runs out
+  /// when its time left from now does, and replaces what the table held for
+  /// its hand. Leases with no time left are skipped.
+  void load(const std::vector<HeldLease>& leases);
+
  private:
   struct Lease {
     std::string holder;  ///< the client id
@@ -102,8 +130,15 @@ class LeaseTable {
   [[nodiscard]] const Lease* live_locked(HandKey hand, TimePoint now) const;
   /// Ends the leases `ends` picks and returns them (locked).
   std::vector<EndedLease> end_locked(const std::function<bool(const Lease&)>& ends);
+  void tell_changed(HandKey hand) const {
+    if (changed_) changed_(hand);
+  }
+  void tell_ended(const std::vector<EndedLease>& ended) const {
+    for (const auto& lease : ended) tell_changed(lease.hand);
+  }
 
   const Clock& clock_;
+  Changed changed_;
   mutable std::mutex mutex_;
   std::map<HandKey, Lease> leases_;
   std::atomic<std::size_t> count_{0};  ///< leases_.size(), read without the lock

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 
+#include "lease_mirror.hpp"
 #include "round_robin.hpp"
 #include "service_impl.hpp"
 
@@ -26,7 +27,9 @@ Service::Impl::Impl(ServiceOptions options, const Clock& clock)
             }
             return next;
           },
-          [this] { sweep_expired(); }) {}
+          [this] { sweep_expired(); }) {
+  leases_.on_change([this](HandKey hand) { lease_share_.publish(hand); });
+}
 
 Service::Impl::~Impl() {
   stop();
@@ -79,7 +82,23 @@ Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups,
     statuses_.set_link_up(index, schedulers_.back()->link_state() == bus::LinkState::up);
     directory_.add_bus(setup.name, schedulers_.back()->roster());
   }
+  // Before the first statuses (start()), which show each hand's holder.
+  if (taking_over) load_leases(standby.leases);
   return {};
+}
+
+void Service::Impl::load_leases(const std::vector<HandedLease>& handed) {
+  std::vector<HeldLease> leases;
+  for (const auto& lease : handed) {
+    const auto bus = directory_.find_bus(lease.bus);
+    if (!bus) continue;  // a bus the primary had and this configuration has not
+    leases.push_back({{*bus, lease.can_id}, lease.holder_id, lease.holder, lease.left});
+    spdlog::info("{}: lease of '{}' (participant {}) carried over, {} ms left",
+                 hand_text(lease.bus, lease.can_id), lease.holder, lease.holder_id,
+                 std::chrono::duration_cast<std::chrono::milliseconds>(lease.left).count());
+  }
+  // Each loaded lease is written at once: a standby of this service knows it too.
+  leases_.load(leases);
 }
 
 Result<void, std::string> Service::Impl::claim_name(bool standby) {
@@ -130,7 +149,22 @@ Result<void, std::string> Service::Impl::create_writers() {
   }
   statuses_.set_writers(status_writer_, event_writer_, info_writer);
   replies_.set_reply_writer(reply_writer_);
+  if (created) create_lease_writer();
   return created;
+}
+
+void Service::Impl::create_lease_writer() {
+  fdds::Topic* topic = participant_->topics().lease;
+  fdds::DataWriter* writer =
+      topic == nullptr ? nullptr
+                       : participant_->publisher().create_datawriter(
+                             topic, contract::writer_qos(TopicRole::hand_lease), nullptr,
+                             fdds::StatusMask::none());
+  if (writer == nullptr) {
+    spdlog::warn("a standby will not know the leases: {}",
+                 cannot_create(std::string("the writer of ") + dh3::topics::HAND_LEASE));
+  }
+  lease_share_.set_writer(writer);
 }
 
 Result<void, std::string> Service::Impl::create_request_reader() {
@@ -229,6 +263,7 @@ void Service::Impl::destroy_dds() {
   group_reply_writer_ = nullptr;
   replies_.detach();
   statuses_.detach();
+  lease_share_.set_writer(nullptr);
   status_writer_ = event_writer_ = reply_writer_ = nullptr;
   request_reader_ = nullptr;
   participant_.leave();

@@ -4,8 +4,8 @@
 // the parts that do the work: StatusPublisher (statuses, events, service
 // info), ReplyChannel (replies and their gates), RequestHandler and
 // GroupCommands (requests), ClientShare (each client's requests in flight),
-// LeaseTable and the ExpiryTimer (leases), ParticipantNames (how lease
-// holders are shown).
+// LeaseTable and the ExpiryTimer (leases), LeasePublisher (the leases, for a
+// standby), ParticipantNames (how lease holders are shown).
 //
 // Locks. dispatch_mutex_ (here) is outermost: one request or group request at
 // a time, and stop() takes it to know none is in flight. Under it a request
@@ -43,6 +43,7 @@
 #include "expiry_timer.hpp"
 #include "group_commands.hpp"
 #include "hand_directory.hpp"
+#include "lease_publisher.hpp"
 #include "lease_table.hpp"
 #include "owner_beacon.hpp"
 #include "participant_names.hpp"
@@ -135,6 +136,11 @@ class Service::Impl {
   /// standby's beacon claims at once.
   Result<void, std::string> claim_name(bool standby);
   Result<void, std::string> create_writers();
+  /// The lease writer, for the standby; without it (DDS Security
+  /// permissions that predate it) the service serves, and says so.
+  void create_lease_writer();
+  /// The leases of the primary a standby took over from, by bus name.
+  void load_leases(const std::vector<HandedLease>& handed);
   Result<void, std::string> create_request_reader();
   /// The group endpoints; a service whose DDS Security permissions predate
   /// them runs without group commands (and says so).
@@ -147,6 +153,7 @@ class Service::Impl {
   HandDirectory directory_;
   LeaseTable leases_;
   ParticipantNames names_;
+  LeasePublisher lease_share_{options_.name, leases_, directory_};  ///< for the standby
   Schedulers schedulers_;  ///< by bus index; fixed after init()
   std::vector<std::unique_ptr<BusObserver>> observers_;
   ReplyChannel replies_{clock_, options_.test_seam_tracer, [this] { timer_.wake(); }};

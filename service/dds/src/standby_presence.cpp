@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include "conversions.hpp"
+#include "lease_follower.hpp"
 #include "dh3/contract/participant.hpp"
 #include "dh3/contract/participant_setup.hpp"
 #include "dh3/contract/peer_discovery_listener.hpp"
@@ -23,6 +24,7 @@ class StandbyPresence::Impl {
     handover_.beacon.reset(beacon_);
   }
   ~Impl() {
+    leases_.reset();
     if (handover_.beacon) handover_.beacon->stop();
     handover_.participant.reset();
   }
@@ -46,6 +48,11 @@ class StandbyPresence::Impl {
     if (auto created = beacon_->create(*handover_.participant); !created) {
       return fail("cannot create " + created.error());
     }
+    if (auto follower = LeaseFollower::create(*handover_.participant, options.name); follower) {
+      leases_ = std::move(follower).value();
+    } else {
+      spdlog::warn("standby: cannot create {}: no lease survives a takeover", follower.error());
+    }
     const msg::ServiceOwner self = own_claim(options.name, options.host, wall_clock_ns());
     watch_.emplace(contract::to_claim(self, handover_.participant->client_id()),
                    SystemClock::instance().now(), vacancy_wait_);
@@ -59,6 +66,7 @@ class StandbyPresence::Impl {
     });
     bool changed = false;
     auto lost = watch_->look(view, now, &changed);
+    if (lost && lost->primary) primary_ = lost->primary->participant;
     if (changed) {
       spdlog::info("standby: service '{}' is served by {} (epoch {})", name_,
                    view.owner->describe(), view.owner->epoch);
@@ -69,7 +77,11 @@ class StandbyPresence::Impl {
   std::optional<contract::OwnerClaim> owner() const { return beacon_->owner(name_); }
   void set_vacancy_wait(std::optional<Duration> wait) { vacancy_wait_ = wait; }
 
-  Handover hand_over() { return std::move(handover_); }
+  Handover hand_over() {
+    if (leases_ && !primary_.empty()) handover_.leases = leases_->held_by_writer(primary_);
+    leases_.reset();
+    return std::move(handover_);
+  }
 
  private:
   std::string name_;
@@ -92,6 +104,8 @@ class StandbyPresence::Impl {
   Handover handover_;
   std::optional<Duration> vacancy_wait_;
   std::optional<PrimaryWatch> watch_;  ///< made once our claim is known
+  std::unique_ptr<LeaseFollower> leases_;  ///< null if it could not be made
+  std::string primary_;  ///< the participant of the primary whose loss lapse() confirmed
 };
 
 StandbyPresence::Handover::Handover() = default;

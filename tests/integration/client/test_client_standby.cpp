@@ -44,7 +44,12 @@ class EventLog {
   void add(const HandEvent& event) {
     std::lock_guard lock(mutex_);
     kinds_.push_back(event.kind);
+    messages_.push_back(event.message);
     changed_.notify_all();
+  }
+  [[nodiscard]] std::string message(std::size_t index) {
+    std::lock_guard lock(mutex_);
+    return index < messages_.size() ? messages_[index] : std::string{};
   }
   /// Waits for an event of `kind` after the first `from` events; its index.
   std::optional<std::size_t> wait(EventKind kind, std::size_t from) {
@@ -73,6 +78,7 @@ class EventLog {
   std::mutex mutex_;
   std::condition_variable changed_;
   std::vector<EventKind> kinds_;
+  std::vector<std::string> messages_;
 };
 
 /// dh3-service --role standby (or `role`) with its log on stdout, read by the test.
@@ -209,6 +215,81 @@ TEST_F(StandbyTest, TakesOverAKilledServiceWithTheHandsAsTheyWere) {
   EXPECT_TRUE(moved) << moved.message;
   // Initialized once, by the client, before the kill: never again.
   for (const EventKind kind : events_.since(before_kill)) EXPECT_NE(kind, EventKind::initialized);
+  EXPECT_EQ(standby.stop(), 0);
+}
+
+// The leases the primary granted are the standby's once it took over: the
+// holder still holds its lease (another client is DENIED, naming it) and
+// renews it; and every hand's watcher is told who serves the cell now.
+TEST_F(StandbyTest, ALeaseSurvivesATakeoverAndWatchersAreToldOfIt) {
+  auto primary = std::make_unique<RunningService>(box_config(sim_.bus_spec()));
+  ASSERT_TRUE(primary->started());
+  const pid_t primary_pid = primary->process().process().pid();
+  const TempFile config(box_config(sim_.bus_spec()));
+  StandbyProcess standby(config.path());
+  ASSERT_TRUE(standby.wait_for("is served by")) << "the standby never saw the active service";
+  drive_hand();  // client A: hand 1 initialized, at 30, its events watched
+  ASSERT_FALSE(HasFatalFailure());
+  auto found_other = client_.wait_for_hand(test_service_name() + "/bus0/2", kClientDeadline);
+  ASSERT_TRUE(found_other) << found_other.message();
+  EventLog other_events;
+  const Subscription other_watch =
+      found_other->subscribe([&other_events](const HandEvent& e) { other_events.add(e); });
+
+  const Reply leased = hand_->acquire_lease(std::chrono::seconds(60));
+  ASSERT_TRUE(leased) << leased.message;
+  const std::string holder = leased.lease_holder;
+  ASSERT_FALSE(holder.empty());
+  ClientOptions b_options = client_options();
+  b_options.participant_name = "client-b";
+  Client b(b_options);
+  auto b_hand = b.wait_for_hand(test_service_name() + "/bus0/1", kClientDeadline);
+  ASSERT_TRUE(b_hand) << b_hand.message();
+  const Reply denied_before = b_hand->move_to(60);
+  ASSERT_EQ(denied_before.code, Code::denied) << denied_before.message;
+
+  const std::size_t before_kill = events_.size();
+  const std::size_t other_before_kill = other_events.size();
+  primary->process().process().send_signal(SIGKILL);
+  ASSERT_TRUE(standby.wait_for("took over from")) << "the standby never took over";
+  const auto taken_over = events_.wait(EventKind::taken_over, before_kill);
+  ASSERT_TRUE(taken_over) << "hand 1's watcher was never told of the takeover";
+  EXPECT_THAT(events_.message(*taken_over),
+              HasSubstr("is now served by pid " + std::to_string(standby.pid())));
+  EXPECT_THAT(events_.message(*taken_over),
+              HasSubstr("took over from pid " + std::to_string(primary_pid)));
+  EXPECT_TRUE(other_events.wait(EventKind::taken_over, other_before_kill))
+      << "hand 2's watcher was never told of the takeover";
+  ASSERT_TRUE(hand_->wait_until([](const HandStatus& s) { return s.online; }, kClientDeadline))
+      << "the hand never came back online";
+
+  // Served by the standby now: the lease is still A's.
+  const Reply denied = b_hand->move_to(60);
+  EXPECT_EQ(denied.code, Code::denied) << denied.message;
+  EXPECT_EQ(denied.lease_holder, holder);
+  EXPECT_THAT(denied.message, HasSubstr(holder));
+  const Reply taken = b_hand->acquire_lease(std::chrono::seconds(5));
+  EXPECT_EQ(taken.code, Code::denied) << taken.message;
+  // A participant that writes A's client id into its requests is not A.
+  DdsTestClient forger(test_domain(), "forger");
+  ASSERT_TRUE(forger.wait_for_service(test_service_name()));
+  auto forged =
+      forger.request(DdsTestClient::hand(test_service_name(), "bus0", 1), msg::MOVE, 70);
+  forged.client_id(client_.client_id());
+  forged.request_seq(1'000'000);
+  forger.send(forged, true);
+  const auto forged_reply = forger.wait_reply(1'000'000, kDdsDeadline, client_.client_id());
+  ASSERT_TRUE(forged_reply) << "the forged request was never answered";
+  EXPECT_EQ(forged_reply->code(), msg::DENIED) << forged_reply->message();
+  EXPECT_EQ(forged_reply->lease_holder(), holder);
+  const Reply renewed = hand_->renew_lease(std::chrono::seconds(60));
+  EXPECT_TRUE(renewed) << renewed.message;
+  const Reply moved = hand_->move_to(50);
+  EXPECT_TRUE(moved) << moved.message;
+  const auto status = hand_->status();
+  ASSERT_TRUE(status);
+  EXPECT_EQ(status->lease_holder, holder);
+  EXPECT_THAT(standby.log(), HasSubstr("carried over"));
   EXPECT_EQ(standby.stop(), 0);
 }
 

@@ -52,6 +52,18 @@ TEST(ClientMadeEvents, TheOfflineEventSaysWhereTheHandWasAndWhy) {
   EXPECT_TRUE(event.from_client);
 }
 
+TEST(ClientMadeEvents, TheTakenOverEventSaysWhoServesTheHandNowAndWhoDidBefore) {
+  const HandEvent event = ClientMadeEvents::taken_over(status_of(kLeft, false), "pid 1 on 'pc-a'",
+                                                       "pid 2 on 'pc-b'", kMadeNs);
+  EXPECT_EQ(event.kind, EventKind::taken_over);
+  EXPECT_EQ(event.hand, kLeft);
+  EXPECT_EQ(event.position, 30);
+  EXPECT_TRUE(event.from_client);
+  EXPECT_EQ(event.timestamp_ns, kMadeNs);
+  EXPECT_EQ(event.message,
+            "service 'svc' is now served by pid 2 on 'pc-b', which took over from pid 1 on 'pc-a'");
+}
+
 TEST(ClientMadeEvents, AHandToldOfflineIsToldOnlineOnceWhenAStatusShowsItOnline) {
   ClientMadeEvents made;
   made.offline(status_of(kLeft), "lost", kMadeNs);

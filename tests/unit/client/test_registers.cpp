@@ -39,6 +39,7 @@ TEST(TypesTest, CodesReadAsTheWireSpellsThem) {
   EXPECT_EQ(to_string(GraspOutcome::missed), "MISSED");
   EXPECT_EQ(to_string(GripState::missed), "MISSED");
   EXPECT_EQ(to_string(EventKind::rotation_blocked), "ROTATION_BLOCKED");
+  EXPECT_EQ(to_string(EventKind::taken_over), "TAKEN_OVER");
 }
 
 TEST(TypesTest, ReplyIsTrueOnlyWhenOk) {

@@ -233,6 +233,26 @@ TEST(TrackerOwner, AStandbyIsNotBelievedWhileItStandsBy) {
   EXPECT_TRUE(tracker.alive("svc"));
 }
 
+TEST(TrackerOwner, AnOwnerOfAnotherProcessSaysWhoTookOverFromWhom) {
+  ServiceTracker tracker;
+  Outcome first;
+  tracker.take_claim(claim("A", 1, 10), first);
+  EXPECT_TRUE(first.taken_over_by.empty()) << "the first owner seen takes over from nobody";
+  tracker.owner_alive("A", true);
+  tracker.owner_alive("A", false);  // killed
+  auto standby = claim("S", 2, 20);
+  Outcome takeover;
+  tracker.take_claim(standby, takeover);
+  EXPECT_EQ(takeover.service, "svc");
+  EXPECT_EQ(takeover.taken_over_from, claim("A", 1, 10).describe());
+  EXPECT_EQ(takeover.taken_over_by, standby.describe());
+  // The same owner asserting again changes no hands.
+  Outcome again;
+  tracker.take_claim(standby, again);
+  EXPECT_TRUE(again.taken_over_by.empty());
+  EXPECT_TRUE(tracker.owner_alive("S", true).taken_over_by.empty());
+}
+
 TEST(TrackerOwner, TheOwnerLeavingHandsTheNameToTheNextLiveOwner) {
   ServiceTracker tracker;
   serve(tracker, "A", 2, 10);

@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "lease_mirror.hpp"
 #include "lease_table.hpp"
 
 namespace dh3::dds {
@@ -168,6 +169,135 @@ TEST_F(LeaseTableTest, NextExpiryIsTheEarliest) {
 TEST(CanonicalClientId, DropsSeparatorsAndLowercases) {
   EXPECT_EQ(canonical_client_id("01.0F:Ab"), "010fab");
   EXPECT_EQ(canonical_client_id("robot-cell-7"), "robot-cell-7");
+}
+
+
+// ---------------------------------------------------------------------------
+// The hand-over to a standby: the active service's table writes each change
+// as a lease sample (lease_sample), the standby keeps them per writer
+// (LeaseMirror) and the service that takes over loads the primary's
+// (LeaseTable::load). Two fake clocks: the PCs' clocks need not agree.
+
+class LeaseHandoverTest : public ::testing::Test {
+ protected:
+  LeaseHandoverTest() {
+    primary_.on_change([this](HandKey hand) {
+      mirror_.received(kPrimary, lease_sample("cell", "left", hand.can_id, primary_.lease_of(hand)),
+                       standby_clock_.now());
+    });
+  }
+  /// What the standby hands the service at a takeover from the primary.
+  [[nodiscard]] std::vector<HeldLease> handed_over() const {
+    std::vector<HeldLease> held;
+    for (const auto& lease : mirror_.held_by_writer(kPrimary, standby_clock_.now())) {
+      EXPECT_EQ(lease.bus, "left");
+      held.push_back({{0, lease.can_id}, lease.holder_id, lease.holder, lease.left});
+    }
+    return held;
+  }
+
+  static constexpr const char* kPrimary = "01.0f.aa.aa";
+  static constexpr const char* kAlice = "01.0f.a1.1c";
+  static constexpr const char* kBob = "01.0f.b0.b0";
+  FakeClock primary_clock_;
+  FakeClock standby_clock_{TimePoint{} + std::chrono::hours(7)};
+  LeaseTable primary_{primary_clock_};
+  LeaseMirror mirror_{"cell"};
+  LeaseTable taken_over_{standby_clock_};  ///< the service the standby became
+};
+
+TEST_F(LeaseHandoverTest, ALeaseKeepsItsHolderAndTheTimeItHadLeft) {
+  ASSERT_EQ(primary_.acquire(kHand, kAlice, milliseconds(10'000), "alice@pc").outcome,
+            LeaseOutcome::granted);
+  primary_clock_.advance(milliseconds(4000));
+  standby_clock_.advance(milliseconds(4000));
+  ASSERT_EQ(primary_.renew(kHand, kAlice, milliseconds(10'000)).outcome, LeaseOutcome::granted);
+  // The primary dies 3 s after the renewal; the standby takes over.
+  standby_clock_.advance(milliseconds(3000));
+  taken_over_.load(handed_over());
+
+  EXPECT_EQ(taken_over_.holder(kHand), "alice@pc");
+  EXPECT_TRUE(taken_over_.held_by(kHand, kAlice));
+  EXPECT_EQ(taken_over_.blocking_holder(kHand, kBob), "alice@pc");
+  EXPECT_EQ(taken_over_.acquire(kHand, kBob, milliseconds(1000), "bob@pc").outcome,
+            LeaseOutcome::held_by_other);
+  EXPECT_FALSE(taken_over_.blocking_holder(kHand, kAlice));
+  // 10 s from the renewal: 7 s from the takeover, not 10.
+  EXPECT_EQ(taken_over_.next_expiry(), standby_clock_.now() + milliseconds(7000));
+  standby_clock_.advance(milliseconds(6999));
+  EXPECT_TRUE(taken_over_.expire().empty());
+  standby_clock_.advance(milliseconds(1));
+  const auto ended = taken_over_.expire();
+  ASSERT_EQ(ended.size(), 1U);
+  EXPECT_EQ(ended[0].holder_id, kAlice);
+  EXPECT_EQ(taken_over_.holder(kHand), "");
+}
+
+TEST_F(LeaseHandoverTest, TheHolderRenewsUnderTheNewOwner) {
+  primary_.acquire(kHand, kAlice, milliseconds(2000), "alice@pc");
+  standby_clock_.advance(milliseconds(1500));
+  taken_over_.load(handed_over());
+  EXPECT_EQ(taken_over_.renew(kHand, kAlice, milliseconds(2000)).outcome, LeaseOutcome::granted);
+  standby_clock_.advance(milliseconds(1900));
+  EXPECT_TRUE(taken_over_.expire().empty());
+  EXPECT_TRUE(taken_over_.held_by(kHand, kAlice));
+  // By its participant id, also written as the service writes it.
+  EXPECT_EQ(taken_over_.release(kHand, kBob).outcome, LeaseOutcome::held_by_other);
+  EXPECT_EQ(taken_over_.release(kHand, kAlice).outcome, LeaseOutcome::granted);
+  EXPECT_EQ(taken_over_.holder(kHand), "");
+}
+
+TEST_F(LeaseHandoverTest, LeasesThatEndedBeforeTheTakeoverAreNotHandedOver) {
+  primary_.acquire(kHand, kAlice, milliseconds(5000), "alice@pc");
+  primary_.acquire(kOtherHand, kBob, milliseconds(1000), "bob@pc");
+  primary_.acquire(HandKey{0, 3}, kBob, milliseconds(5000), "bob@pc");
+  ASSERT_EQ(primary_.release(kHand, kAlice).outcome, LeaseOutcome::granted);
+  primary_clock_.advance(milliseconds(1000));
+  ASSERT_EQ(primary_.expire().size(), 1U);  // kOtherHand's
+  ASSERT_EQ(primary_.drop_client(kBob).size(), 1U);  // hand 3's: bob left the domain
+  taken_over_.load(handed_over());
+  EXPECT_TRUE(taken_over_.leases().empty());
+  EXPECT_FALSE(taken_over_.next_expiry());
+}
+
+TEST_F(LeaseHandoverTest, ALeaseWhoseTimeRanOutAtTheStandbyIsNotHandedOver) {
+  primary_.acquire(kHand, kAlice, milliseconds(1000), "alice@pc");
+  // The primary died without a word; its expiry is the standby's to count.
+  standby_clock_.advance(milliseconds(1000));
+  taken_over_.load(handed_over());
+  EXPECT_EQ(taken_over_.holder(kHand), "");
+  EXPECT_EQ(taken_over_.acquire(kHand, kBob, milliseconds(1000), "bob@pc").outcome,
+            LeaseOutcome::granted);
+}
+
+TEST_F(LeaseHandoverTest, OnlyTheLostOwnersSamplesAreHandedOver) {
+  primary_.acquire(kHand, kAlice, milliseconds(5000), "alice@pc");
+  // Another participant writes lease samples of its own: bob holding both hands.
+  for (const HandKey hand : {kHand, kOtherHand}) {
+    mirror_.received(kBob,
+                     lease_sample("cell", "left", hand.can_id,
+                                  HeldLease{hand, kBob, "bob@pc", milliseconds(60'000)}),
+                     standby_clock_.now());
+  }
+  // And one of another cell, from the primary's participant.
+  mirror_.received(kPrimary,
+                   lease_sample("other-cell", "left", kOtherHand.can_id,
+                                HeldLease{kOtherHand, kBob, "bob@pc", milliseconds(60'000)}),
+                   standby_clock_.now());
+  taken_over_.load(handed_over());
+  EXPECT_TRUE(taken_over_.held_by(kHand, kAlice));
+  EXPECT_FALSE(taken_over_.held_by(kHand, kBob));
+  EXPECT_EQ(taken_over_.holder(kOtherHand), "");
+  EXPECT_EQ(taken_over_.blocking_holder(kHand, kBob), "alice@pc");
+}
+
+TEST_F(LeaseHandoverTest, ALoadedLeaseIsToldAsAChange) {
+  // The service that took over writes what it loaded: its own standby learns it.
+  std::vector<HandKey> told;
+  taken_over_.on_change([&told](HandKey hand) { told.push_back(hand); });
+  primary_.acquire(kHand, kAlice, milliseconds(5000), "alice@pc");
+  taken_over_.load(handed_over());
+  EXPECT_EQ(told, std::vector<HandKey>{kHand});
 }
 
 }  // namespace

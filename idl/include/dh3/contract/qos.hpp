@@ -17,6 +17,7 @@ enum class TopicRole {
   request,       ///< commands from clients
   reply,         ///< answers from services
   service_owner, ///< who serves a cell name, kept alive by liveliness (ownership.hpp)
+  hand_lease,    ///< the owner's lease of each hand, for its standby; as hand_status
 };
 
 /// History depth for the streams (events, requests, replies).

@@ -33,8 +33,10 @@ class TypeSupport final : public Generated {
   }
 };
 
-/// The contract's eight topics on one participant, each with its type
+/// The contract's nine topics on one participant, each with its type
 /// registered through TypeSupport. A member is nullptr where Fast DDS refused.
+/// The lease topic (a service's and its standby's) is not needed for
+/// complete(): a participant whose permissions predate it works without it.
 struct Topics {
   eprosima::fastdds::dds::Topic* status = nullptr;
   eprosima::fastdds::dds::Topic* event = nullptr;
@@ -44,6 +46,7 @@ struct Topics {
   eprosima::fastdds::dds::Topic* group_request = nullptr;
   eprosima::fastdds::dds::Topic* group_reply = nullptr;
   eprosima::fastdds::dds::Topic* owner = nullptr;
+  eprosima::fastdds::dds::Topic* lease = nullptr;
 
   [[nodiscard]] bool complete() const;
 };

@@ -13,6 +13,9 @@
 // Given a vacancy wait, a cell that no owner served by then is vacant
 // (primary_watch.hpp says when, and which of several standbys takes it).
 //
+// It reads the lease topic as well (lease_follower.hpp): at the takeover the
+// leases the primary granted are handed to the service with the rest.
+//
 // At the takeover the service is made on the same participant
 // (Service::create with the presence): every client has discovered it and
 // matched its owner writer already, so only the service's other endpoints
@@ -25,6 +28,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "dh3/base/clock.hpp"
 #include "dh3/base/result.hpp"
@@ -38,6 +42,7 @@ class Participant;
 namespace dh3::dds {
 
 class OwnerBeacon;
+struct HandedLease;
 
 /// The primary's loss, as a standby confirmed it, or the cell's vacancy.
 struct PrimaryLapse {
@@ -71,6 +76,9 @@ class StandbyPresence {
   struct Handover {
     std::unique_ptr<contract::Participant> participant;
     std::unique_ptr<OwnerBeacon> beacon;
+    /// The leases the primary it took over from last said it granted, with
+    /// their time left (none for a vacant cell).
+    std::vector<HandedLease> leases;
     Handover();
     Handover(Handover&&) noexcept;
     ~Handover();
