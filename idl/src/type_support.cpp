@@ -9,7 +9,7 @@ namespace dh3::contract {
 bool Topics::complete() const {
   return status != nullptr && event != nullptr && info != nullptr && request != nullptr &&
          reply != nullptr && group_request != nullptr && group_reply != nullptr &&
-         owner != nullptr;
+         owner != nullptr && admin_request != nullptr;
 }
 
 Topics create_topics(eprosima::fastdds::dds::DomainParticipant& participant) {
@@ -32,6 +32,8 @@ Topics create_topics(eprosima::fastdds::dds::DomainParticipant& participant) {
       topic(dh3::topics::GROUP_REPLY, new TypeSupport<msg::GroupReplyPubSubType>());
   topics.owner =
       topic(dh3::topics::SERVICE_OWNER, new TypeSupport<msg::ServiceOwnerPubSubType>());
+  topics.admin_request =
+      topic(dh3::topics::ADMIN_REQUEST, new TypeSupport<msg::CommandRequestPubSubType>());
   return topics;
 }
 

@@ -57,12 +57,20 @@ class DdsTestClient {
     none,  ///< no reply reader until read_replies(): a client that never reads its replies
   };
 
+  /// DDS Security credentials in make-test-pki.sh's layout; empty: none.
+  struct Credentials {
+    std::string dir;
+    std::string identity;
+  };
+
   explicit DdsTestClient(int domain, const std::string& name = "dh3-test",
-                         Replies replies = Replies::all) {
+                         Replies replies = Replies::all, const Credentials& credentials = {}) {
     namespace fdds = eprosima::fastdds::dds;
     contract::ParticipantOptions options;
     options.name = name;
     options.domain = domain;
+    options.security_dir = credentials.dir;
+    options.security_identity = credentials.identity;
     contract::SetupReport report;
     auto created = contract::Participant::create(options, report);
     if (!created) return;
@@ -74,6 +82,9 @@ class DdsTestClient {
     using contract::TopicRole;
     request_writer_ = publisher.create_datawriter(contract_topics.request,
                                                   contract::writer_qos(TopicRole::request));
+    // Refused (nullptr) by DDS Security unless the identity's permissions grant it.
+    admin_writer_ = publisher.create_datawriter(contract_topics.admin_request,
+                                                contract::writer_qos(TopicRole::request));
     const auto mask = fdds::StatusMask::data_available();
     fdds::TopicDescription* reply_topic = contract_topics.reply;
     if (replies == Replies::own) {
@@ -120,6 +131,26 @@ class DdsTestClient {
     }
     request_writer_->write(&request);
     return request.request_seq();
+  }
+
+  /// This participant may write on the admin request topic.
+  [[nodiscard]] bool has_admin_writer() const { return admin_writer_ != nullptr; }
+  /// Sends a request on the admin request topic, numbered as send() numbers them.
+  std::uint64_t send_admin(msg::CommandRequest request) {
+    request.request_seq(++last_seq_);
+    admin_writer_->write(&request);
+    return request.request_seq();
+  }
+  /// Waits until an admin request reader (the service's) has matched ours.
+  bool wait_admin_reader(std::chrono::milliseconds timeout = kDdsDeadline) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    eprosima::fastdds::dds::PublicationMatchedStatus status;
+    while (std::chrono::steady_clock::now() < deadline) {
+      admin_writer_->get_publication_matched_status(status);
+      if (status.current_count > 0) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return false;
   }
 
   /// Waits until every request written so far reached the service's reader
@@ -419,6 +450,7 @@ class DdsTestClient {
 
   std::unique_ptr<contract::Participant> participant_;
   eprosima::fastdds::dds::DataWriter* request_writer_ = nullptr;
+  eprosima::fastdds::dds::DataWriter* admin_writer_ = nullptr;
   Listener listener_{*this};
   std::string client_id_;
   std::uint64_t last_seq_ = 0;

@@ -44,6 +44,7 @@ struct Topics {
   eprosima::fastdds::dds::Topic* group_request = nullptr;
   eprosima::fastdds::dds::Topic* group_reply = nullptr;
   eprosima::fastdds::dds::Topic* owner = nullptr;
+  eprosima::fastdds::dds::Topic* admin_request = nullptr;
 
   [[nodiscard]] bool complete() const;
 };
