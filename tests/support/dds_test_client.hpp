@@ -143,14 +143,7 @@ class DdsTestClient {
   }
   /// Waits until an admin request reader (the service's) has matched ours.
   bool wait_admin_reader(std::chrono::milliseconds timeout = kDdsDeadline) {
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    eprosima::fastdds::dds::PublicationMatchedStatus status;
-    while (std::chrono::steady_clock::now() < deadline) {
-      admin_writer_->get_publication_matched_status(status);
-      if (status.current_count > 0) return true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    return false;
+    return wait_matched(*admin_writer_, timeout);
   }
 
   /// Waits until every request written so far reached the service's reader
@@ -166,14 +159,7 @@ class DdsTestClient {
   /// Waits until a request reader (the service's) has matched this client's
   /// writer, for a client that cannot probe with requests (Replies::none).
   bool wait_request_reader(std::chrono::milliseconds timeout = kDdsDeadline) {
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    eprosima::fastdds::dds::PublicationMatchedStatus status;
-    while (std::chrono::steady_clock::now() < deadline) {
-      request_writer_->get_publication_matched_status(status);
-      if (status.current_count > 0) return true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    return false;
+    return wait_matched(*request_writer_, timeout);
   }
 
   /// A client made with Replies::none starts reading the plain reply topic.
@@ -446,6 +432,19 @@ class DdsTestClient {
   bool wait_until(Pred pred, std::chrono::milliseconds timeout) {
     std::unique_lock lock(mutex_);
     return changed_.wait_for(lock, timeout, pred);
+  }
+
+  /// Polls until `writer` has matched a reader.
+  static bool wait_matched(eprosima::fastdds::dds::DataWriter& writer,
+                           std::chrono::milliseconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    eprosima::fastdds::dds::PublicationMatchedStatus status;
+    while (std::chrono::steady_clock::now() < deadline) {
+      writer.get_publication_matched_status(status);
+      if (status.current_count > 0) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return false;
   }
 
   std::unique_ptr<contract::Participant> participant_;
