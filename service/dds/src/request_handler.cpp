@@ -52,6 +52,15 @@ void RequestHandler::handle(msg::CommandRequest& request, const Caller& caller, 
     parts_.replies.write(reply);
     return;
   }
+  if (rate_ != nullptr) {
+    if (auto admitted = rate_->admit(caller.id, caller.shown_as); !admitted) {
+      const ReplyHeader header{request.client_id(), request.request_seq(), request.hand(),
+                               request.command()};
+      auto reply = make_reply(header, msg::BUSY, std::move(admitted).error());
+      parts_.replies.write(reply);
+      return;
+    }
+  }
   if (topic == RequestTopic::admin && !contract::is_administrative(request.command())) {
     // The admin topic carries nothing else, so that an admin identity's
     // grant of it is a grant of administration and no more.

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "client_rate.hpp"
 #include "client_share.hpp"
 #include "dh3/contract/dh3.h"
 #include "dh3/dds/service.hpp"
@@ -81,6 +82,9 @@ class RequestHandler {
   /// what the writer's identity may do: administrative commands are then
   /// taken only from the admin request topic. Set before requests are taken.
   void set_access_control(bool on) { access_control_ = on; }
+  /// Bounds each caller's requests a second (BUSY beyond); none: no bound.
+  /// Set before requests are taken; `rate` outlives the handler.
+  void set_rate(ClientRate* rate) { rate_ = rate; }
   /// Answers every scan still pending CANCELLED (stop, after the buses stopped).
   void cancel_scans();
 
@@ -105,6 +109,7 @@ class RequestHandler {
 
   Parts parts_;
   bool access_control_ = false;
+  ClientRate* rate_ = nullptr;
   std::mutex scans_mutex_;
   std::vector<std::shared_ptr<PendingScan>> scans_;  ///< under scans_mutex_
 };

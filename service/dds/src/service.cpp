@@ -154,7 +154,6 @@ Result<void, std::string> Service::Impl::create_request_reader() {
 }
 
 void Service::Impl::create_admin_request_reader() {
-  requests_.set_access_control(participant_->access_control());
   auto qos = contract::reader_qos(TopicRole::request);
   qos.history().kind = fdds::KEEP_ALL_HISTORY_QOS;
   admin_request_reader_ = participant_->subscriber().create_datareader(
@@ -193,7 +192,10 @@ Result<void, std::string> Service::Impl::start() {
   }
   for (auto& scheduler : schedulers_) scheduler->start();
   timer_.start();
-  // Last: requests are only taken once everything they need runs.
+  // Last: requests are only taken once everything they need runs, and
+  // knows which topic may carry administrative commands.
+  requests_.set_access_control(participant_->access_control());
+  requests_.set_rate(&rate_);
   if (auto created = create_request_reader(); !created) return created;
   create_admin_request_reader();
   create_group_endpoints();
@@ -317,6 +319,7 @@ void Service::Impl::on_participant_left(const std::string& participant_id, bool 
     statuses_.republish(ended.hand);
   }
   names_.forget(participant_id);
+  rate_.forget(participant_id);
   owner_->left(participant_id);
 }
 

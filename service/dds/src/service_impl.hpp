@@ -199,6 +199,7 @@ class Service::Impl {
   StatusPublisher statuses_{options_, clock_, leases_, directory_};
   ExpiryTimer timer_;
   ClientShare share_;  ///< before requests_: the tickets in its completions point here
+  ClientRate rate_{clock_, options_.client_rate_limit};
   RequestHandler requests_{
       {options_, directory_, leases_, schedulers_, statuses_, replies_, timer_, share_}};
   GroupCommands groups_{{options_, clock_, directory_, leases_, schedulers_, replies_, share_}};

@@ -204,5 +204,19 @@ TEST_F(RequestHandlerTest, WithoutAllowAdminTheAdminTopicIsRefusedToo) {
   EXPECT_THAT(sink_.replies.back().message(), HasSubstr("start it with --allow-admin"));
 }
 
+TEST_F(RequestHandlerTest, AClientBeyondItsRateIsAnsweredBusySayingWhy) {
+  ClientRate rate(clock_, 2);
+  handler_.set_rate(&rate);
+  EXPECT_EQ(answer(request(msg::ACQUIRE_LEASE, 2000)).code(), msg::OK);
+  EXPECT_EQ(answer(request(msg::RENEW_LEASE, 2000)).code(), msg::OK);
+  const auto third = answer(request(msg::RENEW_LEASE, 2000));
+  EXPECT_EQ(third.code(), msg::BUSY);
+  EXPECT_THAT(third.message(), HasSubstr("sends more than 2 requests a second"));
+  // Another client has a rate of its own.
+  EXPECT_EQ(answer(request(msg::MOVE, 30, "bob")).code(), msg::DENIED);  // alice's lease
+  clock_.advance(500ms);
+  EXPECT_EQ(answer(request(msg::RELEASE_LEASE)).code(), msg::OK);
+}
+
 }  // namespace
 }  // namespace dh3::dds

@@ -144,6 +144,10 @@ std::vector<ConfigKey> declare_root_and_dds() {
        .doc = "accept SET_CAN_ID and SET_BAUD_RATE (from anyone; under DDS Security from admin "
               "identities)",
        .field = of_config(&ServiceConfig::allow_admin), .option = "--allow-admin"},
+      {.path = "client_rate_limit", .type = integer, .max = 1000000,
+       .doc = "requests a second each client may send, in bursts of as many; more are answered "
+              "BUSY; 0: no limit",
+       .field = of_config(&ServiceConfig::client_rate_limit)},
       {.path = "metrics",
        .doc = "serve Prometheus /metrics on HOST:PORT (port 0: any free port); absent: off",
        .field = of_config(&ServiceConfig::metrics_address), .option = "--metrics",
