@@ -107,17 +107,30 @@ std::optional<ApiResponse> HandApi::authorize_view(const std::string& authorizat
                                      : "the bearer token is not the right one"});
 }
 
-std::optional<ApiResponse> HandApi::authorize_command(const std::string& authorization) const {
+std::optional<ApiResponse> HandApi::authorize_command(const std::string& authorization,
+                                                      bool administrative) const {
   if (!access_.token) {
     return error_response(ApiError{403, "COMMANDS_DISABLED",
                                    "this dh3-web was started without --token-file: it shows the "
                                    "hands but takes no commands"});
   }
-  if (access_.token->accepts(authorization)) return std::nullopt;
-  return error_response(ApiError{401, "UNAUTHORIZED",
-                                 authorization.empty()
-                                     ? "commands need the bearer token (Authorization: Bearer ...)"
-                                     : "the bearer token is not the right one"});
+  const auto role = access_.token->role_of(authorization);
+  if (!role) {
+    return error_response(ApiError{
+        401, "UNAUTHORIZED",
+        authorization.empty() ? "commands need the bearer token (Authorization: Bearer ...)"
+                              : "the bearer token is not the right one"});
+  }
+  if (*role == TokenRole::view) {
+    return error_response(ApiError{403, "READ_ONLY_TOKEN",
+                                   "this token may only view: commands need an operator's token"});
+  }
+  if (administrative && *role != TokenRole::administer) {
+    return error_response(ApiError{403, "ADMIN_TOKEN_NEEDED",
+                                   "administrative commands (set-can-id, set-baud) need an admin's "
+                                   "token; this one is an operator's"});
+  }
+  return std::nullopt;
 }
 
 ApiResponse HandApi::handle(const ApiRequest& request) {
@@ -150,7 +163,7 @@ ApiResponse HandApi::handle(const ApiRequest& request) {
     if (auto refused = authorize_command(request.authorization)) return *refused;
     auto address = parse_address(parts[2], parts[3], parts[4]);
     if (!address) return error_response(address.error());
-    return command(*address, parts[5], request.body);
+    return command(*address, parts[5], request.body, request.authorization);
   }
   if (!get) return method_not_allowed(request, "GET");
   if (auto refused = authorize_view(request.authorization)) return *refused;
@@ -177,9 +190,12 @@ ApiResponse HandApi::one_hand(const HandAddress& address) const {
 }
 
 ApiResponse HandApi::command(const HandAddress& address, const std::string& name,
-                             const std::string& body) {
+                             const std::string& body, const std::string& authorization) {
   auto parsed = parse_web_command(name, body);
   if (!parsed) return error_response(parsed.error());
+  if (auto refused = authorize_command(authorization, is_administrative(parsed->name))) {
+    return *refused;
+  }
   // Only to hands this client has seen: a typo in the service's name would
   // otherwise wait for a service that never comes.
   if (!client_.status(address)) {
@@ -197,24 +213,30 @@ ApiResponse HandApi::command(const HandAddress& address, const std::string& name
 
 ApiResponse HandApi::token_check(const std::string& authorization) const {
   // The page asks as soon as a token is typed: a wrong one is said at once,
-  // not at the first command.
-  if (auto refused = authorize_command(authorization)) return *refused;
-  return json_response(json_text(Json{{"type", "token"}, {"ok", true}, {"console", console_}}));
+  // not at the first command, and a right one with what it may do.
+  if (!access_.token) return *authorize_command(authorization);
+  const auto role = access_.token->role_of(authorization);
+  if (!role) return *authorize_command(authorization);
+  return json_response(json_text(Json{{"type", "token"},
+                                      {"ok", true},
+                                      {"role", std::string(role_name(*role))},
+                                      {"console", console_}}));
 }
 
 ApiResponse HandApi::health() const {
   const CommandTraffic traffic = client_.command_traffic();
   std::size_t ready = 0;
   for (const auto& info : client_.services()) ready += info.ready ? 1 : 0;
-  return json_response(json_text(Json{{"type", "health"},
-                                      {"connected", client_.connected()},
-                                      {"read_only", client_.read_only()},
-                                      {"domain", client_.domain()},
-                                      {"services_ready", ready},
-                                      {"hands", client_.hands().size()},
-                                      {"commands_enabled", access_.token.has_value()},
-                                      {"console", console_},
-                                      {"requests_written", traffic.requests_written}}));
+  return json_response(json_text(
+      Json{{"type", "health"},
+           {"connected", client_.connected()},
+           {"read_only", client_.read_only()},
+           {"domain", client_.domain()},
+           {"services_ready", ready},
+           {"hands", client_.hands().size()},
+           {"commands_enabled", access_.token && access_.token->grants(TokenRole::operate)},
+           {"console", console_},
+           {"requests_written", traffic.requests_written}}));
 }
 
 }  // namespace dh3::web

@@ -15,7 +15,9 @@
 namespace dh3::web {
 
 struct AccessPolicy {
-  /// Commands need this token; without one they are refused (viewing only).
+  /// Commands need an operator's or an admin's token of these, the
+  /// administrative commands an admin's; without tokens they are refused
+  /// (viewing only).
   std::optional<BearerToken> token;
   /// Reading statuses, events and the stream needs the token too.
   bool view_needs_token = false;
@@ -51,11 +53,14 @@ class HandApi {
  private:
   ApiResponse list_hands() const;
   ApiResponse one_hand(const HandAddress& address) const;
-  ApiResponse command(const HandAddress& address, const std::string& name,
-                      const std::string& body);
+  ApiResponse command(const HandAddress& address, const std::string& name, const std::string& body,
+                      const std::string& authorization);
   ApiResponse health() const;
   ApiResponse token_check(const std::string& authorization) const;
-  std::optional<ApiResponse> authorize_command(const std::string& authorization) const;
+  /// Commands allowed for this Authorization header (`administrative`: the
+  /// administrative ones too); else the refusal.
+  std::optional<ApiResponse> authorize_command(const std::string& authorization,
+                                               bool administrative = false) const;
 
   Client& client_;
   AccessPolicy access_;

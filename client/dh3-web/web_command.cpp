@@ -115,6 +115,11 @@ Result<void, ApiError> check_fields(const CommandShape& shape, const Json& body)
 
 }  // namespace
 
+bool is_administrative(std::string_view name) {
+  const CommandShape* shape = find_shape(name);
+  return shape != nullptr && shape->administrative;
+}
+
 const std::vector<CommandShape>& command_shapes() {
   static const std::vector<CommandShape> shapes = {
       {"init", {}},

@@ -43,6 +43,8 @@ struct CommandShape {
 
 /// Every command, in the order the page and the OpenAPI description list them.
 [[nodiscard]] const std::vector<CommandShape>& command_shapes();
+/// The command `name` is an administrative one (set-can-id, set-baud).
+[[nodiscard]] bool is_administrative(std::string_view name);
 
 /// `body` may be empty for commands without fields. Errors are 400
 /// INVALID_ARGUMENT (malformed JSON, a missing, unknown or mistyped field) or

@@ -56,8 +56,9 @@ std::optional<int> parse_web_options(int argc, const char* const* argv, WebOptio
                  "loopback, localhost (repeatable): a proxy's, a DNS name. Requests for "
                  "other names are refused (421)");
   app.add_option("--token-file", options.token_file,
-                 "file whose first line is the bearer token that commands need; without it "
-                 "dh3-web only shows the hands")
+                 "the bearer tokens: a first line of one token (an operator's), or lines "
+                 "'ROLE TOKEN', ROLE view, operator or admin (admin: also set-can-id and "
+                 "set-baud); without it dh3-web only shows the hands")
       ->check(CLI::ExistingFile);
   app.add_flag("--view-needs-token", options.view_needs_token,
                "statuses, events and the stream need the token too (default: open to whoever "

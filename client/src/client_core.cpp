@@ -56,7 +56,9 @@ Result<void, std::string> ClientCore::set_up(const EndpointCreator& creator) {
     std::lock_guard lock(mutex_);
     tracker_.set_endpoints(can_command_, endpoints_->has_owner_reader());
   }
+  can_administer_ = endpoints_->can_administer();
   if (!can_command_) denied_message_ = ClientEndpoints::denied_message(options_);
+  if (!can_administer_) admin_denied_message_ = ClientEndpoints::admin_denied_message(options_);
   return {};
 }
 
@@ -152,9 +154,9 @@ void ClientCore::submit(PendingCalls::Call call) {
       call.done(make_reply(Code::not_connected, closed_message()));
       return;
     }
-    if (!can_command_) {
+    if (!can_command_ || (call.administrative() && !can_administer_)) {
       lock.unlock();
-      call.done(make_reply(Code::denied, denied_message_));
+      call.done(make_reply(Code::denied, can_command_ ? admin_denied_message_ : denied_message_));
       return;
     }
     seq = calls_.next_seq();
@@ -167,7 +169,10 @@ void ClientCore::submit(PendingCalls::Call call) {
     }
     call.deadline = Clock::now() + call.timeout;
     const std::string& service = call.hand.service;
-    if (call.group ? tracker_.group_ready(service) : tracker_.ready(service)) {
+    const bool ready = call.group              ? tracker_.group_ready(service)
+                       : call.administrative() ? tracker_.admin_ready(service)
+                                               : tracker_.ready(service);
+    if (ready) {
       call.sent_to = tracker_.incarnation(service);
       // Written here, without waking the io thread, unless that could let it
       // overtake a request written or queued before it.
@@ -323,7 +328,8 @@ void ClientCore::dispatch_locked(const std::string& service, Actions& out) {
     io_kick_ = out.wake_io = true;  // it may wait for its owner (next_lapse)
     return;
   }
-  if (calls_.assign(service, tracker_.incarnation(service), tracker_.group_ready(service))) {
+  if (calls_.assign(service, tracker_.incarnation(service), tracker_.group_ready(service),
+                    tracker_.admin_ready(service))) {
     out.wake_io = true;
   }
   changed_.notify_all();

@@ -210,7 +210,9 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   std::atomic<bool> can_command_{true};      ///< request writer and reply reader exist
   std::atomic<bool> has_info_reader_{true};  ///< ServiceInfo is readable
   std::atomic<bool> can_group_{false};       ///< group request writer and reply reader exist
+  std::atomic<bool> can_administer_{false};  ///< admin request writer and reply reader exist
   std::string denied_message_;  ///< why commands end DENIED; read only once constructed
+  std::string admin_denied_message_;  ///< why administrative commands do; likewise
 
   mutable std::mutex mutex_;             ///< the state mutex (see the top of this file)
   std::condition_variable changed_;      ///< services, statuses, closing

@@ -4,6 +4,7 @@
 #include "client_endpoints.hpp"
 
 #include "dh3/base/host_name.hpp"
+#include "dh3/contract/admin_commands.hpp"
 #include "dh3/contract/participant_options.hpp"
 #include "dh3/contract/qos.hpp"
 
@@ -53,6 +54,12 @@ void ClientEndpoints::create_command_endpoints(const EndpointCreator& creator,
       creator.create_writer(ClientEndpoint::request_writer, publisher_for(follow), topics.request,
                             contract::writer_qos(TopicRole::request), &request_listener_,
                             fdds::StatusMask::publication_matched());
+  // Refused by access control unless the identity is an admin's: then only
+  // administrative commands end DENIED.
+  admin_request_writer_ =
+      creator.create_writer(ClientEndpoint::admin_request_writer, publisher_for(follow),
+                            topics.admin_request, contract::writer_qos(TopicRole::request),
+                            &admin_request_listener_, fdds::StatusMask::publication_matched());
   // Only our replies: the service's writer sends each client its own (see
   // dh3/contract/reply_filter.hpp), instead of every client taking every reply.
   // Should Fast DDS refuse the filtered topic, the plain one still works:
@@ -169,9 +176,21 @@ std::string ClientEndpoints::denied_message(const ClientOptions& options) {
   return message;
 }
 
+std::string ClientEndpoints::admin_denied_message(const ClientOptions& options) {
+  std::string message =
+      "not permitted to publish administrative requests (" + std::string(topics::ADMIN_REQUEST);
+  if (!options.security_dir.empty()) {
+    message += "; DDS Security identity '" + options.security_identity + "' is no admin)";
+  } else {
+    message += "; DDS Security permissions of this participant)";
+  }
+  return message;
+}
+
 bool ClientEndpoints::write(const msg::CommandRequest& request) {
   // DataWriter::write takes a non-const sample.
   msg::CommandRequest sample = request;
+  if (contract::is_administrative(request.command())) return admin_request_writer_->write(&sample);
   return request_writer_->write(&sample);
 }
 

@@ -140,6 +140,7 @@ class ClientEndpoints {
   explicit ClientEndpoints(ClientCore& core)
       : request_listener_(core, ServiceTracker::Endpoint::request_reader),
         group_request_listener_(core, ServiceTracker::Endpoint::group_request_reader),
+        admin_request_listener_(core, ServiceTracker::Endpoint::admin_request_reader),
         reader_listener_(core),
         participant_(peer_callbacks(core)) {}
   ClientEndpoints(const ClientEndpoints&) = delete;
@@ -158,6 +159,11 @@ class ClientEndpoints {
   [[nodiscard]] bool can_command() const {
     return request_writer_ != nullptr && reply_reader_ != nullptr;
   }
+  /// Admin request writer and reply reader exist: under DDS Security, the
+  /// identity's permissions grant the admin request topic.
+  [[nodiscard]] bool can_administer() const {
+    return admin_request_writer_ != nullptr && reply_reader_ != nullptr;
+  }
   [[nodiscard]] bool can_group() const {
     return group_request_writer_ != nullptr && group_reply_reader_ != nullptr;
   }
@@ -165,7 +171,10 @@ class ClientEndpoints {
   [[nodiscard]] bool has_owner_reader() const { return owner_reader_ != nullptr; }
   /// Why commands end DENIED on a read-only client.
   [[nodiscard]] static std::string denied_message(const ClientOptions& options);
+  /// Why administrative commands end DENIED on a client that may command.
+  [[nodiscard]] static std::string admin_denied_message(const ClientOptions& options);
 
+  /// On the admin request topic if it is administrative, else on the command request topic.
   bool write(const msg::CommandRequest& request);
   bool write(msg::GroupRequest& request);
   /// The services' request readers acknowledged every request written.
@@ -200,10 +209,12 @@ class ClientEndpoints {
 
   RequestWriterListener request_listener_;
   RequestWriterListener group_request_listener_;
+  RequestWriterListener admin_request_listener_;
   ReaderListener reader_listener_;
   /// After the listeners: deleted (with every reader and writer) before them.
   contract::ListenedParticipant participant_;
   fdds::DataWriter* request_writer_ = nullptr;
+  fdds::DataWriter* admin_request_writer_ = nullptr;
   fdds::DataReader* reply_reader_ = nullptr;
   fdds::DataReader* status_reader_ = nullptr;
   fdds::DataReader* event_reader_ = nullptr;

@@ -28,7 +28,8 @@ enum class ClientEndpoint {
   info_reader,
   group_request_writer,
   group_reply_reader,
-  owner_reader
+  owner_reader,
+  admin_request_writer
 };
 
 /// Creates the client's readers and writers. DDS Security's access control

@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "conversions.hpp"
+#include "dh3/contract/admin_commands.hpp"
 
 namespace dh3::detail {
 
@@ -28,16 +29,21 @@ std::optional<PendingCalls::Call> PendingCalls::take(std::uint64_t seq) {
   return call;
 }
 
+bool PendingCalls::Call::administrative() const {
+  return !group && contract::is_administrative(request.command());
+}
+
 std::string PendingCalls::Call::what() const {
   if (group) return group->what;
   return command_name(request.command()) + " for " + hand.to_string();
 }
 
 bool PendingCalls::assign(const std::string& service, const std::string& incarnation,
-                          bool group_ready) {
+                          bool group_ready, bool admin_ready) {
   bool any = false;
   for (auto& [seq, call] : calls_) {
-    if (call.sent_to.empty() && call.hand.service == service && (group_ready || !call.group)) {
+    if (call.sent_to.empty() && call.hand.service == service && (group_ready || !call.group) &&
+        (admin_ready || !call.administrative())) {
       call.sent_to = incarnation;
       to_write_.push_back(seq);
       any = true;

@@ -54,6 +54,8 @@ class PendingCalls {
     Done done;
     std::string sent_to;  ///< the incarnation it was written to; empty: not yet written
 
+    /// SET_CAN_ID or SET_BAUD_RATE: written on the admin request topic.
+    [[nodiscard]] bool administrative() const;
     /// "MOVE for cell/bus0/1", "GROUP MOVE of 2 hand(s)".
     [[nodiscard]] std::string what() const;
   };
@@ -74,7 +76,8 @@ class PendingCalls {
   /// The calls for `service` not yet written go to `incarnation`, queued for
   /// the io thread; group calls only when `group_ready` (its group endpoints
   /// matched). True if any was.
-  bool assign(const std::string& service, const std::string& incarnation, bool group_ready = false);
+  bool assign(const std::string& service, const std::string& incarnation, bool group_ready = false,
+              bool admin_ready = false);
   /// Queues a call already assigned for the io thread.
   void queue(std::uint64_t seq) { to_write_.push_back(seq); }
   [[nodiscard]] bool queue_empty() const { return to_write_.empty(); }

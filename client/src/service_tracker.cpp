@@ -215,6 +215,7 @@ ServiceTracker::Outcome ServiceTracker::participant_left(const std::string& pref
   reply_writers_.erase(prefix);
   event_writers_.erase(prefix);
   owner_writers_.erase(prefix);
+  admin_request_readers_.erase(prefix);
   const auto it = participants_.find(prefix);
   if (it == participants_.end() || !it->second.alive) return out;
   it->second.alive = false;
@@ -282,6 +283,8 @@ std::multiset<std::string>& ServiceTracker::set_of(Endpoint endpoint) {
       return group_reply_writers_;
     case Endpoint::owner_writer:
       return owner_writers_;
+    case Endpoint::admin_request_reader:
+      return admin_request_readers_;
   }
   return event_writers_;
 }
@@ -320,6 +323,11 @@ bool ServiceTracker::group_ready(const std::string& service) const {
   if (!ready(service)) return false;
   const std::string& prefix = services_.find(service)->second.incarnation;
   return group_request_readers_.count(prefix) > 0 && group_reply_writers_.count(prefix) > 0;
+}
+
+bool ServiceTracker::admin_ready(const std::string& service) const {
+  if (!ready(service)) return false;
+  return admin_request_readers_.count(services_.find(service)->second.incarnation) > 0;
 }
 
 std::string ServiceTracker::incarnation(const std::string& service) const {

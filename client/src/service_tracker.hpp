@@ -42,7 +42,8 @@ class ServiceTracker {
     event_writer,
     group_request_reader,
     group_reply_writer,
-    owner_writer
+    owner_writer,
+    admin_request_reader
   };
   /// What a change means for the calls and hands of `service`, in this order:
   /// the incarnation `lost` (if not empty) is gone for `why`, then the calls
@@ -120,6 +121,8 @@ class ServiceTracker {
   [[nodiscard]] bool ready(const std::string& service) const;
   /// Ready, and its group request reader and group reply writer matched ours.
   [[nodiscard]] bool group_ready(const std::string& service) const;
+  /// Ready, and its admin request reader matched our admin request writer.
+  [[nodiscard]] bool admin_ready(const std::string& service) const;
   /// The current incarnation of `service`; empty if none.
   [[nodiscard]] std::string incarnation(const std::string& service) const;
   [[nodiscard]] bool alive(const std::string& service) const;
@@ -191,6 +194,7 @@ class ServiceTracker {
   std::multiset<std::string> event_writers_;    ///< prefixes of matched event writers
   std::multiset<std::string> group_request_readers_;
   std::multiset<std::string> group_reply_writers_;
+  std::multiset<std::string> admin_request_readers_;
   /// A participant whose owner writer matched ours is ready only once it is
   /// alive: otherwise a death just after we became ready would go unseen.
   std::multiset<std::string> owner_writers_;

@@ -4,7 +4,8 @@
 # read it). For trying security out and for the test suite; a real cell needs
 # its own CAs, kept offline, and its own review of the permissions.
 #
-#   deploy/security/make-test-pki.sh [--force] [--days N] [--domains MIN-MAX] [DIR]
+#   deploy/security/make-test-pki.sh [--force] [--days N] [--domains N|MIN-MAX]
+#                                    [--operator NAME]... [--admin NAME]... [DIR]
 #
 # DIR defaults to $XDG_RUNTIME_DIR/dh3-pki, or build/pki in the source tree
 # (ignored by git) when XDG_RUNTIME_DIR is unset. The script refuses any DIR
@@ -23,10 +24,24 @@
 #
 # for the identities
 #   service   dh3-service: publishes status, events, service info and replies,
-#             subscribes to command requests
-#   operator  a client that drives hands: publishes command requests,
-#             subscribes to status, events, service info and replies
+#             subscribes to command, group and admin requests
+#   NAME      each --operator: a client that drives hands: publishes command
+#             and group requests, subscribes to status, events, service info
+#             and replies
+#   NAME      each --admin: an operator that may also publish admin requests
+#             (SET_CAN_ID, SET_BAUD_RATE; the service takes them, under DDS
+#             Security, only from that topic and only with allow_admin)
 #   monitor   read-only: subscribes to status and events, nothing else
+#
+# Each identity has its own key and certificate (subject "O=dh3 test PKI,
+# CN=dh3 <role> <NAME>"; "CN=dh3 <role>" for the names "operator" and
+# "admin") and permissions that grant it its role's topics only. Without
+# --operator and --admin it makes one of each, named "operator" and "admin".
+#
+# --domains: the DDS domains every grant and the governance cover, one (N)
+# or a range (MIN-MAX); default 0, the service's default domain (dds.domain).
+# Give the domain the cell's service uses: a participant on another domain is
+# refused by access control.
 #
 # Governance: no unauthenticated participants, join access control, discovery,
 # liveliness and RTPS messages encrypted; every topic with read and write
@@ -38,16 +53,20 @@ set -euo pipefail
 
 repo=$(cd "$(dirname "$0")/../.." && pwd -P)
 days=365
-domains=0-232
+domains=0
 force=0
 dir=
+operators=()
+admins=()
 
 usage() { sed -n '2,/^set -euo/p' "$0" | sed -e '/^set -euo/d' -e 's/^# \{0,1\}//'; }
 while (($#)); do
   case $1 in
     --force) force=1 ;;
     --days) days=${2:?--days needs a number}; shift ;;
-    --domains) domains=${2:?--domains needs MIN-MAX}; shift ;;
+    --domains) domains=${2:?--domains needs N or MIN-MAX}; shift ;;
+    --operator) operators+=("${2:?--operator needs a NAME}"); shift ;;
+    --admin) admins+=("${2:?--admin needs a NAME}"); shift ;;
     -h | --help) usage; exit 0 ;;
     -*) echo "make-test-pki: unknown option $1" >&2; exit 2 ;;
     *) [[ -z $dir ]] || { echo "make-test-pki: one DIR only" >&2; exit 2; }; dir=$1 ;;
@@ -55,10 +74,22 @@ while (($#)); do
   shift
 done
 [[ $days =~ ^[1-9][0-9]*$ ]] || { echo "make-test-pki: --days must be a positive number" >&2; exit 2; }
-[[ $domains =~ ^([0-9]+)-([0-9]+)$ ]] || { echo "make-test-pki: --domains must be MIN-MAX" >&2; exit 2; }
-domain_min=${BASH_REMATCH[1]} domain_max=${BASH_REMATCH[2]}
+[[ $domains =~ ^([0-9]+)(-([0-9]+))?$ ]] || { echo "make-test-pki: --domains must be N or MIN-MAX" >&2; exit 2; }
+domain_min=$((10#${BASH_REMATCH[1]})) domain_max=$((10#${BASH_REMATCH[3]:-${BASH_REMATCH[1]}}))
 ((domain_min <= domain_max && domain_max <= 232)) ||
   { echo "make-test-pki: --domains must be within 0-232, MIN <= MAX" >&2; exit 2; }
+if ((${#operators[@]} == 0 && ${#admins[@]} == 0)); then operators=(operator) admins=(admin); fi
+declare -A named=()
+for name in "${operators[@]}" "${admins[@]}"; do
+  # A name is a folder and part of a certificate's subject.
+  [[ $name =~ ^[A-Za-z0-9][A-Za-z0-9_.-]*$ ]] ||
+    { echo "make-test-pki: identity name '$name': letters, digits, '_', '.', '-' only" >&2; exit 2; }
+  case $name in service | monitor | ca)
+    echo "make-test-pki: identity name '$name' is taken by the PKI itself" >&2; exit 2 ;;
+  esac
+  [[ -z ${named[$name]:-} ]] || { echo "make-test-pki: identity name '$name' given twice" >&2; exit 2; }
+  named[$name]=1
+done
 command -v openssl >/dev/null || { echo "make-test-pki: openssl is not installed" >&2; exit 1; }
 
 if [[ -z $dir ]]; then
@@ -128,8 +159,12 @@ sign() {  # sign XML_FILE
 make_ca identity_ca "dh3 identity CA" keyCertSign,cRLSign
 # The permissions CA signs documents itself (S/MIME), so it needs digitalSignature.
 make_ca permissions_ca "dh3 permissions CA" keyCertSign,cRLSign,digitalSignature
+common_name() {  # common_name ROLE NAME
+  if [[ $2 == "$1" ]]; then echo "dh3 $1"; else echo "dh3 $1 $2"; fi
+}
 make_identity service "dh3 service"
-make_identity operator "dh3 operator"
+for name in "${operators[@]}"; do make_identity "$name" "$(common_name operator "$name")"; done
+for name in "${admins[@]}"; do make_identity "$name" "$(common_name admin "$name")"; done
 make_identity monitor "dh3 monitor"
 
 # Topic names: idl/dh3.idl, module dh3::topics.
@@ -142,6 +177,7 @@ group_request=dh3/group_request
 group_reply=dh3/group_reply
 owner=dh3/service_owner
 lease=dh3/hand_lease
+admin_request=dh3/admin_request
 
 domains_xml="<domains><id_range><min>$domain_min</min><max>$domain_max</max></id_range></domains>"
 
@@ -220,8 +256,20 @@ EOF
 
 # A service reads the owner topic too: a second service of its name must not serve.
 # The lease topic is the service's and its standby's only (docs/hot-standby.md).
-permissions service "$status $event $info $reply $group_reply $owner $lease" "$request $group_request $owner $lease"
-permissions operator "$request $group_request" "$status $event $info $reply $group_reply $owner"
+permissions service "$status $event $info $reply $group_reply $owner $lease" \
+  "$request $group_request $admin_request $owner $lease"
+for name in "${operators[@]}"; do
+  permissions "$name" "$request $group_request" "$status $event $info $reply $group_reply $owner"
+done
+for name in "${admins[@]}"; do
+  permissions "$name" "$request $group_request $admin_request" \
+    "$status $event $info $reply $group_reply $owner"
+done
 permissions monitor "" "$status $event $owner"
 
-echo "make-test-pki: test PKI for domains $domain_min-$domain_max in $dir (identities: service, operator, monitor)"
+identities=service
+for name in "${operators[@]}"; do identities+=", $name (operator)"; done
+for name in "${admins[@]}"; do identities+=", $name (admin)"; done
+granted=$domain_min
+((domain_max == domain_min)) || granted+="-$domain_max"
+echo "make-test-pki: test PKI for DDS domain(s) $granted in $dir (identities: $identities, monitor)"

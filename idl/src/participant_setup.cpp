@@ -198,7 +198,8 @@ Result<void, std::string> Participant::create_contained(const std::string& cell)
       {topics_.reply, dh3::topics::COMMAND_REPLY},
       {topics_.group_request, dh3::topics::GROUP_REQUEST},
       {topics_.group_reply, dh3::topics::GROUP_REPLY},
-      {topics_.owner, dh3::topics::SERVICE_OWNER}};
+      {topics_.owner, dh3::topics::SERVICE_OWNER},
+      {topics_.admin_request, dh3::topics::ADMIN_REQUEST}};
   for (const auto& [topic, name] : topics) {
     if (topic == nullptr) return fail("cannot create the topic " + name);
   }

@@ -9,7 +9,7 @@ namespace dh3::contract {
 bool Topics::complete() const {
   return status != nullptr && event != nullptr && info != nullptr && request != nullptr &&
          reply != nullptr && group_request != nullptr && group_reply != nullptr &&
-         owner != nullptr;
+         owner != nullptr && admin_request != nullptr;
 }
 
 Topics create_topics(eprosima::fastdds::dds::DomainParticipant& participant) {
@@ -33,6 +33,8 @@ Topics create_topics(eprosima::fastdds::dds::DomainParticipant& participant) {
   topics.owner =
       topic(dh3::topics::SERVICE_OWNER, new TypeSupport<msg::ServiceOwnerPubSubType>());
   topics.lease = topic(dh3::topics::HAND_LEASE, new TypeSupport<msg::HandLeasePubSubType>());
+  topics.admin_request =
+      topic(dh3::topics::ADMIN_REQUEST, new TypeSupport<msg::CommandRequestPubSubType>());
   return topics;
 }
 

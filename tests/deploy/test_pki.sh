@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # deploy/security/make-test-pki.sh: the PKI it makes is what DDS Security needs
 # (certificates chain to their CA, documents are S/MIME-signed by the
-# permissions CA and verify), the permissions say what the README says, keys
+# permissions CA and verify), the permissions say what the README says (each
+# role its own topics, admin requests for admins only), every identity has a
+# key of its own, the grants cover the domains asked for and no others, keys
 # stay private, and it never writes into the source tree.
 #   test_pki.sh SOURCE_DIR
 set -uo pipefail
@@ -16,7 +18,7 @@ ok() { echo "ok: $*"; }
 pki=$work/pki
 "$script" "$pki" || { echo "FAILED: make-test-pki.sh exited $?"; exit 1; }
 
-for id in service operator monitor; do
+for id in service operator admin monitor; do
   if openssl verify -CAfile "$pki/identity_ca.pem" "$pki/$id/cert.pem" >/dev/null; then
     ok "$id certificate chains to the identity CA"
   else
@@ -35,7 +37,8 @@ for id in service operator monitor; do
     fail "$id permissions do not name '$subject'"
 done
 
-for doc in governance "service/permissions" "operator/permissions" "monitor/permissions"; do
+for doc in governance "service/permissions" "operator/permissions" "admin/permissions" \
+  "monitor/permissions"; do
   if openssl smime -verify -in "$pki/$doc.p7s" -CAfile "$pki/permissions_ca.pem" -text \
     -out "$work/signed.xml" 2>/dev/null; then
     if cmp -s <(tr -d '\r' <"$work/signed.xml") "$pki/$doc.xml"; then
@@ -67,6 +70,7 @@ pki, idl = sys.argv[1], open(sys.argv[2]).read()
 topics_module = re.search(r"module topics\s*\{(.*?)\};", idl, re.S).group(1)
 topics = dict(re.findall(r'const string (\w+) = "([^"]+)";', topics_module))
 requests = {t for name, t in topics.items() if name.endswith("_REQUEST")}
+admin_requests = {topics["ADMIN_REQUEST"]}
 replies = {t for name, t in topics.items() if name.endswith("_REPLY")}
 status, event, info = topics["HAND_STATUS"], topics["HAND_EVENT"], topics["SERVICE_INFO"]
 owner, lease = topics["SERVICE_OWNER"], topics["HAND_LEASE"]
@@ -76,7 +80,8 @@ assert len(topics) == len(requests | replies | {status, event, info, owner, leas
 # service's and its standby's alone.
 want = {
     "service": ({status, event, info, owner, lease} | replies, requests | {owner, lease}),
-    "operator": (requests, {status, event, info, owner} | replies),
+    "operator": (requests - admin_requests, {status, event, info, owner} | replies),
+    "admin": (requests, {status, event, info, owner} | replies),
     "monitor": (set(), {status, event, owner}),
 }
 bad = 0
@@ -108,8 +113,50 @@ for path, value in checks.items():
         bad += 1
 if not bad:
     print("ok: governance: authenticated only, discovery and data protected and encrypted")
+# The default grants the service's default domain (dds.domain: 0) only.
+for doc in ["governance.xml"] + [f"{i}/permissions.xml" for i in want]:
+    ranges = ET.parse(f"{pki}/{doc}").getroot().findall(".//domains/id_range")
+    got = [(r.findtext("min"), r.findtext("max")) for r in ranges]
+    if got != [("0", "0")]:
+        print(f"FAILED: {doc} grants domains {got}, expected only 0")
+        bad += 1
 sys.exit(1 if bad else 0)
 PY
+
+# One identity per name, each with its own key, granted its role's topics;
+# --domains grants those domains and no others.
+named=$work/named
+if "$script" --domains 7-9 --operator alice --operator bob --admin carol "$named" >/dev/null; then
+  for id in alice bob carol; do
+    [[ -s $named/$id/cert.pem && -s $named/$id/key.pem ]] || fail "no identity $id"
+  done
+  [[ -e $named/operator || -e $named/admin ]] && fail "named identities and the default ones too"
+  keys=$(for id in alice bob carol; do openssl pkey -in "$named/$id/key.pem" -pubout | sha256sum; done |
+    sort -u | wc -l)
+  [[ $keys == 3 ]] && ok "alice, bob and carol have keys of their own" ||
+    fail "alice, bob and carol share keys ($keys distinct)"
+  subjects=$(for id in alice bob carol; do openssl x509 -in "$named/$id/cert.pem" -noout -subject; done)
+  [[ $(sort -u <<<"$subjects" | wc -l) == 3 ]] && ok "each certificate has its own subject" ||
+    fail "certificates share a subject: $subjects"
+  grep -q "dh3/admin_request" "$named/carol/permissions.xml" && ok "admin carol may publish admin requests" ||
+    fail "admin carol may not publish admin requests"
+  for id in alice bob monitor; do
+    grep -q "dh3/admin_request" "$named/$id/permissions.xml" && fail "$id may publish admin requests"
+  done
+  grep -q "<min>7</min><max>9</max>" "$named/bob/permissions.xml" &&
+    grep -q "<min>7</min><max>9</max>" "$named/governance.xml" && ok "--domains 7-9 is what is granted" ||
+    fail "--domains 7-9 is not what is granted"
+else
+  fail "make-test-pki.sh --operator alice --operator bob --admin carol failed"
+fi
+for bad_args in "--operator service" "--admin x --operator x" "--operator a/b" "--domains 5-300"; do
+  # shellcheck disable=SC2086  # the arguments are meant to split
+  if "$script" $bad_args "$work/refused" >/dev/null 2>&1; then
+    fail "make-test-pki.sh accepted $bad_args"
+  fi
+done
+[[ -e $work/refused ]] && fail "a refused call created its DIR"
+ok "refuses names of its own identities, a name twice, a path and domains beyond 232"
 
 # Private keys and their folders are the owner's alone.
 while read -r mode path; do

@@ -51,7 +51,7 @@ require_namespaces
 command -v python3 >/dev/null || fail "python3 is needed for the packet capture"
 service_secure=(--security-dir "$work/pki" --security-identity service)
 
-"$src/deploy/security/make-test-pki.sh" "$work/pki" >/dev/null || fail "make-test-pki.sh failed"
+"$src/deploy/security/make-test-pki.sh" --domains "$domain" "$work/pki" >/dev/null || fail "make-test-pki.sh failed"
 sed "s|file:///etc/dh3/pki/|file://$work/pki/|g" "$src/deploy/dds/secure.xml" >"$work/secure.xml"
 
 add_hosts "$srv" "$cli"

@@ -57,12 +57,20 @@ class DdsTestClient {
     none,  ///< no reply reader until read_replies(): a client that never reads its replies
   };
 
+  /// DDS Security credentials in make-test-pki.sh's layout; empty: none.
+  struct Credentials {
+    std::string dir;
+    std::string identity;
+  };
+
   explicit DdsTestClient(int domain, const std::string& name = "dh3-test",
-                         Replies replies = Replies::all) {
+                         Replies replies = Replies::all, const Credentials& credentials = {}) {
     namespace fdds = eprosima::fastdds::dds;
     contract::ParticipantOptions options;
     options.name = name;
     options.domain = domain;
+    options.security_dir = credentials.dir;
+    options.security_identity = credentials.identity;
     contract::SetupReport report;
     auto created = contract::Participant::create(options, report);
     if (!created) return;
@@ -74,6 +82,9 @@ class DdsTestClient {
     using contract::TopicRole;
     request_writer_ = publisher.create_datawriter(contract_topics.request,
                                                   contract::writer_qos(TopicRole::request));
+    // Refused (nullptr) by DDS Security unless the identity's permissions grant it.
+    admin_writer_ = publisher.create_datawriter(contract_topics.admin_request,
+                                                contract::writer_qos(TopicRole::request));
     const auto mask = fdds::StatusMask::data_available();
     fdds::TopicDescription* reply_topic = contract_topics.reply;
     if (replies == Replies::own) {
@@ -122,6 +133,19 @@ class DdsTestClient {
     return request.request_seq();
   }
 
+  /// This participant may write on the admin request topic.
+  [[nodiscard]] bool has_admin_writer() const { return admin_writer_ != nullptr; }
+  /// Sends a request on the admin request topic, numbered as send() numbers them.
+  std::uint64_t send_admin(msg::CommandRequest request) {
+    request.request_seq(++last_seq_);
+    admin_writer_->write(&request);
+    return request.request_seq();
+  }
+  /// Waits until an admin request reader (the service's) has matched ours.
+  bool wait_admin_reader(std::chrono::milliseconds timeout = kDdsDeadline) {
+    return wait_matched(*admin_writer_, timeout);
+  }
+
   /// Waits until every request written so far reached the service's reader
   /// (acknowledged), whether or not it was answered.
   bool wait_delivered(std::chrono::milliseconds timeout = kDdsDeadline) {
@@ -135,14 +159,7 @@ class DdsTestClient {
   /// Waits until a request reader (the service's) has matched this client's
   /// writer, for a client that cannot probe with requests (Replies::none).
   bool wait_request_reader(std::chrono::milliseconds timeout = kDdsDeadline) {
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    eprosima::fastdds::dds::PublicationMatchedStatus status;
-    while (std::chrono::steady_clock::now() < deadline) {
-      request_writer_->get_publication_matched_status(status);
-      if (status.current_count > 0) return true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    return false;
+    return wait_matched(*request_writer_, timeout);
   }
 
   /// A client made with Replies::none starts reading the plain reply topic.
@@ -417,8 +434,22 @@ class DdsTestClient {
     return changed_.wait_for(lock, timeout, pred);
   }
 
+  /// Polls until `writer` has matched a reader.
+  static bool wait_matched(eprosima::fastdds::dds::DataWriter& writer,
+                           std::chrono::milliseconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    eprosima::fastdds::dds::PublicationMatchedStatus status;
+    while (std::chrono::steady_clock::now() < deadline) {
+      writer.get_publication_matched_status(status);
+      if (status.current_count > 0) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return false;
+  }
+
   std::unique_ptr<contract::Participant> participant_;
   eprosima::fastdds::dds::DataWriter* request_writer_ = nullptr;
+  eprosima::fastdds::dds::DataWriter* admin_writer_ = nullptr;
   Listener listener_{*this};
   std::string client_id_;
   std::uint64_t last_seq_ = 0;

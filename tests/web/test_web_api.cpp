@@ -210,6 +210,69 @@ TEST(BearerToken, RefusesAMissingEmptyOrShortFile) {
   std::remove(path.c_str());
 }
 
+constexpr const char* kViewToken = "a-viewer-token-of-some-length";
+constexpr const char* kAdminToken = "an-admin-token-of-some-length";
+
+/// A 0600 file of `text`, removed at the end of the test.
+class TokenFile {
+ public:
+  explicit TokenFile(const std::string& text)
+      : path_("/tmp/dh3-web-tokens-" + std::to_string(::getpid())) {
+    std::ofstream(path_) << text;
+    ::chmod(path_.c_str(), 0600);
+  }
+  ~TokenFile() { std::remove(path_.c_str()); }
+  TokenFile(const TokenFile&) = delete;
+  TokenFile& operator=(const TokenFile&) = delete;
+  [[nodiscard]] const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
+TEST(BearerToken, ReadsATokenForEachRole) {
+  const TokenFile file(std::string("# dh3-web tokens\n\nview ") + kViewToken + "\noperator  " +
+                       kToken + "\nadmin\t" + kAdminToken + "\n");
+  const auto tokens = BearerToken::from_file(file.path());
+  ASSERT_TRUE(tokens.ok()) << tokens.error();
+  const auto bearer = [](const char* token) { return std::string("Bearer ") + token; };
+  EXPECT_EQ(tokens->role_of(bearer(kViewToken)), TokenRole::view);
+  EXPECT_EQ(tokens->role_of(bearer(kToken)), TokenRole::operate);
+  EXPECT_EQ(tokens->role_of(bearer(kAdminToken)), TokenRole::administer);
+  EXPECT_EQ(tokens->role_of("Bearer view"), std::nullopt);
+  EXPECT_EQ(tokens->role_of(bearer("a-viewer-token-of-some-lengtX")), std::nullopt);
+  EXPECT_TRUE(tokens->grants(TokenRole::administer));
+
+  const TokenFile operators(std::string("operator ") + kToken + "\n");
+  const auto no_admin = BearerToken::from_file(operators.path());
+  ASSERT_TRUE(no_admin.ok()) << no_admin.error();
+  EXPECT_TRUE(no_admin->grants(TokenRole::operate));
+  EXPECT_FALSE(no_admin->grants(TokenRole::administer));
+  // A file of one token, as dh3-web always read it: an operator's.
+  EXPECT_EQ(BearerToken::from_text(kToken).role_of(bearer(kToken)), TokenRole::operate);
+}
+
+TEST(BearerToken, RefusesARoleFileWithABadLine) {
+  const auto refusal = [](const std::string& text) {
+    const TokenFile file(text);
+    auto tokens = BearerToken::from_file(file.path());
+    return tokens.ok() ? std::string() : tokens.error();
+  };
+  EXPECT_THAT(refusal(std::string("root ") + kToken + "\n"),
+              HasSubstr("line 1 of /tmp/dh3-web-tokens-"));
+  EXPECT_THAT(refusal(std::string("root ") + kToken + "\n"),
+              HasSubstr("is not \"ROLE TOKEN\" with ROLE view, operator or admin"));
+  EXPECT_THAT(refusal(std::string("view ") + kViewToken + "\n" + kToken + "\n"),
+              HasSubstr("line 2"));
+  EXPECT_THAT(refusal(std::string("view ") + kViewToken + "\nadmin short\n"),
+              HasSubstr("on line 2 of /tmp/dh3-web-tokens-"));
+  EXPECT_THAT(refusal(std::string("view ") + kViewToken + "\nadmin short\n"),
+              HasSubstr("too short"));
+  EXPECT_THAT(refusal(std::string("view ") + kToken + "\nadmin " + kToken + "\n"),
+              HasSubstr("given twice"));
+  EXPECT_THAT(refusal("# only a comment\n"), HasSubstr("empty"));
+}
+
 TEST(BearerToken, RefusesAFileOthersOrItsGroupMayReadOrChange) {
   const std::string path = "/tmp/dh3-web-token-mode-" + std::to_string(::getpid());
   std::ofstream(path) << kToken << "\n";
@@ -343,8 +406,12 @@ class HandApiTest : public ::testing::Test {
     return o;
   }
   HandApi api(bool with_token, bool view_needs_token = false) {
+    if (!with_token) return api_with(std::nullopt, view_needs_token);
+    return api_with(BearerToken::from_text(kToken), view_needs_token);
+  }
+  HandApi api_with(std::optional<BearerToken> tokens, bool view_needs_token = false) {
     AccessPolicy access;
-    if (with_token) access.token = BearerToken::from_text(kToken);
+    access.token = std::move(tokens);
     access.view_needs_token = view_needs_token;
     return HandApi(client_, access, std::chrono::seconds(1), "{\"openapi\":\"3.0.3\"}",
                    "dh3-web-1@cell-pc");
@@ -428,6 +495,54 @@ TEST_F(HandApiTest, SaysAtOnceWhetherATokenIsTheRightOne) {
   EXPECT_EQ(a.handle(ApiRequest{"GET", "/api/token", "", ""}).status, 401);
   EXPECT_EQ(a.handle(ApiRequest{"POST", "/api/token", "", ""}).status, 405);
   EXPECT_EQ(api(false).handle(ApiRequest{"GET", "/api/token", "Bearer x", ""}).status, 403);
+}
+
+TEST_F(HandApiTest, EachTokenMayDoWhatItsRoleMay) {
+  const TokenFile file(std::string("view ") + kViewToken + "\noperator " + kToken + "\nadmin " +
+                       kAdminToken + "\n");
+  auto tokens = BearerToken::from_file(file.path());
+  ASSERT_TRUE(tokens.ok()) << tokens.error();
+  auto a = api_with(std::move(tokens).value(), /*view_needs_token=*/true);
+  const auto as = [](ApiRequest request, const char* token) {
+    request.authorization = std::string("Bearer ") + token;
+    return request;
+  };
+  const ApiRequest init = post("/api/hands/cell/bus0/9/init", "");
+  const ApiRequest set_id =
+      post("/api/hands/cell/bus0/9/set-can-id", R"({"can_id": 2, "confirm": true})");
+  const ApiRequest list{"GET", "/api/hands", "", ""};
+
+  // Viewing: every role.
+  for (const char* token : {kViewToken, kToken, kAdminToken}) {
+    EXPECT_EQ(a.handle(as(list, token)).status, 200) << token;
+  }
+  // A viewer's token commands nothing.
+  const ApiResponse viewer = a.handle(as(init, kViewToken));
+  EXPECT_EQ(viewer.status, 403);
+  EXPECT_THAT(viewer.body, HasSubstr("READ_ONLY_TOKEN"));
+  EXPECT_EQ(a.handle(as(set_id, kViewToken)).status, 403);
+  // An operator's commands, but no administrative command.
+  EXPECT_EQ(a.handle(as(init, kToken)).status, 404);  // past the token: no such hand
+  const ApiResponse operator_admin = a.handle(as(set_id, kToken));
+  EXPECT_EQ(operator_admin.status, 403);
+  EXPECT_THAT(operator_admin.body, HasSubstr("ADMIN_TOKEN_NEEDED"));
+  // An admin's gets past the token to the hand (none here: 404, nothing sent).
+  EXPECT_EQ(a.handle(as(set_id, kAdminToken)).status, 404);
+
+  // /api/token says which role a token has.
+  for (const auto& [token, role] : {std::pair{kViewToken, "view"}, std::pair{kToken, "operator"},
+                                    std::pair{kAdminToken, "admin"}}) {
+    const ApiResponse checked = a.handle(as(ApiRequest{"GET", "/api/token", "", ""}, token));
+    EXPECT_EQ(checked.status, 200);
+    EXPECT_THAT(checked.body, HasSubstr(std::string(R"("role":")") + role + "\""));
+    expect_described_as("Token", Json::parse(checked.body));
+  }
+  // A file of viewers' tokens only enables no commands.
+  auto viewers = api_with(BearerToken::from_text(kViewToken, TokenRole::view));
+  EXPECT_THAT(viewers.handle(ApiRequest{"GET", "/api/health", "", ""}).body,
+              HasSubstr(R"("commands_enabled":false)"));
+  EXPECT_THAT(a.handle(as(ApiRequest{"GET", "/api/health", "", ""}, kViewToken)).body,
+              HasSubstr(R"("commands_enabled":true)"));
 }
 
 TEST_F(HandApiTest, StreamsAreCountedAndTheOnePastTheLimitRefused) {

@@ -31,8 +31,10 @@ constexpr const char* kToken = "integration-token-0123456789";
 /// dh3-web on this test's domain and a free port.
 class WebProcess {
  public:
-  explicit WebProcess(std::vector<std::string> extra = {}, const std::string& log_level = "warn")
-      : token_(std::string(kToken) + "\n", ".token") {
+  /// `tokens`: the token file's text.
+  explicit WebProcess(std::vector<std::string> extra = {}, const std::string& log_level = "warn",
+                      const std::string& tokens = std::string(kToken) + "\n")
+      : token_(tokens, ".token") {
     ::chmod(token_.path().c_str(), 0600);
     std::vector<std::string> args = {"--domain", std::to_string(test_domain()), "--listen",
                                      "127.0.0.1:0", "--token-file", token_.path(),
@@ -422,6 +424,58 @@ TEST(WebViewing, CanNeedTheToken) {
   auto listed = http.Get("/api/hands", with_token());
   ASSERT_TRUE(listed);
   EXPECT_EQ(listed->status, 200);
+}
+
+TEST(WebTokens, EachRoleMayDoWhatItsRoleMayAndNoMore) {
+  RunningService service{sim_config()};
+  ASSERT_TRUE(service.started());
+  const std::string viewer = "viewer-token-0123456789";
+  const std::string admin = "admin-token-0123456789";
+  WebProcess web({"--view-needs-token"}, "warn",
+                 "view " + viewer + "\noperator " + kToken + "\nadmin " + admin + "\n");
+  ASSERT_GT(web.port(), 0);
+  auto http = web.client();
+  const auto as = [](const std::string& token) {
+    return httplib::Headers{{"Authorization", "Bearer " + token}};
+  };
+  const auto written = [&] {
+    auto res = http.Get("/api/health", as(viewer));
+    if (!res) return ~0ULL;
+    return std::stoull(res->body.substr(res->body.find(R"("requests_written":)") + 19));
+  };
+  const std::string hand = "/api/hands/" + hand_spec(2);
+  // Until dh3-web has seen the hand, a command would be 404.
+  const auto deadline = std::chrono::steady_clock::now() + kClientDeadline;
+  while (std::chrono::steady_clock::now() < deadline) {
+    auto seen = http.Get(hand.c_str(), as(viewer));
+    if (seen && seen->status == 200) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  const std::uint64_t before = written();
+
+  auto viewer_move =
+      http.Post((hand + "/move").c_str(), as(viewer), R"({"position":30})", "application/json");
+  ASSERT_TRUE(viewer_move);
+  EXPECT_EQ(viewer_move->status, 403);
+  EXPECT_THAT(viewer_move->body, HasSubstr("READ_ONLY_TOKEN"));
+  auto operator_admin = http.Post((hand + "/set-baud").c_str(), as(kToken),
+                                  R"({"index":0,"confirm":true})", "application/json");
+  ASSERT_TRUE(operator_admin);
+  EXPECT_EQ(operator_admin->status, 403);
+  EXPECT_THAT(operator_admin->body, HasSubstr("ADMIN_TOKEN_NEEDED"));
+  EXPECT_EQ(written(), before) << "a request refused by dh3-web left it";
+
+  // The operator commands; the admin's administrative command reaches the
+  // service, which refuses it (this one runs without allow_admin).
+  auto init = http.Post((hand + "/init").c_str(), as(kToken), "", "application/json");
+  ASSERT_TRUE(init);
+  EXPECT_EQ(init->status, 200) << init->body;
+  auto admin_baud = http.Post((hand + "/set-baud").c_str(), as(admin),
+                              R"({"index":0,"confirm":true})", "application/json");
+  ASSERT_TRUE(admin_baud);
+  EXPECT_EQ(admin_baud->status, 403) << admin_baud->body;
+  EXPECT_THAT(admin_baud->body, HasSubstr("--allow-admin"));
+  EXPECT_EQ(written(), before + 2);
 }
 
 TEST(WebStartup, RefusesABadListenAddressAndAShortToken) {

@@ -211,6 +211,8 @@ class DH3_CLIENT_API Hand {
                   Timeout timeout = Timeout::zero());
   Reply read(std::uint16_t register_code, Timeout timeout = Timeout::zero());
   /// Administrative (the service must allow it; the hand needs a reboot after).
+  /// Sent on the admin request topic: under DDS Security only an identity
+  /// whose permissions grant it may (an operator's ends DENIED at once).
   std::future<Reply> set_can_id_async(std::int32_t can_id, Timeout timeout = Timeout::zero());
   void set_can_id_async(std::int32_t can_id, ReplyCallback done, Timeout timeout = Timeout::zero());
   Reply set_can_id(std::int32_t can_id, Timeout timeout = Timeout::zero());

@@ -8,6 +8,7 @@
 #include <chrono>
 
 #include "conversions.hpp"
+#include "dh3/contract/admin_commands.hpp"
 #include "expiry_timer.hpp"
 #include "status_publisher.hpp"
 
@@ -24,7 +25,16 @@ msg::CommandReply make_reply(const ReplyHeader& header, msg::ResultCode code, st
   return reply;
 }
 
-void RequestHandler::handle(msg::CommandRequest& request, const Caller& caller, bool stopping) {
+AdminAccess RequestHandler::admin_access(RequestTopic topic) const {
+  if (!parts_.options.allow_admin) return AdminAccess::off;
+  // Without access control a topic is anyone's to write, so it proves
+  // nothing: allow_admin then lets whoever reaches the service.
+  if (access_control_ && topic != RequestTopic::admin) return AdminAccess::elsewhere;
+  return AdminAccess::allowed;
+}
+
+void RequestHandler::handle(msg::CommandRequest& request, const Caller& caller, bool stopping,
+                            RequestTopic topic) {
   const std::string& service = request.hand().service();
   if (!service.empty() && service != parts_.options.name) return;  // another service's
 
@@ -42,7 +52,29 @@ void RequestHandler::handle(msg::CommandRequest& request, const Caller& caller, 
     parts_.replies.write(reply);
     return;
   }
-  auto valid = validate_request(request, parts_.directory, parts_.options.allow_admin);
+  if (rate_ != nullptr) {
+    if (auto admitted = rate_->admit(caller.id, caller.shown_as); !admitted) {
+      const ReplyHeader header{request.client_id(), request.request_seq(), request.hand(),
+                               request.command()};
+      auto reply = make_reply(header, msg::BUSY, std::move(admitted).error());
+      parts_.replies.write(reply);
+      return;
+    }
+  }
+  if (topic == RequestTopic::admin && !contract::is_administrative(request.command())) {
+    // The admin topic carries nothing else, so that an admin identity's
+    // grant of it is a grant of administration and no more.
+    const ReplyHeader header{request.client_id(), request.request_seq(), request.hand(),
+                             request.command()};
+    auto reply = make_reply(header, msg::INVALID_ARGUMENT,
+                            command_name(header.command) +
+                                " is no administrative command: " + dh3::topics::ADMIN_REQUEST +
+                                " takes only SET_CAN_ID and SET_BAUD_RATE; send it on " +
+                                dh3::topics::COMMAND_REQUEST);
+    parts_.replies.write(reply);
+    return;
+  }
+  auto valid = validate_request(request, parts_.directory, admin_access(topic));
   // The request object is reused for the next sample: its strings move into the reply.
   ReplyHeader header{std::move(request.client_id()), request.request_seq(),
                      std::move(request.hand()), request.command()};

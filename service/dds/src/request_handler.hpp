@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "client_rate.hpp"
 #include "client_share.hpp"
 #include "dh3/contract/dh3.h"
 #include "dh3/dds/service.hpp"
@@ -35,6 +36,11 @@ struct Caller {
   std::string id;
   std::string shown_as;
 };
+
+/// The topic a request came on: command requests, or administrative ones
+/// (dh3/contract/admin_commands.hpp), whose topic DDS Security's permissions
+/// grant to admin identities only.
+enum class RequestTopic : std::uint8_t { commands, admin };
 
 /// What a reply echoes from its request.
 struct ReplyHeader {
@@ -68,9 +74,17 @@ class RequestHandler {
   RequestHandler(const RequestHandler&) = delete;
   RequestHandler& operator=(const RequestHandler&) = delete;
 
-  /// Answers the request of `caller` (`stopping`: CANCELLED); `request` is
-  /// reused by the caller, its strings may be moved from.
-  void handle(msg::CommandRequest& request, const Caller& caller, bool stopping);
+  /// Answers the request of `caller` that came on `topic` (`stopping`:
+  /// CANCELLED); `request` is reused by the caller, its strings may be moved from.
+  void handle(msg::CommandRequest& request, const Caller& caller, bool stopping,
+              RequestTopic topic = RequestTopic::commands);
+  /// Under DDS Security's access control the topic a request came on says
+  /// what the writer's identity may do: administrative commands are then
+  /// taken only from the admin request topic. Set before requests are taken.
+  void set_access_control(bool on) { access_control_ = on; }
+  /// Bounds each caller's requests a second (BUSY beyond); none: no bound.
+  /// Set before requests are taken; `rate` outlives the handler.
+  void set_rate(ClientRate* rate) { rate_ = rate; }
   /// Answers every scan still pending CANCELLED (stop, after the buses stopped).
   void cancel_scans();
 
@@ -90,7 +104,12 @@ class RequestHandler {
                    const std::vector<std::uint8_t>& found, std::string message);
   void handle_lease(const ValidRequest& valid, const Caller& caller, const ReplyHeader& header);
 
+  /// What an administrative command that came on `topic` may do.
+  [[nodiscard]] AdminAccess admin_access(RequestTopic topic) const;
+
   Parts parts_;
+  bool access_control_ = false;
+  ClientRate* rate_ = nullptr;
   std::mutex scans_mutex_;
   std::vector<std::shared_ptr<PendingScan>> scans_;  ///< under scans_mutex_
 };

@@ -190,25 +190,38 @@ Result<std::uint16_t, Rejection> check_request_target(const msg::CommandRequest&
   return *bus;
 }
 
-Rejection admin_rejection(const msg::CommandRequest& request) {
-  return Rejection{msg::DENIED, command_name(request.command()) +
-                                    " is administrative (the hand must be rebooted after it) and "
-                                    "service '" +
-                                    request.hand().service() +
-                                    "' does not allow it; start it with --allow-admin"};
+Rejection admin_rejection(const msg::CommandRequest& request, AdminAccess admin) {
+  std::string text = command_name(request.command()) +
+                     " is administrative (the hand must be rebooted after it) and service '" +
+                     request.hand().service() + "' ";
+  if (admin == AdminAccess::elsewhere) {
+    text += std::string("takes it, under DDS Security, only on ") + dh3::topics::ADMIN_REQUEST +
+            ", which only an admin identity may publish; it came on " +
+            dh3::topics::COMMAND_REQUEST;
+  } else {
+    text += "does not allow it; start it with --allow-admin";
+  }
+  return Rejection{msg::DENIED, std::move(text)};
 }
 
 }  // namespace
 
 Result<ValidRequest, Rejection> validate_request(const msg::CommandRequest& request,
                                                  const HandDirectory& directory, bool allow_admin) {
+  return validate_request(request, directory,
+                          allow_admin ? AdminAccess::allowed : AdminAccess::off);
+}
+
+Result<ValidRequest, Rejection> validate_request(const msg::CommandRequest& request,
+                                                 const HandDirectory& directory,
+                                                 AdminAccess admin) {
   // Down the layers once: this layer's fields, the contract's limits, the
   // hand layer's rules for the command, then the bus and the hand it names;
   // an administrative command is refused last, as DENIED, once all else holds.
   if (auto checked = check_request_fields(request); !checked) return fail(checked.error());
   if (auto checked = check_request_ranges(request); !checked) return fail(checked.error());
   ValidRequest valid = translate(request);
-  const auto refused = hand_verdict(valid, allow_admin);
+  const auto refused = hand_verdict(valid, admin == AdminAccess::allowed);
   if (refused && refused->rule == hand::CommandRule::id_zero) {
     return fail(id_zero_rejection(request.command()));
   }
@@ -217,7 +230,7 @@ Result<ValidRequest, Rejection> validate_request(const msg::CommandRequest& requ
   }
   const auto bus = check_request_target(request, directory);
   if (!bus) return fail(bus.error());
-  if (refused) return fail(admin_rejection(request));
+  if (refused) return fail(admin_rejection(request, admin));
   valid.bus = *bus;
   return valid;
 }

@@ -37,12 +37,24 @@ struct Rejection {
   std::string message;
 };
 
+/// Whether an administrative command (SET_CAN_ID, SET_BAUD_RATE) may run.
+enum class AdminAccess : std::uint8_t {
+  allowed,
+  off,       ///< the service does not allow them (allow_admin off)
+  elsewhere  ///< under DDS Security they are taken only from the admin request topic
+};
+
 /// Validates a request addressed to this service (the caller already ignored
 /// requests for other services), in one pass down the layers: the request's
 /// form (this layer), its values within the contract's limits, the hand
 /// layer's rules for the command it becomes (all INVALID_ARGUMENT), the bus
 /// and hand (UNKNOWN_HAND), administrative commands (the hand layer's rule,
-/// DENIED unless `allow_admin`). Leases are the caller's to check.
+/// DENIED unless `admin` allows them, saying why). Leases are the caller's
+/// to check.
+[[nodiscard]] Result<ValidRequest, Rejection> validate_request(const msg::CommandRequest& request,
+                                                               const HandDirectory& directory,
+                                                               AdminAccess admin);
+/// The same, administrative commands allowed or off (`allow_admin`).
 [[nodiscard]] Result<ValidRequest, Rejection> validate_request(const msg::CommandRequest& request,
                                                                const HandDirectory& directory,
                                                                bool allow_admin);

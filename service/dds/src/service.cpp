@@ -184,6 +184,18 @@ Result<void, std::string> Service::Impl::create_request_reader() {
   return {};
 }
 
+void Service::Impl::create_admin_request_reader() {
+  auto qos = contract::reader_qos(TopicRole::request);
+  qos.history().kind = fdds::KEEP_ALL_HISTORY_QOS;
+  admin_request_reader_ = participant_->subscriber().create_datareader(
+      participant_->topics().admin_request, qos, &admin_request_listener_,
+      fdds::StatusMask::data_available() << fdds::StatusMask::subscription_matched());
+  if (admin_request_reader_ == nullptr && options_.allow_admin) {
+    spdlog::warn("administrative commands are refused: {}",
+                 cannot_create("the reader of " + std::string(dh3::topics::ADMIN_REQUEST)));
+  }
+}
+
 void Service::Impl::create_group_endpoints() {
   group_reply_writer_ = participant_->publisher().create_datawriter(
       participant_->topics().group_reply, contract::writer_qos(TopicRole::reply),
@@ -211,8 +223,12 @@ Result<void, std::string> Service::Impl::start() {
   }
   for (auto& scheduler : schedulers_) scheduler->start();
   timer_.start();
-  // Last: requests are only taken once everything they need runs.
+  // Last: requests are only taken once everything they need runs, and
+  // knows which topic may carry administrative commands.
+  requests_.set_access_control(participant_->access_control());
+  requests_.set_rate(&rate_);
   if (auto created = create_request_reader(); !created) return created;
+  create_admin_request_reader();
   create_group_endpoints();
   spdlog::info("service '{}' on DDS domain {}: {} bus(es), admin commands {}", options_.name,
                options_.participant.domain, schedulers_.size(),
@@ -258,7 +274,9 @@ void Service::Impl::destroy_dds() {
   if (!participant_.joined()) return;
   owner_->stop();
   if (request_reader_ != nullptr) request_reader_->set_listener(nullptr);
+  if (admin_request_reader_ != nullptr) admin_request_reader_->set_listener(nullptr);
   if (group_request_reader_ != nullptr) group_request_reader_->set_listener(nullptr);
+  admin_request_reader_ = nullptr;
   group_request_reader_ = nullptr;
   group_reply_writer_ = nullptr;
   replies_.detach();
@@ -272,7 +290,7 @@ void Service::Impl::destroy_dds() {
 // ---------------------------------------------------------------------------
 // Requests, departures and expiry
 
-void Service::Impl::on_requests(fdds::DataReader& reader) {
+void Service::Impl::on_requests(fdds::DataReader& reader, RequestTopic topic) {
   std::lock_guard lock(dispatch_mutex_);
   // In batches, each served one client at a time (round_robin.hpp): a flood
   // taken ahead of another client's request does not make it wait.
@@ -301,7 +319,7 @@ void Service::Impl::on_requests(fdds::DataReader& reader) {
     }
     if (intake_.empty()) return;
     for (const std::size_t i : round_robin_order(caller_ids)) {
-      requests_.handle(intake_[i], callers[i], stopping_);
+      requests_.handle(intake_[i], callers[i], stopping_, topic);
     }
   }
 }
@@ -349,6 +367,7 @@ void Service::Impl::on_participant_left(const std::string& participant_id, bool 
     statuses_.republish(ended.hand);
   }
   names_.forget(participant_id);
+  rate_.forget(participant_id);
   owner_->left(participant_id);
 }
 

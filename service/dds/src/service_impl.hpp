@@ -93,21 +93,24 @@ class Service::Impl {
 
   class RequestListener final : public fdds::DataReaderListener {
    public:
-    explicit RequestListener(Impl& impl) : impl_(impl) {}
-    void on_data_available(fdds::DataReader* reader) override { impl_.on_requests(*reader); }
+    RequestListener(Impl& impl, RequestTopic topic) : impl_(impl), topic_(topic) {}
+    void on_data_available(fdds::DataReader* reader) override {
+      impl_.on_requests(*reader, topic_);
+    }
     // Only logged: which clients' requests can reach us (a client whose
     // writer never matches here gets no reply, whatever it sees on its side).
     void on_subscription_matched(fdds::DataReader* /*reader*/,
                                  const fdds::SubscriptionMatchedStatus& status) override {
       if (!spdlog::should_log(spdlog::level::debug)) return;
-      spdlog::debug("request writer of {} {} ({} matched)",
-                    contract::client_id_for(status.last_publication_handle),
-                    status.current_count_change > 0 ? "matched" : "unmatched",
-                    status.current_count);
+      spdlog::debug(
+          "{}request writer of {} {} ({} matched)", topic_ == RequestTopic::admin ? "admin " : "",
+          contract::client_id_for(status.last_publication_handle),
+          status.current_count_change > 0 ? "matched" : "unmatched", status.current_count);
     }
 
    private:
     Impl& impl_;
+    RequestTopic topic_;
   };
 
   class GroupRequestListener final : public fdds::DataReaderListener {
@@ -120,7 +123,7 @@ class Service::Impl {
   };
 
   // Requests (DDS listener threads), under dispatch_mutex_.
-  void on_requests(fdds::DataReader& reader);
+  void on_requests(fdds::DataReader& reader, RequestTopic topic);
   void on_group_requests(fdds::DataReader& reader);
   /// Who wrote a request sample: its participant, never the request's client_id.
   [[nodiscard]] Caller caller_of(const fdds::SampleInfo& info) const;
@@ -142,6 +145,9 @@ class Service::Impl {
   /// The leases of the primary a standby took over from, by bus name.
   void load_leases(const std::vector<HandedLease>& handed);
   Result<void, std::string> create_request_reader();
+  /// The admin request reader; a service whose DDS Security permissions
+  /// predate it refuses administrative commands (and says so).
+  void create_admin_request_reader();
   /// The group endpoints; a service whose DDS Security permissions predate
   /// them runs without group commands (and says so).
   void create_group_endpoints();
@@ -160,11 +166,13 @@ class Service::Impl {
   StatusPublisher statuses_{options_, clock_, leases_, directory_};
   ExpiryTimer timer_;
   ClientShare share_;  ///< before requests_: the tickets in its completions point here
+  ClientRate rate_{clock_, options_.client_rate_limit};
   RequestHandler requests_{
       {options_, directory_, leases_, schedulers_, statuses_, replies_, timer_, share_}};
   GroupCommands groups_{{options_, clock_, directory_, leases_, schedulers_, replies_, share_}};
 
-  RequestListener request_listener_{*this};
+  RequestListener request_listener_{*this, RequestTopic::commands};
+  RequestListener admin_request_listener_{*this, RequestTopic::admin};
   GroupRequestListener group_request_listener_{*this};
   /// The participant, its topics, publisher and subscriber (not joined until
   /// init() has made them); the writers and readers below are made on them and
@@ -177,6 +185,7 @@ class Service::Impl {
   fdds::DataWriter* reply_writer_ = nullptr;
   fdds::DataWriter* group_reply_writer_ = nullptr;
   fdds::DataReader* request_reader_ = nullptr;
+  fdds::DataReader* admin_request_reader_ = nullptr;
   fdds::DataReader* group_request_reader_ = nullptr;
 
   std::mutex dispatch_mutex_;

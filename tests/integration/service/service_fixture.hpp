@@ -196,6 +196,15 @@ inline std::vector<std::string> frames_as_hex(const std::vector<std::uint8_t>& b
   return frames;
 }
 
+/// The frames written (read/write byte 01) among `frames` (frames_as_hex's form).
+inline std::vector<std::string> written_frames(const std::vector<std::string>& frames) {
+  std::vector<std::string> out;
+  for (const auto& frame : frames) {
+    if (frame.substr(21, 2) == "01") out.push_back(frame);
+  }
+  return out;
+}
+
 /// A client on this test's domain that waited for `service` to answer.
 inline std::unique_ptr<DdsTestClient> connected_client(const std::string& service,
                                                        const std::string& name = "dh3-test") {

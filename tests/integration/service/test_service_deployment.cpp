@@ -74,7 +74,8 @@ class PkiWithoutRequestPermission {
     if (::mkdtemp(pattern) == nullptr) return;
     dir_ = pattern;
     const std::string script = std::string(DH3_SOURCE_DIR) + "/deploy/security/make-test-pki.sh";
-    if (!succeeded(script + " " + dir_.string())) return;
+    if (!succeeded(script + " --domains " + std::to_string(test_domain()) + " " + dir_.string()))
+      return;
     const auto permissions = dir_ / "service" / "permissions.xml";
     std::stringstream text;
     text << std::ifstream(permissions).rdbuf();

@@ -16,13 +16,8 @@ using ::testing::Contains;
 using ::testing::ElementsAreArray;
 using ::testing::IsEmpty;
 
-/// The frames written (read/write byte 01) among `frames`.
 std::vector<std::string> writes(const std::vector<std::string>& frames) {
-  std::vector<std::string> out;
-  for (const auto& frame : frames) {
-    if (frame.substr(21, 2) == "01") out.push_back(frame);
-  }
-  return out;
+  return written_frames(frames);
 }
 
 class ServiceFramesTest : public ::testing::Test {

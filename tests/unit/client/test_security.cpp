@@ -45,7 +45,8 @@ class ClientSecurity : public ::testing::Test {
     std::string pattern = (fs::temp_directory_path() / "dh3-client-pki-XXXXXX").string();
     if (::mkdtemp(pattern.data()) == nullptr) return;
     dir_ = pattern;
-    test::Process script(DH3_MAKE_TEST_PKI, {dir_}, test::Process::Stdin::dev_null);
+    test::Process script(DH3_MAKE_TEST_PKI, {"--domains", std::to_string(test_domain()), dir_},
+                         test::Process::Stdin::dev_null);
     const auto status = script.wait_exit(std::chrono::seconds(120));
     made_ = status && WIFEXITED(*status) && WEXITSTATUS(*status) == 0;
   }

@@ -30,7 +30,9 @@ class ContractSecurity : public ::testing::Test {
     std::string pattern = (fs::temp_directory_path() / "dh3-contract-pki-XXXXXX").string();
     if (::mkdtemp(pattern.data()) == nullptr) return;
     dir_ = pattern;
-    dh3::test::Process script(DH3_MAKE_TEST_PKI, {dir_}, dh3::test::Process::Stdin::dev_null);
+    dh3::test::Process script(
+        DH3_MAKE_TEST_PKI, {"--domains", std::to_string(dh3::test::contract_test_domain()), dir_},
+        dh3::test::Process::Stdin::dev_null);
     const auto status = script.wait_exit(std::chrono::seconds(120));
     made_ = status && WIFEXITED(*status) && WEXITSTATUS(*status) == 0;
   }

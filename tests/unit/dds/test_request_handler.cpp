@@ -178,5 +178,45 @@ TEST_F(RequestHandlerTest, ThePublishedHolderIsTheParticipantsNameNeverItsId) {
   EXPECT_EQ(status().lease_holder(), "");
 }
 
+TEST_F(RequestHandlerTest, UnderAccessControlAdminCommandsComeOnlyOnTheAdminTopic) {
+  options_.allow_admin = true;
+  handler_.set_access_control(true);
+  for (const auto command : {msg::SET_CAN_ID, msg::SET_BAUD_RATE}) {
+    const auto reply = answer(request(command, 2));  // on the command request topic
+    EXPECT_EQ(reply.code(), msg::DENIED) << command;
+    EXPECT_THAT(reply.message(), HasSubstr("only on dh3/admin_request")) << command;
+    EXPECT_THAT(reply.message(), HasSubstr("it came on dh3/command_request")) << command;
+  }
+  // The admin topic carries nothing but administrative commands.
+  auto move = request(msg::MOVE, 30);
+  handler_.handle(move, Caller{"alice", "alice"}, false, RequestTopic::admin);
+  ASSERT_FALSE(sink_.replies.empty());
+  EXPECT_EQ(sink_.replies.back().code(), msg::INVALID_ARGUMENT);
+  EXPECT_THAT(sink_.replies.back().message(), HasSubstr("takes only SET_CAN_ID and SET_BAUD_RATE"));
+}
+
+TEST_F(RequestHandlerTest, WithoutAllowAdminTheAdminTopicIsRefusedToo) {
+  handler_.set_access_control(true);
+  auto set_id = request(msg::SET_CAN_ID, 2);
+  handler_.handle(set_id, Caller{"alice", "alice"}, false, RequestTopic::admin);
+  ASSERT_FALSE(sink_.replies.empty());
+  EXPECT_EQ(sink_.replies.back().code(), msg::DENIED);
+  EXPECT_THAT(sink_.replies.back().message(), HasSubstr("start it with --allow-admin"));
+}
+
+TEST_F(RequestHandlerTest, AClientBeyondItsRateIsAnsweredBusySayingWhy) {
+  ClientRate rate(clock_, 2);
+  handler_.set_rate(&rate);
+  EXPECT_EQ(answer(request(msg::ACQUIRE_LEASE, 2000)).code(), msg::OK);
+  EXPECT_EQ(answer(request(msg::RENEW_LEASE, 2000)).code(), msg::OK);
+  const auto third = answer(request(msg::RENEW_LEASE, 2000));
+  EXPECT_EQ(third.code(), msg::BUSY);
+  EXPECT_THAT(third.message(), HasSubstr("sends more than 2 requests a second"));
+  // Another client has a rate of its own.
+  EXPECT_EQ(answer(request(msg::MOVE, 30, "bob")).code(), msg::DENIED);  // alice's lease
+  clock_.advance(500ms);
+  EXPECT_EQ(answer(request(msg::RELEASE_LEASE)).code(), msg::OK);
+}
+
 }  // namespace
 }  // namespace dh3::dds

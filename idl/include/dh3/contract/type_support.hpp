@@ -47,6 +47,7 @@ struct Topics {
   eprosima::fastdds::dds::Topic* group_reply = nullptr;
   eprosima::fastdds::dds::Topic* owner = nullptr;
   eprosima::fastdds::dds::Topic* lease = nullptr;
+  eprosima::fastdds::dds::Topic* admin_request = nullptr;
 
   [[nodiscard]] bool complete() const;
 };

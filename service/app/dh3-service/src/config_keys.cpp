@@ -140,8 +140,14 @@ std::vector<ConfigKey> declare_root_and_dds() {
               "30 s); auto: serves if nobody serves the name, else stands by "
               "(docs/hot-standby.md)",
        .field = of_config(&ServiceConfig::role), .option = "--role", .check = check_role},
-      {.path = "allow_admin", .type = boolean, .doc = "accept SET_CAN_ID and SET_BAUD_RATE",
+      {.path = "allow_admin", .type = boolean,
+       .doc = "accept SET_CAN_ID and SET_BAUD_RATE (from anyone; under DDS Security from admin "
+              "identities)",
        .field = of_config(&ServiceConfig::allow_admin), .option = "--allow-admin"},
+      {.path = "client_rate_limit", .type = integer, .max = 1000000,
+       .doc = "requests a second each client may send, in bursts of as many; more are answered "
+              "BUSY; 0: no limit",
+       .field = of_config(&ServiceConfig::client_rate_limit)},
       {.path = "metrics",
        .doc = "serve Prometheus /metrics on HOST:PORT (port 0: any free port); absent: off",
        .field = of_config(&ServiceConfig::metrics_address), .option = "--metrics",

@@ -155,6 +155,7 @@ dh3::dds::ServiceOptions service_options(const dh3::app::ServiceConfig& config) 
   options.name = config.name;
   options.participant = config.participant;
   options.allow_admin = config.allow_admin;
+  options.client_rate_limit = config.client_rate_limit;
   options.status_refresh = config.status_refresh;
   options.version = dh3::kVersion;
   options.host = dh3::host_name();

@@ -10,6 +10,7 @@
 // thread ends expired leases.
 
 #include <chrono>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -31,6 +32,9 @@ struct ServiceOptions {
   /// the service's participant (its name is "dh3-service " + name).
   contract::ParticipantOptions participant = default_participant();
   bool allow_admin = false;  ///< SET_CAN_ID and SET_BAUD_RATE are refused unless set
+  /// Each client's requests a second, in bursts of as many (client_rate.hpp);
+  /// beyond it BUSY. 0: no limit.
+  std::uint32_t client_rate_limit = 1000;
   std::string version;       ///< published in the service info
   std::string host;          ///< published in the service info
   /// A hand's status whose values did not change, only their read time (the

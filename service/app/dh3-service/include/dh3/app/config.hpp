@@ -96,6 +96,8 @@ struct ServiceConfig {
   /// kRoleActive, kRoleStandby or kRoleAuto (docs/hot-standby.md).
   std::string role{kRoleActive};
   bool allow_admin = false;
+  /// dds::ServiceOptions::client_rate_limit.
+  std::uint32_t client_rate_limit = 1000;
   /// dds.status_refresh_ms (dds::ServiceOptions::status_refresh).
   Duration status_refresh = std::chrono::seconds(5);
   /// Where /metrics is served ("IPv4:PORT" or "[IPv6]:PORT"); empty: not served.
