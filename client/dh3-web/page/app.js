@@ -277,7 +277,6 @@ function showConsoleHealth() {
 function showService(info) {
   services.set(info.service, info);
   showServiceHealth(info);
-  watchService(info);
   showCommissioning();
 }
 
@@ -285,7 +284,7 @@ function refresh() {
   showConnection();
   hands.forEach((entry) => { if (entry.status) showLiveness(entry); });
   services.forEach(showServiceHealth);
-  watchHands();
+  showAlarms();
   showCommissioning();
 }
 
@@ -350,7 +349,6 @@ function showEvent(e) {
   log.insertBefore(item, log.firstChild);
   while (log.children.length > LOG_LIMIT) log.removeChild(log.lastChild);
   awaitStop(e, item);
-  alarmForEvent(e, "hand " + words);
 }
 
 /// The field's whole number, or null with the reason shown beside the field.
@@ -416,9 +414,7 @@ async function post(address, command, body) {
 /// POSTs a command; the reply in words.
 async function send(address, command, body) {
   const {reply, status} = await post(address, command, body);
-  const described = describeReply(command, reply, status);
-  if (described.error) alarmForFailure(address, described);
-  return described;
+  return describeReply(command, reply, status);
 }
 
 function showResult(address, described) {
@@ -465,116 +461,82 @@ async function stopAll() {
   result.className = failed.length ? "error" : "ok";
 }
 
-// ---- Alarms: what needs an operator. A condition (a hand offline, a bus
-// down, a service lost) stays listed until acknowledged, marked "over" once
-// it ends; acknowledged while it lasts, it is not raised again until it ends
-// and comes back. An occurrence (an object dropped, a command failed) is
-// listed once until acknowledged.
+// ---- Alarms: dh3-web's list, one for every screen of this console (a hand
+// offline, a bus down, a service lost, an object dropped, a command failed):
+// acknowledged on one screen, gone from all; a reload forgets nothing. The
+// page shows what is not acknowledged yet, and sends the acknowledgement.
 
-const alarms = new Map();        // key -> {text, since, active, over, once}
-const acknowledged = new Set();  // conditions acknowledged while they last
-const seenEvents = new Set();    // a new stream sends the last events again
-let occurrences = 0;
+let alarmList = {version: -1, alarms: []};
 
-function raise(key, text) {
-  const alarm = alarms.get(key);
-  if (alarm && alarm.active) {
-    if (alarm.text !== text) { alarm.text = text; showAlarms(); }
-    return;
-  }
-  if (acknowledged.has(key)) return;
-  alarms.set(key, {text, since: Date.now(), active: true, over: 0, once: false});
+function showAlarmList(list) {
+  if (list.version < alarmList.version) return;  // two lists passed each other
+  alarmList = list;
   showAlarms();
 }
 
-function holds(key, condition, text) {
-  if (condition) { raise(key, text); return; }
-  acknowledged.delete(key);
-  const alarm = alarms.get(key);
-  if (alarm && alarm.active) {
-    alarm.active = false;
-    alarm.over = Date.now();
-    showAlarms();
+async function loadAlarms() {
+  try {
+    const response = await fetch("/api/alarms", {headers: headers()});
+    if (response.ok) showAlarmList(await response.json());
+  } catch (err) {
+    // The stream brings the list again; the connection line says dh3-web is away.
   }
 }
 
-function raiseOnce(key, text) {
-  alarms.set(key, {text, since: Date.now(), active: true, over: 0, once: true});
-  showAlarms();
-}
-
-function acknowledge(key) {
-  const alarm = alarms.get(key);
-  if (!alarm) return;
-  if (alarm.active && !alarm.once) acknowledged.add(key);
-  alarms.delete(key);
-  showAlarms();
+/// The alarm `item` shows now (an alarm raised again is the same item).
+async function acknowledge(item) {
+  let problem = "";
+  try {
+    const response = await fetch("/api/alarms/" + item.dataset.alarmId + "/acknowledge", {method: "POST", headers: headers()});
+    if (response.status === 401 && token) setTokenState("wrong");
+    if (!response.ok) problem = (await response.json()).message;
+  } catch (err) {
+    problem = "no answer from dh3-web (" + err.message + ")";
+  }
+  setText(item.querySelector(".error"), problem ? "Error: not acknowledged: " + problem : "");
+  loadAlarms();
 }
 
 /// Updates the list in place: an item, and the button under the operator's
 /// finger, stays the same element while its alarm lasts.
 function showAlarms() {
+  const shown = alarmList.alarms.filter((alarm) => !alarm.acknowledged);
+  const byKey = new Map(shown.map((alarm) => [alarm.key, alarm]));
   const list = document.getElementById("alarms");
   const items = new Map([...list.children].map((item) => [item.dataset.alarm, item]));
-  items.forEach((item, key) => { if (!alarms.has(key)) item.remove(); });
-  [...alarms.entries()].sort((a, b) => b[1].since - a[1].since).forEach(([key, alarm], i) => {
-    let item = items.get(key);
+  items.forEach((item, key) => { if (!byKey.has(key)) item.remove(); });
+  const blocked = tokenBlock();
+  shown.sort((a, b) => b.since_ns - a.since_ns).forEach((alarm, i) => {
+    let item = items.get(alarm.key);
     if (!item) {
       item = document.createElement("li");
-      item.dataset.alarm = key;
+      item.dataset.alarm = alarm.key;
       const button = document.createElement("button");
       button.type = "button";
       button.textContent = "Acknowledge";
-      button.addEventListener("click", () => acknowledge(key));
-      item.append(document.createElement("span"), " ", button);
+      button.addEventListener("click", () => acknowledge(item));
+      const error = document.createElement("span");
+      error.className = "error";
+      item.append(document.createElement("span"), " ", button, " ", error);
     }
+    item.dataset.alarmId = alarm.id;
     item.className = alarm.active ? "active" : "over";
-    setText(item.firstChild, timeOfDay(alarm.since) + " " + alarm.text +
-            (alarm.active ? "" : " (over since " + timeOfDay(alarm.over) + ")"));
+    setText(item.firstChild, nsTimeOfDay(alarm.since_ns) + " " + alarm.text +
+            (alarm.active ? "" : " (over since " + nsTimeOfDay(alarm.over_ns) + ")"));
+    const button = item.querySelector("button");
+    button.disabled = blocked !== "";
+    if (blocked) button.title = blocked; else button.removeAttribute("title");
     if (list.children[i] !== item) list.insertBefore(item, list.children[i] || null);
   });
-  document.getElementById("no-alarms").hidden = alarms.size > 0;
-  const active = [...alarms.values()].filter((alarm) => alarm.active).length;
+  document.getElementById("no-alarms").hidden = shown.length > 0;
+  const active = shown.filter((alarm) => alarm.active).length;
   const summary = document.getElementById("alarm-summary");
-  summary.textContent = alarms.size === 0 ? "No alarms"
-      : "ALARMS: " + active + " active" + (alarms.size > active ? ", " + (alarms.size - active) + " over" : "");
+  summary.textContent = shown.length === 0 ? "No alarms"
+      : "ALARMS: " + active + " active" + (shown.length > active ? ", " + (shown.length - active) + " over" : "");
   summary.className = active ? "error" : "";
 }
 
 function handName(s) { return "hand " + s.hand + (s.name ? " (" + s.name + ")" : ""); }
-
-function watchService(info) {
-  holds("service:" + info.service, !info.ready,
-        "Service " + info.service + " lost: its hands take no commands; their values are the last known");
-  for (const bus of info.buses) {
-    holds("bus:" + info.service + "/" + bus.name, info.ready && !bus.link_up,
-          "Bus " + info.service + "/" + bus.name + " down (" + bus.spec + "): its hands cannot be reached");
-  }
-}
-
-/// Conditions read from the statuses (a read-only identity sees no service info).
-function watchHands() {
-  hands.forEach((entry, address) => {
-    const s = entry.status;
-    if (!s) return;
-    if (s.service_lost) raise("service:" + s.service, "Service " + s.service + " lost: its hands take no " +
-                              "commands; their values are the last known");
-    if (serviceLost(s)) return;  // whether the hand answers is not known now
-    holds("offline:" + address, !s.online, handName(s) + " OFFLINE: the hand does not answer");
-  });
-}
-
-function alarmForEvent(e, text) {
-  if (!["DROPPED", "INIT_FAILED", "FAULT"].includes(e.kind) || e.from_client) return;
-  const key = "event:" + e.hand + ":" + e.event_seq + ":" + e.timestamp_ns;
-  if (seenEvents.has(key)) return;
-  seenEvents.add(key);
-  raiseOnce(key, text);
-}
-
-function alarmForFailure(address, described) {
-  raiseOnce("command:" + ++occurrences, "Command to hand " + address + " failed: " + described.text);
-}
 
 // ---- Commissioning: scan a bus, firmware, a register, forces; CAN ID and
 // baud rate (administrative: the service must allow them, and they are
@@ -638,7 +600,6 @@ function showCommissionResult(address, command, described) {
   const list = document.getElementById("commission-results");
   list.insertBefore(item, list.firstChild);
   while (list.children.length > LOG_LIMIT) list.removeChild(list.lastChild);
-  if (described.error && !described.alarmed) alarmForFailure(address, described);
 }
 
 /// The dialog for an administrative command; true if the operator confirmed.
@@ -667,10 +628,7 @@ async function readVersions(s) {
   const addresses = [...hands.values()].map((entry) => entry.status)
       .filter((o) => o && o.service === s.service && o.bus === s.bus).map((o) => o.hand).sort();
   const replies = await Promise.all(addresses.map((address) => post(address, "version", {})));
-  replies.forEach(({reply, status}, i) => {
-    if (!reply.ok) alarmForFailure(addresses[i], describeReply("version", reply, status));
-  });
-  return {alarmed: true, text: "firmware: " + replies.map(({reply, status}, i) => "hand " + addresses[i].split("/")[2] + " " +
+  return {text: "firmware: " + replies.map(({reply, status}, i) => "hand " + addresses[i].split("/")[2] + " " +
       (reply.ok ? reply.firmware_version_text + " (raw " + reply.value + ")"
                 : describeReply("version", reply, status).text)).join("; "),
           error: replies.some(({reply}) => !reply.ok)};
@@ -739,6 +697,7 @@ function dispatch(name, data) {
   if (name === "status") showStatus(JSON.parse(data));
   else if (name === "event") showEvent(JSON.parse(data));
   else if (name === "service") showService(JSON.parse(data));
+  else if (name === "alarms") showAlarmList(JSON.parse(data));
   else if (name === "ready") { stream.open = true; refresh(); }
   if (name === "status") showCommissioning();
 }
