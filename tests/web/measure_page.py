@@ -50,7 +50,8 @@ def fetch(url: str, headers=None, body=None):
 
 def page_size(url: str) -> None:
     total = sent = 0
-    for path in page_files(url):
+    files = page_files(url)
+    for path in files:
         raw, _ = fetch(url + path)
         packed, headers = fetch(url + path, {"Accept-Encoding": "gzip"})
         if headers.get("Content-Encoding") == "gzip":
@@ -59,7 +60,7 @@ def page_size(url: str) -> None:
         sent += len(packed)
         print(f"  /{path:18} {len(raw):6} bytes, sent {len(packed):6} "
               f"({headers.get('Content-Encoding', 'identity')})")
-    print(f"page: {total} bytes ({sent} sent with gzip), 3 requests, no other resources")
+    print(f"page: {total} bytes ({sent} sent with gzip), {len(files)} requests, no other resources")
 
 
 def wait_until_arrived(url: str, address: str, target: int) -> None:
