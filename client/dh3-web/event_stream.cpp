@@ -5,6 +5,13 @@
 #include "client_json.hpp"
 
 namespace dh3::web {
+namespace {
+
+/// A waiting alarm list is replaced by a newer one, as a hand's status is: no
+/// hand's address is this (they have slashes).
+const std::string kAlarmsKey = "alarms";
+
+}  // namespace
 
 std::string sse_message(std::string_view name, std::string_view json) {
   std::string text = "event: ";
@@ -54,6 +61,7 @@ std::shared_ptr<EventStream::Reader> EventStream::open() {
   }
   if (!services.empty()) reader->push({}, std::move(services), options_.queue_limit);
   for (const auto& text : backlog_) reader->push({}, text, options_.queue_limit);
+  if (!alarms_.empty()) reader->push(kAlarmsKey, alarms_, options_.queue_limit);
   reader->push({}, sse_message("ready", "{}"), options_.queue_limit);
   if (closed_) {
     std::lock_guard reader_lock(reader->mutex_);
@@ -73,6 +81,18 @@ void EventStream::close() {
       reader->changed_.notify_all();
     }
   }
+}
+
+void EventStream::publish_alarms(std::uint64_t version, std::string json) {
+  std::string text = sse_message("alarms", json);
+  {
+    std::lock_guard lock(mutex_);
+    if (version < alarms_version_) return;
+    alarms_version_ = version;
+    alarms_ = text;
+  }
+  // Two lists may still pass each other here: the page keeps the newer version.
+  broadcast(kAlarmsKey, text);
 }
 
 void EventStream::on_status(const HandStatus& status) {

@@ -6,14 +6,16 @@
 // status waiting in a queue is replaced by the same hand's newer one (a page
 // needs the latest, not every poll), events are kept in order. A stream whose
 // queue still overflows is ended; the browser reconnects and starts from a
-// fresh snapshot. A new stream begins with the services, every hand's status
-// and the last events (the page's log), then goes live. The services are sent
+// fresh snapshot. A new stream begins with the services, every hand's status,
+// the last events (the page's log) and the alarm list, then goes live; the
+// list is sent again whole when it changes. The services are sent
 // again every couple of seconds (heartbeat()): the page sees a lost service
 // and a stalled stream within seconds.
 
 #include <chrono>
 #include <condition_variable>
 #include <cstddef>
+#include <cstdint>
 #include <deque>
 #include <memory>
 #include <mutex>
@@ -50,6 +52,9 @@ class EventStream {
   /// Every service's info as SSE messages (a keep-alive comment when there is
   /// none): what each stream sends every couple of seconds.
   [[nodiscard]] std::string heartbeat() const;
+  /// The cell's alarm list (CellAlarms::alarms_json()) to every stream, and
+  /// to each new one first; an older `version` than the one sent is dropped.
+  void publish_alarms(std::uint64_t version, std::string json);
   /// Ends every stream (shutdown): their next() returns nullopt.
   void close();
 
@@ -84,6 +89,8 @@ class EventStream {
   std::mutex mutex_;
   std::vector<std::weak_ptr<Reader>> readers_;
   std::deque<std::string> backlog_;
+  std::uint64_t alarms_version_ = 0;
+  std::string alarms_;  ///< the newest alarm list as an SSE message, "" before any
   bool closed_ = false;
   Subscription status_subscription_;
   Subscription event_subscription_;

@@ -90,12 +90,13 @@ ApiResponse error_response(const ApiError& error) {
 }
 
 HandApi::HandApi(Client& client, AccessPolicy access, Timeout command_timeout, std::string openapi,
-                 std::string console)
+                 std::string console, CellAlarms* alarms)
     : client_(client),
       access_(std::move(access)),
       command_timeout_(command_timeout),
       openapi_(std::move(openapi)),
-      console_(std::move(console)) {}
+      console_(std::move(console)),
+      alarms_(alarms) {}
 
 std::optional<ApiResponse> HandApi::authorize_view(const std::string& authorization) const {
   if (!access_.view_needs_token || (access_.token && access_.token->accepts(authorization))) {
@@ -148,6 +149,18 @@ ApiResponse HandApi::handle(const ApiRequest& request) {
     if (!get) return method_not_allowed(request, "GET");
     return token_check(request.authorization);
   }
+  if (n >= 2 && parts[0] == "api" && parts[1] == "alarms" && (n == 2 || n == 4)) {
+    if (n == 2) {
+      if (!get) return method_not_allowed(request, "GET");
+      if (auto refused = authorize_view(request.authorization)) return *refused;
+      return list_alarms();
+    }
+    if (parts[3] == "acknowledge") {
+      if (request.method != "POST") return method_not_allowed(request, "POST");
+      if (auto refused = authorize_command(request.authorization)) return *refused;
+      return acknowledge_alarm(parts[2]);
+    }
+  }
   const bool known = n >= 2 && parts[0] == "api" &&
                      ((n == 2 && (parts[1] == "hands" || parts[1] == "health")) ||
                       (parts[1] == "hands" && (n == 5 || n == 6)));
@@ -156,7 +169,8 @@ ApiResponse HandApi::handle(const ApiRequest& request) {
         ApiError{404, "NOT_FOUND",
                  "no such API path: " + request.path +
                      " (see /api/openapi.json: /api/hands, /api/hands/SERVICE/BUS/ID, "
-                     "/api/hands/SERVICE/BUS/ID/COMMAND, /api/stream, /api/health, /api/token)"});
+                     "/api/hands/SERVICE/BUS/ID/COMMAND, /api/stream, /api/health, /api/token, "
+                     "/api/alarms, /api/alarms/ID/acknowledge)"});
   }
   if (n == 6) {
     if (request.method != "POST") return method_not_allowed(request, "POST");
@@ -208,7 +222,35 @@ ApiResponse HandApi::command(const HandAddress& address, const std::string& name
   ApiResponse response;
   response.status = http_status(reply.code);
   response.body = json_text(reply_json(parsed->name, address.to_string(), reply));
+  if (reply.code != Code::ok && alarms_ != nullptr) {
+    alarms_->record_failure(address.to_string(), parsed->name, response.status,
+                            Json(reply.code).get<std::string>(), reply.message);
+  }
   return response;
+}
+
+ApiResponse HandApi::list_alarms() const {
+  if (alarms_ == nullptr) {
+    return json_response(
+        json_text(Json{{"type", "alarms"}, {"version", 0}, {"alarms", Json::array()}}));
+  }
+  return json_response(alarms_->alarms_json());
+}
+
+ApiResponse HandApi::acknowledge_alarm(const std::string& id) {
+  std::uint64_t value = 0;
+  const auto* end = id.data() + id.size();
+  const auto parsed = std::from_chars(id.data(), end, value);
+  std::optional<std::string> acknowledged;
+  if (!id.empty() && parsed.ec == std::errc() && parsed.ptr == end && alarms_ != nullptr) {
+    acknowledged = alarms_->acknowledge(value);
+  }
+  if (!acknowledged) {
+    return error_response(ApiError{404, "UNKNOWN_ALARM",
+                                   "no alarm " + id + " is listed (GET /api/alarms lists them; "
+                                   "the oldest acknowledged ones leave a full list)"});
+  }
+  return json_response(std::move(*acknowledged));
 }
 
 ApiResponse HandApi::token_check(const std::string& authorization) const {

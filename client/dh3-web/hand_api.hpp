@@ -10,6 +10,7 @@
 
 #include "api_error.hpp"
 #include "bearer_token.hpp"
+#include "cell_alarms.hpp"
 #include "dh3/client.hpp"
 
 namespace dh3::web {
@@ -42,9 +43,11 @@ struct ApiResponse {
 class HandApi {
  public:
   /// `openapi`: the description served at /api/openapi.json. `console`: how
-  /// the services show this console's client as a lease holder.
+  /// the services show this console's client as a lease holder. `alarms`: the
+  /// console's alarm list (/api/alarms; a failed command is recorded there);
+  /// without one /api/alarms is an empty list.
   HandApi(Client& client, AccessPolicy access, Timeout command_timeout, std::string openapi,
-          std::string console = {});
+          std::string console = {}, CellAlarms* alarms = nullptr);
 
   [[nodiscard]] ApiResponse handle(const ApiRequest& request);
   /// Viewing allowed for this Authorization header; else the refusal.
@@ -56,6 +59,8 @@ class HandApi {
   ApiResponse command(const HandAddress& address, const std::string& name, const std::string& body,
                       const std::string& authorization);
   ApiResponse health() const;
+  ApiResponse list_alarms() const;
+  ApiResponse acknowledge_alarm(const std::string& id);
   ApiResponse token_check(const std::string& authorization) const;
   /// Commands allowed for this Authorization header (`administrative`: the
   /// administrative ones too); else the refusal.
@@ -67,6 +72,7 @@ class HandApi {
   Timeout command_timeout_;
   std::string openapi_;
   std::string console_;
+  CellAlarms* alarms_;
 };
 
 /// The HTTP status for a command's reply: 200 for OK, else what the code means

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "dh3/base/host_name.hpp"
+#include "cell_alarms.hpp"
 #include "dh3/client.hpp"
 #include "event_stream.hpp"
 #include "hand_api.hpp"
@@ -68,10 +69,16 @@ int main(int argc, char** argv) {
   dh3::web::EventStreamOptions stream_options;
   stream_options.max_readers = static_cast<std::size_t>(options.max_streams);
   dh3::web::EventStream stream(client, stream_options);
+  // After the stream, so it is destroyed first: nothing sends to a stream that is gone.
+  dh3::web::CellAlarms alarms(client);
+  alarms.set_listener([&stream](std::uint64_t version, const std::string& json) {
+    stream.publish_alarms(version, json);
+  });
+  stream.publish_alarms(0, alarms.alarms_json());
   const auto* openapi = dh3::web::find_asset("/api/openapi.json");
   dh3::web::HandApi api(client, access, client.default_timeout(),
                         openapi == nullptr ? "{}" : std::string(openapi->body),
-                        dh3::program_at_host(options.client.participant_name));
+                        dh3::program_at_host(options.client.participant_name), &alarms);
   dh3::web::WebServer server(api, stream, options.threads,
                              dh3::web::AllowedHosts(options.listen.host, options.allowed_hosts));
   auto port = server.bind(options.listen);

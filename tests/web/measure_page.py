@@ -24,7 +24,8 @@ import time
 import urllib.request
 
 sys.path.insert(0, os.path.dirname(__file__))
-from webtest import DEADLINE, TOKEN, api, hand, headless_chromium, service_and_web  # noqa: E402
+from webtest import (DEADLINE, TOKEN, api, hand, headless_chromium, page_files,  # noqa: E402
+                     service_and_web)
 from selenium.webdriver.support.ui import WebDriverWait  # noqa: E402
 
 OBSERVER = """
@@ -49,16 +50,17 @@ def fetch(url: str, headers=None, body=None):
 
 def page_size(url: str) -> None:
     total = sent = 0
-    for path in ("", "app.js", "style.css"):
+    files = page_files(url)
+    for path in files:
         raw, _ = fetch(url + path)
         packed, headers = fetch(url + path, {"Accept-Encoding": "gzip"})
         if headers.get("Content-Encoding") == "gzip":
             assert gzip.decompress(packed) == raw
         total += len(raw)
         sent += len(packed)
-        print(f"  /{path:10} {len(raw):6} bytes, sent {len(packed):6} "
+        print(f"  /{path:18} {len(raw):6} bytes, sent {len(packed):6} "
               f"({headers.get('Content-Encoding', 'identity')})")
-    print(f"page: {total} bytes ({sent} sent with gzip), 3 requests, no other resources")
+    print(f"page: {total} bytes ({sent} sent with gzip), {len(files)} requests, no other resources")
 
 
 def wait_until_arrived(url: str, address: str, target: int) -> None:

@@ -9,8 +9,8 @@ in view and nothing is beyond the right edge at 1280, 800 and 400 px
 one's lost. The health panel shows each service's host, version, domain,
 admin and buses; commissioning scans a bus, reads firmware and registers,
 sets forces, and asks before a CAN ID change (cancelled: nothing sent);
-alarms list an offline hand, a failed command and a lost service until
-acknowledged, and on a transfer box (dh3-sim) a dropped object and the bus
+alarms (dh3-web's list, one for every screen) list an offline hand, a failed
+command and a lost service until acknowledged, on the page or through the API, and on a transfer box (dh3-sim) a dropped object and the bus
 going down too; a service that allows no admin commands has them off, with
 the reason.
 
@@ -31,7 +31,7 @@ from selenium.webdriver.support.ui import Select
 from selenium.webdriver.support.ui import WebDriverWait
 
 sys.path.insert(0, os.path.dirname(__file__))
-from webtest import (DEADLINE, DOMAIN, SERVICE, TOKEN, api, dh3ctl, hand,  # noqa: E402
+from webtest import (DEADLINE, DOMAIN, SERVICE, TOKEN, api, dh3ctl, hand, page_files,  # noqa: E402
                      headless_chromium, service_and_web, start_web, stop)
 
 PAGE_LIMIT = 100 * 1024
@@ -135,12 +135,14 @@ def open_page(driver, url: str) -> None:
 
 def test_the_page_is_small_and_self_contained(cell):
     total = 0
-    for path in ("", "app.js", "style.css"):
+    files = page_files(cell.url)
+    assert "app.js" in files and "style.css" in files and len(files) > 3, files
+    for path in files:
         with urllib.request.urlopen(cell.url + path, timeout=DEADLINE) as response:
             body = response.read()
         total += len(body)
         assert b"http://" not in body and b"https://" not in body, path
-    print(f"page: {total} bytes in three files")
+    print(f"page: {total} bytes in {len(files)} files")
     assert total < PAGE_LIMIT
 
 
@@ -236,6 +238,34 @@ def test_a_failed_command_is_an_alarm_until_acknowledged(cell, browser):
     assert (f"Command to hand {hand(3)} failed: Error in move (HTTP 409 NOT_INITIALIZED)"
             in alarm(browser, failed[0])["text"])
     acknowledge(browser, failed[0])
+
+
+def test_the_alarms_are_the_consoles_acknowledged_on_one_screen_gone_from_all(cell, browser):
+    """The list is dh3-web's: a command that failed through the API is listed
+    on the page; acknowledged by another client it is gone from the page; a
+    reload brings back neither it nor hand 4's, acknowledged while it lasts."""
+    status, reply = api(cell.url, f"/api/hands/{hand(3)}/move", {"position": 30})
+    assert status == 409, reply
+    words = f"Command to hand {hand(3)} failed: Error in move (HTTP 409 NOT_INITIALIZED)"
+    wait_for(browser, "the API's failure on the page", lambda d: any(
+        words in (alarm(d, key) or {}).get("text", "") for key in alarm_keys(d, "command:")))
+    status, listed = api(cell.url, "/api/alarms")
+    assert status == 200, listed
+    failed = [a for a in listed["alarms"] if words in a["text"] and not a["acknowledged"]]
+    assert len(failed) == 1, listed
+    status, acknowledged = api(cell.url, f"/api/alarms/{failed[0]['id']}/acknowledge", {})
+    assert status == 200 and acknowledged["acknowledged"], acknowledged
+    wait_for(browser, "gone from the page", lambda d: alarm(d, failed[0]["key"]) is None)
+
+    open_page(browser, cell.url)
+    wait_for(browser, "the list from dh3-web", lambda d: d.execute_script(
+        "return alarmList.version >= arguments[0];", listed["version"]))
+    assert alarm(browser, failed[0]["key"]) is None
+    assert alarm(browser, f"offline:{hand(4)}") is None
+    assert cell_text(browser, 4, "online").startswith("OFFLINE")
+    status, listed = api(cell.url, "/api/alarms")
+    assert any(a["key"] == f"offline:{hand(4)}" and a["acknowledged"] and a["active"]
+               for a in listed["alarms"]), listed
 
 
 def test_the_log_says_where_motions_stopped_in_the_cards_words(cell, browser):
@@ -491,6 +521,7 @@ def test_a_dropped_object_and_a_bus_down_are_alarms(cell, browser):
             address = f"{name}/bus0/2"
             card_of = f'article[data-hand="{address}"]'
             browser.get(other.url)
+            use_token(browser, TOKEN)  # acknowledging is a command
             wait_for(browser, "hand 2 online", lambda d: d.find_elements(By.CSS_SELECTOR, card_of)
                      and d.find_element(By.CSS_SELECTOR, f'{card_of} [data-field="online"]').text
                      == "online")

@@ -572,6 +572,62 @@ TEST_F(HandApiTest, HealthAndTheHandListAreDescribed) {
   expect_described_as("Hands", Json::parse(a.handle(ApiRequest{"GET", "/api/hands", "", ""}).body));
 }
 
+TEST_F(HandApiTest, AlarmsAreListedAndAcknowledgingOneIsACommand) {
+  CellAlarms alarms(client_);
+  EventStream stream(client_);
+  alarms.set_listener([&stream](std::uint64_t version, const std::string& json) {
+    stream.publish_alarms(version, json);
+  });
+  AccessPolicy access;
+  access.token = BearerToken::from_text(kToken);
+  HandApi a(client_, access, std::chrono::seconds(1), "{}", "dh3-web-1@cell-pc", &alarms);
+  alarms.record_failure("cell/bus0/3", "move", 409, "NOT_INITIALIZED", "initialize it first");
+
+  ApiResponse listed = a.handle(ApiRequest{"GET", "/api/alarms", "", ""});
+  ASSERT_EQ(listed.status, 200);
+  const auto list = Json::parse(listed.body);
+  expect_described_as("Alarms", list);
+  ASSERT_EQ(list["alarms"].size(), 1U);
+  const auto alarm = list["alarms"][0];
+  EXPECT_EQ(alarm["key"], "command:1");
+  EXPECT_EQ(alarm["text"],
+            "Command to hand cell/bus0/3 failed: Error in move (HTTP 409 NOT_INITIALIZED): "
+            "initialize it first");
+  EXPECT_EQ(alarm["acknowledged"], false);
+  const std::string path =
+      "/api/alarms/" + std::to_string(alarm["id"].get<std::uint64_t>()) + "/acknowledge";
+
+  EXPECT_EQ(a.handle(post(path, "", false)).status, 401);
+  EXPECT_EQ(a.handle(ApiRequest{"GET", path, "", ""}).status, 405);
+  EXPECT_EQ(a.handle(ApiRequest{"POST", "/api/alarms", "", ""}).status, 405);
+  ApiResponse unknown = a.handle(post("/api/alarms/999/acknowledge", ""));
+  EXPECT_EQ(unknown.status, 404);
+  EXPECT_THAT(unknown.body, HasSubstr("UNKNOWN_ALARM"));
+  EXPECT_EQ(a.handle(post("/api/alarms/x/acknowledge", "")).status, 404);
+  EXPECT_FALSE(Json::parse(a.handle(ApiRequest{"GET", "/api/alarms", "", ""}).body)["alarms"][0]
+                   ["acknowledged"]);
+
+  ApiResponse acknowledged = a.handle(post(path, ""));
+  ASSERT_EQ(acknowledged.status, 200) << acknowledged.body;
+  expect_described_as("Alarm", Json::parse(acknowledged.body));
+  EXPECT_TRUE(Json::parse(acknowledged.body)["acknowledged"]);
+  // Every client of this console sees it acknowledged: the API and a new stream.
+  EXPECT_TRUE(Json::parse(a.handle(ApiRequest{"GET", "/api/alarms", "", ""}).body)["alarms"][0]
+                  ["acknowledged"]);
+  auto reader = stream.open();
+  ASSERT_NE(reader, nullptr);
+  const std::string snapshot = reader->next(std::chrono::seconds(5)).value_or("");
+  EXPECT_THAT(snapshot, HasSubstr("event: alarms"));
+  EXPECT_THAT(snapshot, HasSubstr(R"("key":"command:1")"));
+  EXPECT_THAT(snapshot, HasSubstr(R"("acknowledged":true)"));
+  // A change goes to the open stream at once.
+  alarms.record_failure("cell/bus0/1", "stop", 503, "BUS_DOWN", "the bus is down");
+  const std::string change = reader->next(std::chrono::seconds(5)).value_or("");
+  EXPECT_THAT(change, HasSubstr("event: alarms"));
+  EXPECT_THAT(change, HasSubstr(R"("key":"command:2")"));
+  alarms.set_listener(nullptr);
+}
+
 TEST(HttpStatus, SaysWhatAReplysCodeMeans) {
   EXPECT_EQ(http_status(Code::ok), 200);
   EXPECT_EQ(http_status(Code::invalid_argument), 400);

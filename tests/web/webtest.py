@@ -7,6 +7,7 @@ DH3_SERVICE, DH3_WEB, DH3CTL and DH3_SIM name the programs."""
 import contextlib
 import json
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -107,6 +108,14 @@ def service_and_web(position_speed: int = 100, allow_admin: bool = True, name: s
             if web is not None:
                 stop(web)
             stop(service)
+
+
+def page_files(url: str) -> list:
+    """The page's files as dh3-web serves them: "" (index.html), then the
+    scripts and style sheets it names, in its order."""
+    with urllib.request.urlopen(url, timeout=DEADLINE) as response:
+        index = response.read().decode()
+    return [""] + re.findall(r'<(?:script src|link rel="stylesheet" href)="/([^"]+)"', index)
 
 
 def api(url: str, path: str, body=None, token: str = TOKEN) -> tuple:

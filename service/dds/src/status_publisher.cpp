@@ -54,7 +54,6 @@ void StatusPublisher::prepare_locked(std::uint16_t bus, std::uint8_t can_id, Han
 
 void StatusPublisher::send_locked(std::uint16_t bus, std::uint8_t can_id, HandSlot& slot) {
   slot.held = false;
-  slot.sent_at = clock_.now();
   if (status_writer_ == nullptr) return;  // DDS set-up failed or is gone
   std::lock_guard write_lock(status_write_mutex_);
   if (!status_writer_->write(&slot.sample)) {
@@ -117,8 +116,11 @@ void StatusPublisher::on_fresh(std::uint16_t bus_index, const hand::HandState& s
   // Only the read time is new: a watcher learns the hand is alive and its
   // values fresh from one sample per refresh; more would cost every watcher
   // of the domain a sample per idle read. A held sample goes out anyway.
+  // Counted from the read time published, not from the last sample sent: a
+  // lease's sample in between carries the old read time, and waiting a whole
+  // refresh after it would show a watcher values up to two refreshes old.
   if (slot != nullptr && slot->written && !slot->held &&
-      clock_.now() - slot->sent_at < options_.status_refresh) {
+      clock_.now() - slot->state_at < options_.status_refresh) {
     return;
   }
   on_state_locked(bus_index, state, true);  // sent at the batch's end (on_batch_end)
@@ -144,6 +146,7 @@ void StatusPublisher::on_state_locked(std::uint16_t bus_index, const hand::HandS
   fill_status(slot.sample, state,
               StatusContext{options_.name, bus.name, {}, 0, 0, wall_clock_ns_of(state.read_at)});
   slot.written = true;
+  slot.state_at = clock_.now();
   prepare_locked(bus_index, state.can_id, slot);  // lease holder, sequence and time
   if (hold) {
     slot.held = true;

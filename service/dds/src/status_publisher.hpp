@@ -48,8 +48,9 @@ class StatusPublisher {
   // are answered first, their replies carrying it (attach_to), so a
   // state-changing command's reply does not wait for a status sample.
   void on_state(std::uint16_t bus, const hand::HandState& state);
-  /// The same values read again: published if the last sample is older than
-  /// options.status_refresh (or one is held).
+  /// The same values read again: published if the read time the samples
+  /// carry is older than options.status_refresh (or one is held). A sample
+  /// sent again for a lease carries the old read time: it does not count.
   void on_fresh(std::uint16_t bus, const hand::HandState& state);
   /// Sends a held status first: statuses go out before the events they explain.
   void on_event(std::uint16_t bus, const hand::HandEvent& event);
@@ -80,7 +81,9 @@ class StatusPublisher {
     bool announced = false;  ///< the service info lists it
     bool written = false;    ///< `sample` was filled from a reported state
     bool held = false;       ///< `sample` is prepared and not sent yet
-    TimePoint sent_at{};     ///< when a sample of this hand was last written
+    /// When `sample` last took the hand's state, and so its read time; a
+    /// lease's republication keeps both.
+    TimePoint state_at{};
     msg::HandStatus sample;  ///< the last sample, reused for every sample of this hand
   };
   struct BusStatus {

@@ -77,6 +77,20 @@ TEST_F(StatusPublisherTest, FreshReadIsRepublishedOncePerRefresh) {
   EXPECT_EQ(carried().update_seq(), 2u);
 }
 
+TEST_F(StatusPublisherTest, ALeasesSampleDoesNotPutTheNextFreshReadOff) {
+  publisher_.on_state(kHand.bus, state(100));
+  publisher_.send_held(kHand.bus, kHand.can_id);
+  clock_.advance(4s);
+  // Sent again for a lease: the values and their read time are 4 s old.
+  leases_.acquire(kHand, "alice", 60s);
+  publisher_.republish(kHand);
+  EXPECT_EQ(carried().update_seq(), 2u);
+  clock_.advance(2s);
+  // The read time a watcher has is 6 s old now: the fresh read goes out.
+  publisher_.on_fresh(kHand.bus, state(100));
+  EXPECT_EQ(carried().update_seq(), 3u);
+}
+
 TEST_F(StatusPublisherTest, FreshReadOfAHeldSampleIsPreparedAgain) {
   publisher_.on_state(kHand.bus, state(100));  // held, not sent
   publisher_.on_fresh(kHand.bus, state(100));
