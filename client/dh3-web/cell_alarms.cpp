@@ -100,8 +100,11 @@ void CellAlarms::watch() {
 
 void CellAlarms::watch_services() {
   for (const auto& info : client_.services()) {
-    update([&info](AlarmList& list, std::uint64_t now) {
-      bool changed = list.holds("service:" + info.name, !info.ready,
+    update([this, &info](AlarmList& list, std::uint64_t now) {
+      ready_[info.name] = info.ready;
+      if (info.ready) ever_ready_.insert(info.name);
+      bool changed = list.holds("service:" + info.name,
+                                !info.ready && ever_ready_.contains(info.name),
                                 service_lost_text(info.name), now);
       for (const auto& bus : info.buses) {
         changed |= list.holds("bus:" + info.name + "/" + bus.name, info.ready && !bus.link_up,
@@ -121,6 +124,8 @@ void CellAlarms::watch_status(const HandStatus& s) {
       return list.holds("service:" + s.address.service, true,
                         service_lost_text(s.address.service), now);
     }
+    const auto service = ready_.find(s.address.service);
+    if (service != ready_.end() && !service->second) return false;  // not known now
     return list.holds("offline:" + address, !s.online,
                       hand_in_words(address, s.name) + " OFFLINE: the hand does not answer", now);
   });

@@ -1,7 +1,10 @@
 #pragma once
 // The alarm list of this console, fed by what its client sees and by the
 // commands that fail through it: a hand offline, a service lost and a bus down
-// (conditions, watched every `watch_every` and on every status), an object
+// (conditions, watched every `watch_every` and on every status; a service is
+// lost once it was ready, and whether a hand answers is not known while its
+// service is not ready: a console started beside its cell raises nothing for
+// the moments the cell takes to come up), an object
 // dropped, an initialization failed and a fault (the services' events), a
 // command failed (record_failure()). The rules of the list are AlarmList's;
 // this owns it under a lock, tells it the wall time and says when it changed.
@@ -10,8 +13,10 @@
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <thread>
 
@@ -59,6 +64,10 @@ class CellAlarms {
   mutable std::mutex mutex_;
   AlarmList list_;
   std::uint64_t failures_ = 0;
+  /// Whether each service seen is ready, as the last watch found it.
+  std::map<std::string, bool> ready_;
+  /// Services that were ready once: a service that was never ready was not lost.
+  std::set<std::string> ever_ready_;
   Listener listener_;
   bool stopping_ = false;
   std::condition_variable stop_;

@@ -182,6 +182,19 @@ def test_the_health_panel_shows_each_service(cell, browser):
     assert f"on DDS domain {DOMAIN}: connected" in browser.find_element(By.ID, "console-health").text
 
 
+def test_a_cell_coming_up_beside_its_console_raises_no_alarm(cell, browser):
+    """dh3-web started with the service: while the service is not ready yet
+    its hands' first statuses say offline; that is neither a lost service
+    nor an offline hand. The hand that never answers is."""
+    wait_for(browser, "hand 4's alarm", lambda d: alarm(d, f"offline:{hand(4)}") is not None)
+    status, listed = api(cell.url, "/api/alarms")
+    assert status == 200, listed
+    keys = [a["key"] for a in listed["alarms"]]
+    assert f"service:{SERVICE}" not in keys, listed
+    for can_id in (1, 2, 3):
+        assert f"offline:{hand(can_id)}" not in keys, listed
+
+
 def test_an_offline_hand_is_an_alarm_until_acknowledged(cell, browser):
     key = f"offline:{hand(4)}"
     wait_for(browser, "hand 4's alarm", lambda d: alarm(d, key) is not None)
