@@ -24,6 +24,7 @@ Result<ClientShare::Ticket, std::string> ClientShare::admit(const std::string& c
                             std::to_string(max_) + " per client: wait for their replies";
       // Once per time over its share: a flood would log a line per request.
       if (!client.warned) spdlog::warn("{}", message);
+      ++refused_;
       client.warned = true;
       return fail(std::move(message));
     }
@@ -36,6 +37,11 @@ std::size_t ClientShare::in_flight(const std::string& caller_id) const {
   std::lock_guard lock(mutex_);
   const auto it = clients_.find(caller_id);
   return it == clients_.end() ? 0 : it->second.in_flight;
+}
+
+std::uint64_t ClientShare::refused() const {
+  std::lock_guard lock(mutex_);
+  return refused_;
 }
 
 void ClientShare::release(const std::string& caller_id) {

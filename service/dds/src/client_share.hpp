@@ -14,6 +14,7 @@
 // the bus loops. Knows no Fast DDS.
 
 #include <cstddef>
+#include <cstdint>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -54,6 +55,8 @@ class ClientShare {
   Result<Ticket, std::string> admit(const std::string& caller_id, const std::string& shown_as);
   [[nodiscard]] std::size_t in_flight(const std::string& caller_id) const;
   [[nodiscard]] std::size_t max_in_flight() const { return max_; }
+  /// Requests refused for their client's share since the start.
+  [[nodiscard]] std::uint64_t refused() const;
 
  private:
   struct Client {
@@ -65,6 +68,7 @@ class ClientShare {
   const std::size_t max_;
   mutable std::mutex mutex_;
   std::map<std::string, Client> clients_;  ///< those with requests in flight, by caller id
+  std::uint64_t refused_ = 0;              ///< under mutex_
 };
 
 }  // namespace dh3::dds

@@ -409,6 +409,9 @@ Result<void, std::string> Service::start() {
 std::vector<hand::BusMetrics> Service::metrics() const {
   return impl_->metrics();
 }
+Service::Refusals Service::refusals() const {
+  return impl_->refusals();
+}
 void Service::stop() {
   impl_->stop();
 }

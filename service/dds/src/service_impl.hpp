@@ -67,6 +67,9 @@ class Service::Impl {
                                  StandbyPresence::Handover standby = {});
   Result<void, std::string> start();
   void stop();
+  [[nodiscard]] Service::Refusals refusals() const {
+    return {share_.refused(), rate_.refused(), replies_.dropped_replies()};
+  }
   [[nodiscard]] std::vector<hand::BusMetrics> metrics() const {
     std::vector<hand::BusMetrics> out;
     for (const auto& scheduler : schedulers_) out.push_back(scheduler->metrics());

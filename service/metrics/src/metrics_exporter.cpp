@@ -243,6 +243,23 @@ struct RecorderFamilies {
   }
 };
 
+/// The service's refusals (RequestFigures).
+void add_request_families(const RequestFigures& requests, std::vector<MetricFamily>& out) {
+  MetricFamily busy = family("dh3_requests_busy_total",
+                             "Requests answered BUSY by the service at once, by reason: in_flight "
+                             "(the client had 64 in flight), rate (beyond client_rate_limit)",
+                             MetricType::Counter);
+  add_counter(busy, {{"reason", "in_flight"}}, requests.busy_in_flight);
+  add_counter(busy, {{"reason", "rate"}}, requests.busy_rate);
+  out.push_back(std::move(busy));
+  MetricFamily dropped = family("dh3_held_replies_dropped_total",
+                                "Replies held for a client whose reply reader had not matched and "
+                                "dropped unwritten by the hold caps",
+                                MetricType::Counter);
+  add_counter(dropped, {}, requests.held_replies_dropped);
+  out.push_back(std::move(dropped));
+}
+
 std::vector<MetricFamily> families(const std::vector<hand::BusMetrics>& buses) {
   HandFamilies hands;
   BusFamilies bus_families;
@@ -267,11 +284,17 @@ std::vector<MetricFamily> families(const std::vector<hand::BusMetrics>& buses) {
 
 class Collector final : public prometheus::Collectable {
  public:
-  explicit Collector(Source source) : source_(std::move(source)) {}
-  std::vector<MetricFamily> Collect() const override { return families(source_()); }
+  Collector(Source source, RequestSource requests)
+      : source_(std::move(source)), requests_(std::move(requests)) {}
+  std::vector<MetricFamily> Collect() const override {
+    auto out = families(source_());
+    if (requests_) add_request_families(requests_(), out);
+    return out;
+  }
 
  private:
   Source source_;
+  RequestSource requests_;
 };
 
 /// HOST:PORT with an IP address literal (IPv6 in brackets); port 0 is any free port.
@@ -296,8 +319,11 @@ Result<HostPort, std::string> parse_listen_address(std::string_view address) {
 
 }  // namespace
 
-std::string render(const std::vector<hand::BusMetrics>& buses) {
-  return prometheus::TextSerializer().Serialize(families(buses));
+std::string render(const std::vector<hand::BusMetrics>& buses,
+                   const std::optional<RequestFigures>& requests) {
+  auto out = families(buses);
+  if (requests) add_request_families(*requests, out);
+  return prometheus::TextSerializer().Serialize(out);
 }
 
 std::string_view command_type_name(hand::CommandKind kind, protocol::Register reg) {
@@ -377,11 +403,12 @@ class Exporter::Impl {
 };
 
 Result<std::unique_ptr<Exporter>, std::string> Exporter::start(const std::string& address,
-                                                               Source source) {
+                                                               Source source,
+                                                               RequestSource requests) {
   auto parsed = parse_listen_address(address);
   if (!parsed) return fail(parsed.error());
   auto impl = std::make_unique<Impl>();
-  impl->collector = std::make_shared<Collector>(std::move(source));
+  impl->collector = std::make_shared<Collector>(std::move(source), std::move(requests));
   try {
     // One serving thread: scrapes are rare and each only copies counters.
     impl->exposer = std::make_unique<prometheus::Exposer>(address, 1);

@@ -96,6 +96,10 @@ TEST(ServiceMetrics, CountsWhatTheServiceDidAndServesItOnTheLoggedPort) {
   EXPECT_GT(metric_value(text, R"(dh3_bus_frames_received_total{bus="bus0"})").value_or(0), 0);
   EXPECT_EQ(metric_value(text, R"(dh3_bus_link_up{bus="bus0"})"), 1.0);
   EXPECT_EQ(metric_value(text, R"(dh3_bus_reconnects_total{bus="bus0"})"), 0.0);
+  // The service's own refusals: none for a client that sends one at a time.
+  EXPECT_EQ(metric_value(text, R"(dh3_requests_busy_total{reason="in_flight"})"), 0.0);
+  EXPECT_EQ(metric_value(text, R"(dh3_requests_busy_total{reason="rate"})"), 0.0);
+  EXPECT_EQ(metric_value(text, "dh3_held_replies_dropped_total"), 0.0);
   EXPECT_EQ(metric_value(text, R"(dh3_bus_errors_total{bus="bus0",kind="unexpected_frame"})"), 0.0);
   // Only the bus that knows its bit rate has a load figure; polling one hand
   // is a few percent of 125 kbit/s, not all of it.

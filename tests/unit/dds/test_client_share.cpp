@@ -40,6 +40,7 @@ TEST(ClientShare, OneClientsFloodLeavesAnotherClientItsWholeShare) {
   EXPECT_TRUE(first);
   EXPECT_TRUE(second);
   EXPECT_EQ(share.in_flight("other"), 2u);
+  EXPECT_EQ(share.refused(), 100u);  // for the metrics: only the flood's
 }
 
 TEST(ClientShare, ASlotIsFreeWhenTheLastCopyOfItsTicketIsGone) {

@@ -136,6 +136,14 @@ TEST(MetricsText, LatencyHistogramsAreBusSeriesWithBucketsFromHalfAMillisecondTo
   }
 }
 
+TEST(MetricsText, TheServicesBusyAnswersAndDroppedRepliesAreCounted) {
+  const std::string text = render({}, RequestFigures{3, 5, 7});
+  EXPECT_THAT(text, HasSubstr("dh3_requests_busy_total{reason=\"in_flight\"} 3"));
+  EXPECT_THAT(text, HasSubstr("dh3_requests_busy_total{reason=\"rate\"} 5"));
+  EXPECT_THAT(text, HasSubstr("dh3_held_replies_dropped_total 7"));
+  EXPECT_THAT(render({}), Not(HasSubstr("dh3_requests_busy_total")));
+}
+
 TEST(MetricsText, ABusWithoutABitRateHasNoLoadSeries) {
   auto figures = sample_figures();
   figures[0].bit_rate = 0;

@@ -194,7 +194,12 @@ int serve(const dh3::app::ServiceConfig& config, dh3::dds::ServiceOptions option
   std::unique_ptr<dh3::metrics::Exporter> exporter;
   if (!config.metrics_address.empty()) {
     auto started = dh3::metrics::Exporter::start(
-        config.metrics_address, [&figures = **service] { return figures.metrics(); });
+        config.metrics_address, [&figures = **service] { return figures.metrics(); },
+        [&figures = **service] {
+          const auto refused = figures.refusals();
+          return dh3::metrics::RequestFigures{refused.busy_in_flight, refused.busy_rate,
+                                              refused.held_replies_dropped};
+        });
     if (!started) {
       spdlog::critical("{}", started.error());
       return kExitStartFailed;

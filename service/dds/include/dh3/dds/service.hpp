@@ -118,6 +118,14 @@ class Service {
   /// Every bus's counters and its hands' (for the metrics endpoint). Any
   /// thread, until the Service is destroyed.
   [[nodiscard]] std::vector<hand::BusMetrics> metrics() const;
+  /// Requests answered BUSY at once and held replies dropped, since the start.
+  struct Refusals {
+    std::uint64_t busy_in_flight = 0;  ///< beyond a client's share (client_share.hpp)
+    std::uint64_t busy_rate = 0;       ///< beyond a client's rate (client_rate.hpp)
+    std::uint64_t held_replies_dropped = 0;
+  };
+  /// Any thread, until the Service is destroyed.
+  [[nodiscard]] Refusals refusals() const;
 
  private:
   class Impl;

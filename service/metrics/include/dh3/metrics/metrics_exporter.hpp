@@ -24,6 +24,9 @@
 // and for buses with a flight recorder only:
 //   dh3_recorder_frames_total, dh3_recorder_dropped_total, dh3_recorder_bytes_total,
 //   dh3_recorder_files_total, dh3_recorder_write_errors_total, dh3_recorder_stopped
+// and for the service's requests (no bus label; RequestFigures):
+//   dh3_requests_busy_total{reason}       answered BUSY at once: in_flight | rate
+//   dh3_held_replies_dropped_total        held replies the hold caps dropped
 
 #include <functional>
 #include <memory>
@@ -40,8 +43,19 @@ namespace dh3::metrics {
 /// Where the figures come from; called on the exporter's threads per scrape.
 using Source = std::function<std::vector<hand::BusMetrics>()>;
 
-/// The Prometheus text exposition of `buses`, as /metrics serves it.
-[[nodiscard]] std::string render(const std::vector<hand::BusMetrics>& buses);
+/// What the service answered BUSY or dropped rather than serve, since it
+/// started (docs/security.md, "Floods"): dh3_requests_busy_total{reason} and
+/// dh3_held_replies_dropped_total.
+struct RequestFigures {
+  std::uint64_t busy_in_flight = 0;        ///< a client had too many requests in flight
+  std::uint64_t busy_rate = 0;             ///< a client sent more than its rate
+  std::uint64_t held_replies_dropped = 0;  ///< replies the hold caps dropped unwritten
+};
+using RequestSource = std::function<RequestFigures()>;
+
+/// The Prometheus text exposition of `buses` (and `requests`), as /metrics serves it.
+[[nodiscard]] std::string render(const std::vector<hand::BusMetrics>& buses,
+                                 const std::optional<RequestFigures>& requests = std::nullopt);
 
 /// The contract's name of a command type: "MOVE", "SET_CAN_ID", ...
 /// ("WRITE_REGISTER" for register writes the contract has no command for).
@@ -65,7 +79,7 @@ class Exporter {
   /// Listens on `address` and serves /metrics until destroyed. Fails with a
   /// message if the address is malformed or cannot be bound.
   [[nodiscard]] static Result<std::unique_ptr<Exporter>, std::string> start(
-      const std::string& address, Source source);
+      const std::string& address, Source source, RequestSource requests = {});
   ~Exporter();
   Exporter(const Exporter&) = delete;
   Exporter& operator=(const Exporter&) = delete;
