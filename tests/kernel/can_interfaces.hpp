@@ -29,7 +29,7 @@ namespace dh3::test {
 /// Skips the calling test unless the kernel has CAN; use as the first line.
 #define DH3_REQUIRE_KERNEL_CAN()                                                        \
   do {                                                                                  \
-    if (const std::string problem = ::dh3::kernel_can_support_problem();            \
+    if (const std::string problem = ::dh3::bus::kernel_can_support_problem();           \
         !problem.empty()) {                                                             \
       GTEST_SKIP() << problem << " (tests/kernel/uml-run.sh runs this in a kernel with CAN)"; \
     }                                                                                   \

@@ -52,7 +52,7 @@ int open_raw_socket(const std::string& interface) {
 class Dh3SimCanKernel : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (const std::string problem = dh3::kernel_can_support_problem(); !problem.empty()) {
+    if (const std::string problem = dh3::bus::kernel_can_support_problem(); !problem.empty()) {
       GTEST_SKIP() << problem;
     }
     vcan_ = std::make_unique<OwnVcan>("dh3simvcan");

@@ -22,10 +22,8 @@ service_bin=$1 ctl_bin=$2 pick_bin=$3
 source "$(dirname "$0")/lib.sh"
 tag=ds$$
 srv=$tag-srv rtr=$tag-rtr cli=$tag-cli
-domain=$((10 + $$ % 200))
 port=$((20000 + $$ % 20000))
 srv_addr=169.254.40.2 srv_gw=169.254.40.1 cli_addr=169.254.41.2 cli_gw=169.254.41.1
-log_dir=$(mktemp -d)
 service_pid=
 server_pid=
 
@@ -36,11 +34,10 @@ stop_service() {
 on_exit() {
   stop_service
   stop_process "$server_pid"
-  rm -rf "$log_dir"
 }
 show_logs() {
-  echo "--- dh3-service log"; tail -n 30 "$log_dir/service.log" 2>/dev/null
-  echo "--- discovery server log"; tail -n 10 "$log_dir/server.log" 2>/dev/null
+  echo "--- dh3-service log"; tail -n 30 "$work/service.log" 2>/dev/null
+  echo "--- discovery server log"; tail -n 10 "$work/server.log" 2>/dev/null
 }
 
 require_namespaces
@@ -58,31 +55,29 @@ start_service() {  # start_service [ENV=VALUE] [OPTIONS...]
   [[ ${1:-} == *=* ]] && { env=("$1"); shift; }
   ip netns exec "$srv" env "${env[@]}" "$service_bin" --domain "$domain" --name cell \
     --bus sim:1,2,3 --interface "$srv_addr" --udp-only --log-level info "$@" \
-    >"$log_dir/service.log" 2>&1 &
+    >"$work/service.log" 2>&1 &
   service_pid=$!
 }
 ctl() {  # ctl ARGS...: dh3ctl on the client link
   ip netns exec "$cli" "$ctl_bin" --domain "$domain" --interface "$cli_addr" --udp-only "$@"
 }
-step() {  # step DESCRIPTION ARGS...: dh3ctl with the server, output shown, fail on non-zero
-  local what=$1; shift
-  echo "== $what"
-  ctl --timeout 20 --discovery-server "$cli_gw:$port" "$@" || fail "$what"
+served() {  # served ARGS...: dh3ctl through the discovery server
+  ctl --timeout 20 --discovery-server "$cli_gw:$port" "$@"
 }
 
 echo "== without a discovery server the client does not find the service (no multicast path)"
 start_service
-if ctl --timeout 8 status cell/bus0/1 >"$log_dir/ctl.out" 2>&1; then
-  cat "$log_dir/ctl.out"
+if ctl --timeout 8 status cell/bus0/1 >"$work/ctl.out" 2>&1; then
+  cat "$work/ctl.out"
   fail "the client found the service without a discovery server: the links pass multicast"
 fi
-grep -q NO_SERVICE "$log_dir/ctl.out" || { cat "$log_dir/ctl.out"; fail "expected NO_SERVICE"; }
-sed 's/^/  /' "$log_dir/ctl.out"
+grep -q NO_SERVICE "$work/ctl.out" || { cat "$work/ctl.out"; fail "expected NO_SERVICE"; }
+sed 's/^/  /' "$work/ctl.out"
 stop_service
 
 echo "== discovery server id 0 on the router, $srv_gw:$port and $cli_gw:$port"
 ip netns exec "$rtr" "$server_bin" -i 0 -l "$srv_gw" -p "$port" -l "$cli_gw" -p "$port" \
-  >"$log_dir/server.log" 2>&1 &
+  >"$work/server.log" 2>&1 &
 server_pid=$!
 for _ in $(seq 200); do
   ip netns exec "$rtr" ss -H -uln "sport = :$port" | grep -q . && break
@@ -94,14 +89,14 @@ ip netns exec "$rtr" ss -H -uln "sport = :$port" | grep -q . || fail "the discov
 echo "== dh3-service with --discovery-server $srv_gw:$port"
 start_service --discovery-server "$srv_gw:$port"
 
-step "list through the server" list
-step "init hand 1" init cell/bus0/1
-step "move hand 1" move cell/bus0/1 60
+step "list through the server" served list
+step "init hand 1" served init cell/bus0/1
+step "move hand 1" served move cell/bus0/1 60
 echo "== status of hand 1 (position 60)"
-ctl --timeout 20 --discovery-server "$cli_gw:$port" --json status cell/bus0/1 >"$log_dir/status.json" ||
+ctl --timeout 20 --discovery-server "$cli_gw:$port" --json status cell/bus0/1 >"$work/status.json" ||
   fail "status of hand 1"
-cat "$log_dir/status.json"
-grep -q '"position":60' "$log_dir/status.json" || fail "hand 1 is not at 60"
+cat "$work/status.json"
+grep -q '"position":60' "$work/status.json" || fail "hand 1 is not at 60"
 
 echo "== dh3ctl with ROS_DISCOVERY_SERVER=$cli_gw:$port"
 ip netns exec "$cli" env "ROS_DISCOVERY_SERVER=$cli_gw:$port" "$ctl_bin" --domain "$domain" \
@@ -114,6 +109,6 @@ ip netns exec "$cli" env "ROS_DISCOVERY_SERVER=$cli_gw:$port" "$pick_bin" --doma
 stop_service
 echo "== dh3-service again, with ROS_DISCOVERY_SERVER=$srv_gw:$port instead of the option"
 start_service "ROS_DISCOVERY_SERVER=$srv_gw:$port"
-step "status of hand 2" status cell/bus0/2
+step "status of hand 2" served status cell/bus0/2
 
 echo "discovery-server: all steps passed"

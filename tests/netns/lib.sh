@@ -2,15 +2,20 @@
 # veth pairs with link-local addresses, a visible skip where they cannot be
 # made, and teardown of everything made. Sourced, not run.
 #
-#   source "$(dirname "$0")/lib.sh"
+#   source "$(dirname "$0")/lib.sh"       # sets domain (the script's own DDS domain)
+#                                         # and work (a scratch folder, removed at exit)
 #   show_logs() { ...; }                  # optional: what fail() prints after its reason
 #   on_exit() { ...; }                    # optional: stops the script's processes
 #   require_namespaces                    # skips (exit 77) without root or iproute2
 #   add_hosts NS...                       # skips if the first cannot be made
 #   link NS_A ADDR_A NS_B ADDR_B NAME     # veth NAMEa in NS_A, NAMEb in NS_B, /24, up
 #   stop_process PID                      # SIGTERM, then wait for it
+#   step DESCRIPTION COMMAND...           # says what it does; fails if COMMAND does
 
 netns_hosts=()
+# A domain per run, so that parallel tests do not meet.
+domain=$((10 + $$ % 200))
+work=$(mktemp -d)
 
 skip() {
   echo "SKIP: $*"
@@ -26,6 +31,7 @@ fail() {
 netns_cleanup() {
   declare -F on_exit >/dev/null && on_exit
   for ns in "${netns_hosts[@]}"; do ip netns del "$ns" 2>/dev/null; done
+  rm -rf "$work"
 }
 trap netns_cleanup EXIT
 
@@ -58,4 +64,11 @@ stop_process() {
   kill -TERM "$1" 2>/dev/null
   wait "$1" 2>/dev/null
   return 0
+}
+
+step() {
+  local what=$1
+  shift
+  echo "== $what"
+  "$@" || fail "$what"
 }

@@ -24,13 +24,11 @@ src=$1 service_bin=$2 ctl_bin=$3
 source "$(dirname "$0")/lib.sh"
 tag=sec$$
 srv=$tag-srv cli=$tag-cli
-domain=$((10 + $$ % 200))
 srv_addr=169.254.50.1 cli_addr=169.254.50.2
 dev=s${$}a  # the service's end of the link, where the capture listens
 # A hand name that appears nowhere but in the samples the service publishes
 # (status and service info), never in discovery's plain participant data.
 marker=zq7handmarker$$
-work=$(mktemp -d)
 service_pid=
 capture_pid=
 
@@ -41,7 +39,6 @@ stop_service() {
 on_exit() {
   stop_service
   stop_process "$capture_pid"
-  rm -rf "$work"
 }
 show_logs() {
   echo "--- dh3-service log"; tail -n 30 "$work/service.log" 2>/dev/null

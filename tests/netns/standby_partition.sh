@@ -20,8 +20,6 @@ service_bin=$1 sim_bin=$2 ctl_bin=$3
 source "$(dirname "$0")/lib.sh"
 tag=dh3p$$
 box=$tag-box primary=$tag-pri standby=$tag-sby
-domain=$((10 + $$ % 200))
-work=$(mktemp -d)
 sim_pid= primary_pid= standby_pid=
 box_port=7000
 # The DDS link between the services, and each one's link to the box.
@@ -31,7 +29,6 @@ on_exit() {
   stop_process "$standby_pid"
   stop_process "$primary_pid"
   stop_process "$sim_pid"
-  rm -rf "$work"
 }
 show_logs() {
   for log in primary standby sim; do

@@ -69,4 +69,9 @@ bool is_loopback_host(std::string_view host) {
   return inet_pton(AF_INET6, text.c_str(), &v6) == 1 && IN6_IS_ADDR_LOOPBACK(&v6);
 }
 
+std::string host_port_text(const std::string& host, std::uint16_t port) {
+  const HostPort written{host, port, host.find(':') != std::string::npos};
+  return written.written_host() + ":" + std::to_string(port);
+}
+
 }  // namespace dh3

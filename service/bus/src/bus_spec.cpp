@@ -169,10 +169,8 @@ std::string to_string(const BusSpec& spec) {
     }
     case BusKind::socketcan:
       return "socketcan:" + spec.interface;
-    case BusKind::tcp: {
-      const bool ipv6 = spec.host.find(':') != std::string::npos;
-      return "tcp:" + (ipv6 ? "[" + spec.host + "]" : spec.host) + ":" + std::to_string(spec.port);
-    }
+    case BusKind::tcp:
+      return "tcp:" + host_port_text(spec.host, spec.port);
     case BusKind::serial:
       return "serial:" + spec.device + "@" + std::to_string(spec.baud_rate);
   }

@@ -8,6 +8,7 @@
 #include <memory>
 #include <vector>
 
+#include "dh3/base/host_port.hpp"
 #include "dh3/bus/stream_link.hpp"
 
 namespace dh3::bus {
@@ -45,8 +46,7 @@ TcpLink::TcpLink(std::string host, std::uint16_t port, TcpLinkOptions options)
     : host_(std::move(host)), port_(port), options_(options) {}
 
 std::string TcpLink::describe() const {
-  const bool ipv6_literal = host_.find(':') != std::string::npos;
-  return "tcp " + (ipv6_literal ? "[" + host_ + "]" : host_) + ":" + std::to_string(port_);
+  return "tcp " + host_port_text(host_, port_);
 }
 
 Result<OpenStarted, std::string> TcpLink::start_open() {

@@ -84,5 +84,16 @@ TEST(HostPort, OnlyLoopbackAddressesStayOnThisMachine) {
   }
 }
 
+TEST(HostPort, AnAddressIsWrittenBackAsItIsParsed) {
+  EXPECT_EQ(host_port_text("192.168.1.20", 8886), "192.168.1.20:8886");
+  EXPECT_EQ(host_port_text("box.local", 8886), "box.local:8886");
+  EXPECT_EQ(host_port_text("::1", 8886), "[::1]:8886");
+  for (const char* written : {"192.168.1.20:8886", "[fe80::1]:7000"}) {
+    const auto parsed = parse_host_port(written);
+    ASSERT_TRUE(parsed) << written;
+    EXPECT_EQ(host_port_text(parsed->host, parsed->port), written);
+  }
+}
+
 }  // namespace
 }  // namespace dh3

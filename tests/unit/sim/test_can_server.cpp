@@ -82,7 +82,7 @@ std::string exchange(int fd, canid_t id, std::string_view request) {
 /// A server on its own thread; its control channel is a pair of pipes.
 class Running : public test::ServerThread<CanServer> {
  public:
-  Running(CanServerOptions options, CanSocketOpener opener,
+  Running(CanServerOptions options, bus::CanSocketOpener opener,
           const Clock& clock = SystemClock::instance())
       : Running(std::make_unique<Channel>(), std::move(options), std::move(opener), clock) {}
   // The server stops before its control channel closes.
@@ -101,12 +101,12 @@ class Running : public test::ServerThread<CanServer> {
     test::Pipe in;
     test::Pipe out;
   };
-  Running(std::unique_ptr<Channel> channel, CanServerOptions options, CanSocketOpener opener,
-          const Clock& clock)
+  Running(std::unique_ptr<Channel> channel, CanServerOptions options,
+          bus::CanSocketOpener opener, const Clock& clock)
       : ServerThread(open_or_null(*channel, std::move(options), std::move(opener), clock)),
         channel_(std::move(channel)) {}
   static std::unique_ptr<CanServer> open_or_null(const Channel& channel, CanServerOptions options,
-                                                 CanSocketOpener opener, const Clock& clock) {
+                                                 bus::CanSocketOpener opener, const Clock& clock) {
     options.control_in = channel.in.read_end();
     options.control_out = channel.out.write_end();
     auto opened = CanServer::open(std::move(options), std::move(opener), clock);
@@ -117,7 +117,7 @@ class Running : public test::ServerThread<CanServer> {
 };
 
 /// An opener that hands over `fd` once.
-CanSocketOpener once(int fd) {
+bus::CanSocketOpener once(int fd) {
   return [fd]() -> Result<UniqueFd, std::string> { return UniqueFd(fd); };
 }
 
@@ -284,7 +284,7 @@ TEST(CanServer, ReopensTheInterfaceWhenItsFdFailsAndTheHandsKeepTheirState) {
   opens.emplace_back(first.server);
   opens.emplace_back(fail(std::string("no network interface named 'testcan'")));
   opens.emplace_back(second.server);
-  CanSocketOpener opener = [&]() -> Result<UniqueFd, std::string> {
+  bus::CanSocketOpener opener = [&]() -> Result<UniqueFd, std::string> {
     const std::lock_guard lock(mutex);
     if (opens.empty()) return fail(std::string("no more"));
     Result<int, std::string> next = std::move(opens.front());

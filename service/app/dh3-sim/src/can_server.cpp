@@ -21,11 +21,11 @@ constexpr int kMaxFramesPerRound = 256;
 
 }  // namespace
 
-CanServer::CanServer(CanServerOptions options, CanSocketOpener opener, const Clock& clock)
+CanServer::CanServer(CanServerOptions options, bus::CanSocketOpener opener, const Clock& clock)
     : options_(std::move(options)), opener_(std::move(opener)), host_(options_, clock) {}
 
 Result<std::unique_ptr<CanServer>, std::string> CanServer::open(CanServerOptions options,
-                                                                CanSocketOpener opener,
+                                                                bus::CanSocketOpener opener,
                                                                 const Clock& clock) {
   std::unique_ptr<CanServer> server(new CanServer(std::move(options), std::move(opener), clock));
   if (auto started = server->host_.start(); !started) {
@@ -99,7 +99,7 @@ void CanServer::handle_frame(const void* data, std::size_t size, std::optional<D
   const bool standard_data = (frame.can_id & (CAN_EFF_FLAG | CAN_RTR_FLAG | CAN_ERR_FLAG)) == 0;
   const canid_t id = frame.can_id & CAN_EFF_MASK;
   std::optional<protocol::Message> request;
-  if (standard_data && id <= kMaxHandCanId && frame.len == protocol::kPayloadSize) {
+  if (standard_data && id <= bus::kMaxHandCanId && frame.len == protocol::kPayloadSize) {
     auto decoded = protocol::decode_payload(static_cast<std::uint8_t>(id),
                                             std::span(frame.data, protocol::kPayloadSize));
     if (decoded) request = decoded.value();

@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "dh3/base/can_socket.hpp"
+#include "dh3/bus/can_socket.hpp"
 #include "dh3/base/clock.hpp"
 #include "dh3/base/hand_ids.hpp"
 #include "dh3/base/host_port.hpp"
@@ -246,7 +246,7 @@ int serve_on_can(const dh3::sim::TransferBoxServerOptions& options,
   can.interface_name = can_interface;
   // The same socket (and kernel filter for IDs 0-255) as dh3-service's socketcan bus.
   auto opened = dh3::sim::CanServer::open(
-      can, [can_interface] { return dh3::open_can_raw_socket(can_interface); },
+      can, [can_interface] { return dh3::bus::open_can_raw_socket(can_interface); },
       dh3::SystemClock::instance());
   if (!opened) {
     spdlog::critical("dh3-sim: cannot serve on {}: {}", can_interface, opened.error());

@@ -25,6 +25,9 @@ struct HostPort {
   [[nodiscard]] std::string written_host() const { return bracketed ? "[" + host + "]" : host; }
 };
 
+/// HOST:PORT as it is written back: a host with a ':' (IPv6) in brackets.
+[[nodiscard]] std::string host_port_text(const std::string& host, std::uint16_t port);
+
 /// What an address may leave out; the defaults ask for everything.
 struct HostPortRules {
   /// Port 0 (any free port) is allowed: a listening address.

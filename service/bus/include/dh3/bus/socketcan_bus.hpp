@@ -32,7 +32,7 @@
 #include <string>
 #include <vector>
 
-#include "dh3/base/can_socket.hpp"
+#include "dh3/bus/can_socket.hpp"
 #include "dh3/base/fd_util.hpp"
 #include "dh3/bus/bus.hpp"
 #include "dh3/bus/link_tracker.hpp"

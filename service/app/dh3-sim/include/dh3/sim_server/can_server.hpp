@@ -39,7 +39,7 @@
 #include <string_view>
 #include <vector>
 
-#include "dh3/base/can_socket.hpp"
+#include "dh3/bus/can_socket.hpp"
 #include "dh3/base/clock.hpp"
 #include "dh3/base/fd_util.hpp"
 #include "dh3/base/result.hpp"
@@ -60,7 +60,7 @@ class CanServer final : private SimTransport {
   /// Opens the interface through `opener` once now; fails with the opener's
   /// reason (or the OS's, for the wake-up pipe). The hands start now.
   [[nodiscard]] static Result<std::unique_ptr<CanServer>, std::string> open(
-      CanServerOptions options, CanSocketOpener opener, const Clock& clock);
+      CanServerOptions options, bus::CanSocketOpener opener, const Clock& clock);
   CanServer(const CanServer&) = delete;
   CanServer& operator=(const CanServer&) = delete;
 
@@ -88,7 +88,7 @@ class CanServer final : private SimTransport {
   [[nodiscard]] Counters counters() const { return counters_; }
 
  private:
-  CanServer(CanServerOptions options, CanSocketOpener opener, const Clock& clock);
+  CanServer(CanServerOptions options, bus::CanSocketOpener opener, const Clock& clock);
   [[nodiscard]] Result<void, std::string> open_fd();
 
   // SimTransport
@@ -106,7 +106,7 @@ class CanServer final : private SimTransport {
   void note_working();
 
   CanServerOptions options_;
-  CanSocketOpener opener_;
+  bus::CanSocketOpener opener_;
   SimHost host_;
   UniqueFd fd_;
   TimePoint next_reopen_{};

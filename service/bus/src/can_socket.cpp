@@ -1,4 +1,4 @@
-#include "dh3/base/can_socket.hpp"
+#include "dh3/bus/can_socket.hpp"
 
 #include <linux/can.h>
 #include <linux/can/raw.h>
@@ -11,7 +11,7 @@
 #include <cstring>
 #include <utility>
 
-namespace dh3 {
+namespace dh3::bus {
 namespace {
 
 Result<UniqueFd, std::string> new_can_socket() {
@@ -125,4 +125,4 @@ Result<UniqueFd, std::string> open_can_raw_socket(const std::string& interface) 
   return fd;
 }
 
-}  // namespace dh3
+}  // namespace dh3::bus

@@ -11,7 +11,7 @@
 #include "dh3/base/fd_util.hpp"
 #include "dh3/base/result.hpp"
 
-namespace dh3 {
+namespace dh3::bus {
 
 /// DH-3 hands use CAN IDs 0-255 (spec: "Gripper ID ... range 0-255"); the
 /// kernel filter passes no other, and what reads the socket checks it again.
@@ -38,4 +38,4 @@ using CanSocketOpener = std::function<Result<UniqueFd, std::string>()>;
 /// a CAN interface, or is down.
 [[nodiscard]] Result<UniqueFd, std::string> open_can_raw_socket(const std::string& interface);
 
-}  // namespace dh3
+}  // namespace dh3::bus
