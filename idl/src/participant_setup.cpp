@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "dh3/contract/network_reach.hpp"
+#include "dh3/contract/send_gate.hpp"
 
 namespace dh3::contract {
 
@@ -115,8 +116,12 @@ Result<std::unique_ptr<Participant>, std::string> Participant::create(
   std::unique_ptr<Participant> made(new Participant());
   made->security_from_profile_ = has_property(*qos, "dds.sec.auth.plugin");
   made->access_control_ = has_property(*qos, "dds.sec.access.plugin");
+  // Its first announcement leaves once it hears: an answer sent before would be
+  // lost, and the service would not answer again (dh3/contract/send_gate.hpp).
+  const auto gate = SendGate::put_before_transports(*qos);
   made->participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(
       static_cast<fdds::DomainId_t>(options.domain), *qos, listener, mask);
+  if (made->participant_ != nullptr) gate->open();
   if (made->participant_ == nullptr) {
     std::string error =
         "cannot create a DDS participant on domain " + std::to_string(options.domain);
