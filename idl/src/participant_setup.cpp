@@ -85,8 +85,7 @@ Result<eprosima::fastdds::dds::DomainParticipantQos, std::string> make_participa
     }
     enable_security(qos, files);
   }
-  if (!options.is_client && !has_property(qos, "dds.sec.auth.plugin") &&
-      reaches_other_hosts(qos)) {
+  if (!options.is_client && !has_property(qos, "dds.sec.auth.plugin") && reaches_other_hosts(qos)) {
     report.warnings.emplace_back(
         "DDS Security is off and this service is reachable from other machines: anyone on "
         "that network can drive every hand (move, grip, take free leases, stop, and change "

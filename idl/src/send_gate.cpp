@@ -1,10 +1,11 @@
 #include "dh3/contract/send_gate.hpp"
 
-#include <chrono>
-#include <fastdds/rtps/common/LocatorList.hpp>
+#include <fastdds/rtps/network/SenderResource.h>
 #include <fastdds/rtps/transport/ChainingTransport.h>
 #include <fastdds/rtps/transport/ChainingTransportDescriptor.h>
-#include <fastdds/rtps/network/SenderResource.h>
+
+#include <chrono>
+#include <fastdds/rtps/common/LocatorList.hpp>
 #include <utility>
 
 namespace dh3::contract {
@@ -71,8 +72,9 @@ std::shared_ptr<SendGate> SendGate::put_before_transports(
 
 bool SendGate::pass(rtps::SenderResource* sender, const rtps::octet* buffer, std::uint32_t size,
                     rtps::LocatorsIterator* begin, rtps::LocatorsIterator* end) {
+  if (open_.load(std::memory_order_acquire)) return true;
   std::lock_guard lock(mutex_);
-  if (open_) return true;
+  if (open_.load(std::memory_order_relaxed)) return true;
   Datagram datagram{sender, std::vector<rtps::octet>(buffer, buffer + size), {}};
   for (; *begin != *end; ++*begin) datagram.destinations.push_back(**begin);
   held_.push_back(std::move(datagram));
@@ -81,8 +83,7 @@ bool SendGate::pass(rtps::SenderResource* sender, const rtps::octet* buffer, std
 
 void SendGate::open() {
   std::lock_guard lock(mutex_);
-  if (open_) return;
-  open_ = true;
+  if (open_.load(std::memory_order_relaxed)) return;
   for (auto& datagram : held_) {
     rtps::Locators begin(datagram.destinations.cbegin());
     rtps::Locators end(datagram.destinations.cend());
@@ -92,6 +93,8 @@ void SendGate::open() {
                           &begin, &end, timeout);
   }
   held_.clear();
+  // After the held ones: a send that finds the gate open goes before none of them.
+  open_.store(true, std::memory_order_release);
 }
 
 std::size_t SendGate::held() const {

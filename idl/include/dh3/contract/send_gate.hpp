@@ -1,8 +1,10 @@
 #pragma once
 
-#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 #include <fastdds/rtps/common/Locator.h>
 #include <fastdds/rtps/transport/TransportInterface.h>
+
+#include <atomic>
+#include <fastdds/dds/domain/qos/DomainParticipantQos.hpp>
 #include <memory>
 #include <mutex>
 #include <vector>
@@ -49,7 +51,7 @@ class SendGate {
   };
 
   mutable std::mutex mutex_;
-  bool open_ = false;
+  std::atomic<bool> open_{false};  ///< read without the mutex on every send once open
   std::vector<Datagram> held_;
 };
 
