@@ -3,6 +3,7 @@
 #include <fastdds/rtps/network/SenderResource.h>
 #include <fastdds/rtps/transport/ChainingTransport.h>
 #include <fastdds/rtps/transport/ChainingTransportDescriptor.h>
+#include <fastdds/rtps/transport/UDPTransportDescriptor.h>
 
 #include <chrono>
 #include <fastdds/rtps/common/LocatorList.hpp>
@@ -65,6 +66,11 @@ std::shared_ptr<SendGate> SendGate::put_before_transports(
     return gate;
   }
   for (auto& descriptor : transports.user_transports) {
+    // UDP only: Fast DDS keeps peers' shared-memory locators only when a
+    // descriptor's type is its shared-memory one, so wrapping that would
+    // switch shared memory off.
+    if (std::dynamic_pointer_cast<transport::UDPTransportDescriptor>(descriptor) == nullptr)
+      continue;
     descriptor = std::make_shared<GatedTransportDescriptor>(descriptor, gate);
   }
   return gate;

@@ -2,6 +2,8 @@
 // hears is held, then sent unchanged and in order; once open, nothing is held.
 
 #include <fastdds/rtps/network/SenderResource.h>
+#include <fastdds/rtps/transport/UDPv4TransportDescriptor.h>
+#include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 #include <gtest/gtest.h>
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
@@ -84,6 +86,19 @@ TEST(SendGate, LeavesFastDdsBuiltinTransportsAlone) {
   EXPECT_TRUE(qos.transport().user_transports.empty());
   RecordingSender sender;
   EXPECT_TRUE(offer(*gate, sender, "x", {7400}));
+}
+
+TEST(SendGate, GatesUdpAndLeavesSharedMemoryAsFastDdsKnowsIt) {
+  auto qos = dh3::contract::participant_qos("send-gate", {.interfaces = {}, .shared_memory = true});
+  ASSERT_EQ(qos.transport().user_transports.size(), 2U);
+  const auto gate = dh3::contract::SendGate::put_before_transports(qos);
+  const auto& transports = qos.transport().user_transports;
+  EXPECT_EQ(
+      std::dynamic_pointer_cast<eprosima::fastdds::rtps::UDPv4TransportDescriptor>(transports[0]),
+      nullptr);
+  EXPECT_NE(std::dynamic_pointer_cast<eprosima::fastdds::rtps::SharedMemTransportDescriptor>(
+                transports[1]),
+            nullptr);
 }
 
 // What the gate is for: Fast DDS sends a participant's first announcement

@@ -26,7 +26,8 @@ namespace dh3::contract {
 /// create_participant() has returned closes that window.
 class SendGate {
  public:
-  /// Puts every user transport of `qos` behind one closed gate. A profile
+  /// Puts every UDP user transport of `qos` behind one closed gate. Shared
+  /// memory is not gated (an answer over it can still be lost), and a profile
   /// that keeps Fast DDS's built-in transports is left alone.
   [[nodiscard]] static std::shared_ptr<SendGate> put_before_transports(
       eprosima::fastdds::dds::DomainParticipantQos& qos);
