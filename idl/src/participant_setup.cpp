@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "dh3/contract/network_reach.hpp"
+#include "dh3/contract/send_gate.hpp"
 
 namespace dh3::contract {
 
@@ -84,8 +85,7 @@ Result<eprosima::fastdds::dds::DomainParticipantQos, std::string> make_participa
     }
     enable_security(qos, files);
   }
-  if (!options.is_client && !has_property(qos, "dds.sec.auth.plugin") &&
-      reaches_other_hosts(qos)) {
+  if (!options.is_client && !has_property(qos, "dds.sec.auth.plugin") && reaches_other_hosts(qos)) {
     report.warnings.emplace_back(
         "DDS Security is off and this service is reachable from other machines: anyone on "
         "that network can drive every hand (move, grip, take free leases, stop, and change "
@@ -115,8 +115,12 @@ Result<std::unique_ptr<Participant>, std::string> Participant::create(
   std::unique_ptr<Participant> made(new Participant());
   made->security_from_profile_ = has_property(*qos, "dds.sec.auth.plugin");
   made->access_control_ = has_property(*qos, "dds.sec.access.plugin");
+  // Its first announcement leaves once it hears: an answer sent before would be
+  // lost, and the service would not answer again (dh3/contract/send_gate.hpp).
+  const auto gate = SendGate::put_before_transports(*qos);
   made->participant_ = fdds::DomainParticipantFactory::get_instance()->create_participant(
       static_cast<fdds::DomainId_t>(options.domain), *qos, listener, mask);
+  if (made->participant_ != nullptr) gate->open();
   if (made->participant_ == nullptr) {
     std::string error =
         "cannot create a DDS participant on domain " + std::to_string(options.domain);
