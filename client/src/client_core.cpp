@@ -34,19 +34,16 @@ ClientCore::~ClientCore() {
 }
 
 Result<void, std::string> ClientCore::set_up(const EndpointCreator& creator) {
-  std::optional<contract::Follow> follow;
   if (!options_.follow.empty()) {
     auto parsed = contract::parse_follow(options_.follow);
     if (!parsed) return fail(std::move(parsed).error());
-    follow = std::move(parsed).value();
-    follow_service_ = follow->service;
-    follow_bus_ = follow->bus;
+    follow_ = std::move(parsed).value();
   }
   if (auto created = endpoints_->create_participant(options_); !created) {
     return fail(std::move(created).error());
   }
   client_id_ = endpoints_->client_id();
-  if (auto made = endpoints_->create_endpoints(creator, client_id_, follow); !made) {
+  if (auto made = endpoints_->create_endpoints(creator, client_id_, follow_); !made) {
     return fail(std::move(made).error());
   }
   can_command_ = endpoints_->can_command();
@@ -94,8 +91,9 @@ void ClientCore::close() {
 }
 
 bool ClientCore::followed(std::string_view service, std::string_view bus) const {
-  if (follow_service_.empty()) return true;
-  return service == follow_service_ && (bus.empty() || follow_bus_.empty() || bus == follow_bus_);
+  if (!follow_) return true;
+  return service == follow_->service &&
+         (bus.empty() || follow_->bus.empty() || bus == follow_->bus);
 }
 
 // ---------------------------------------------------------------------------
@@ -301,17 +299,15 @@ void ClientCore::apply_locked(const ServiceTracker::Outcome& outcome, Actions& o
   for (auto& ended : calls_.end_sent_to(outcome.keep_calls ? "" : ending, outcome.why)) {
     out.completions.push_back(std::move(ended));
   }
+  const auto made_ns = ClientMadeEvents::now_ns();
   if (outcome.lost_service) {
-    const auto made_ns = ClientMadeEvents::now_ns();
     for (const HandStatus& status : cache_.mark_lost(outcome.service)) {
       subscriptions_.post_status(status);
       subscriptions_.post_event(made_events_.offline(status, outcome.why, made_ns));
     }
   }
   if (!outcome.taken_over_by.empty()) {
-    const auto made_ns = ClientMadeEvents::now_ns();
-    for (const HandStatus& status : cache_.all()) {
-      if (status.address.service != outcome.service) continue;
+    for (const HandStatus& status : cache_.of_service(outcome.service)) {
       subscriptions_.post_event(ClientMadeEvents::taken_over(status, outcome.taken_over_from,
                                                              outcome.taken_over_by, made_ns));
     }
@@ -575,10 +571,7 @@ Found<ServiceInfo> ClientCore::wait_for_service(std::string_view name, Timeout t
   });
   if (found) return *found;
   if (closed_) return {Code::not_connected, closed_message()};
-  const std::string which =
-      name.empty() ? "no dh3 service" : "no service '" + std::string(name) + "'";
-  return {Code::no_service, which + " found on DDS domain " + std::to_string(options_.domain) +
-                                " within " + describe_duration(effective(timeout))};
+  return {Code::no_service, detail::no_service_found(name, options_.domain, effective(timeout))};
 }
 
 bool ClientCore::wait_for_statuses(Timeout timeout) {
@@ -634,16 +627,11 @@ Found<HandAddress> ClientCore::wait_for_hand(const HandSpec& spec, Timeout timeo
   changed_.wait_for(lock, effective(timeout), check);
   if (answer) return std::move(*answer);
   if (closed_) return {Code::not_connected, closed_message()};
-  const std::string within = " within " + describe_duration(effective(timeout));
-  if (spec.service) {
-    if (!tracker_.alive(*spec.service)) {
-      return {Code::no_service, "no service '" + *spec.service + "' found on DDS domain " +
-                                    std::to_string(options_.domain) + within};
-    }
-  } else if (!tracker_.any_alive()) {
-    return {Code::no_service,
-            "no dh3 service found on DDS domain " + std::to_string(options_.domain) + within};
+  if (spec.service ? !tracker_.alive(*spec.service) : !tracker_.any_alive()) {
+    return {Code::no_service, detail::no_service_found(spec.service.value_or(""), options_.domain,
+                                                       effective(timeout))};
   }
+  const std::string within = " within " + describe_duration(effective(timeout));
   auto resolved = resolve_hand(spec, cache_.known_hands(tracker_.infos()));
   if (!resolved) return resolved;
   return {Code::unknown_hand, "service '" + resolved->service + "' has no hand " + resolved->bus +

@@ -59,6 +59,7 @@
 #include "dh3/base/result.hpp"
 #include "dh3/client.hpp"
 #include "dh3/contract/dh3.h"
+#include "dh3/contract/follow_filter.hpp"
 #include "dh3/types.hpp"
 #include "group_calls.hpp"
 #include "pending_calls.hpp"
@@ -200,8 +201,7 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   const ClientOptions options_;
   /// What options_.follow names (empty service: everything); set up before
   /// the readers and constant after.
-  std::string follow_service_;
-  std::string follow_bus_;
+  std::optional<contract::Follow> follow_;
   std::string error_;
   std::string client_id_;
   std::unique_ptr<ClientEndpoints> endpoints_;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "conversions.hpp"
+
 namespace dh3::detail {
 namespace {
 
@@ -45,6 +47,14 @@ std::optional<std::string> hand_ruled_out(const HandSpec& spec,
            std::to_string(*spec.can_id) + listed;
   }
   return "no hand matches '" + spec.text + "'" + listed;
+}
+
+std::string no_service_found(std::string_view name, int domain,
+                             std::chrono::milliseconds waited) {
+  const std::string which =
+      name.empty() ? "no dh3 service" : "no service '" + std::string(name) + "'";
+  return which + " found on DDS domain " + std::to_string(domain) + " within " +
+         describe_duration(waited);
 }
 
 }  // namespace dh3::detail

@@ -4,8 +4,10 @@
 //
 // Pure: told the services' published infos, knows no DDS and no time.
 
+#include <chrono>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "dh3/address.hpp"
@@ -20,5 +22,10 @@ namespace dh3::detail {
 /// them.
 [[nodiscard]] std::optional<std::string> hand_ruled_out(const HandSpec& spec,
                                                         const std::vector<ServiceInfo>& infos);
+
+/// Why a wait found no service: "no service 'NAME' found on DDS domain D
+/// within T", or "no dh3 service ..." for an empty `name`.
+[[nodiscard]] std::string no_service_found(std::string_view name, int domain,
+                                           std::chrono::milliseconds waited);
 
 }  // namespace dh3::detail

@@ -65,6 +65,14 @@ std::vector<HandStatus> StatusCache::all() const {
   return matching(std::nullopt);
 }
 
+std::vector<HandStatus> StatusCache::of_service(const std::string& service) const {
+  std::vector<HandStatus> out;
+  for (const auto& [address, status] : statuses_) {
+    if (address.service == service) out.push_back(status);
+  }
+  return out;
+}
+
 std::vector<HandStatus> StatusCache::matching(const std::optional<HandAddress>& only) const {
   std::vector<HandStatus> out;
   for (const auto& [address, status] : statuses_) {

@@ -37,6 +37,7 @@ class StatusCache {
   [[nodiscard]] bool has(const HandAddress& address) const;
   [[nodiscard]] bool has_service(const std::string& service) const;
   [[nodiscard]] std::vector<HandStatus> all() const;
+  [[nodiscard]] std::vector<HandStatus> of_service(const std::string& service) const;
   /// The cached statuses of `only` (every hand if empty), in address order.
   [[nodiscard]] std::vector<HandStatus> matching(const std::optional<HandAddress>& only) const;
   /// Every hand with a status, then those the services' infos list without one.
