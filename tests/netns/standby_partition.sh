@@ -73,13 +73,17 @@ ctl() {  # dh3ctl on the standby's host, over the DDS link only
     --timeout 20 "$@"
 }
 
+# Each start empties its log first: the shell truncates it only once the
+# child runs, and the wait below must not find the last run's line.
 start_primary() {  # start_primary CONFIG: the active service, once it serves
+  : >"$work/primary.log"
   ip netns exec "$primary" "$service_bin" --config "$1" --interface "$dds_primary" \
     --udp-only --log-level info >"$work/primary.log" 2>&1 &
   primary_pid=$!
   wait_for "$work/primary.log" "service 'cell' on DDS domain" 30
 }
 start_standby() {  # the standby, once it watches the primary
+  : >"$work/standby.log"
   ip netns exec "$standby" "$service_bin" --config "$work/standby.yaml" --role standby \
     --interface "$dds_standby" --udp-only --log-level info >"$work/standby.log" 2>&1 &
   standby_pid=$!
