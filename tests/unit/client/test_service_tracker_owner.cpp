@@ -201,12 +201,13 @@ TEST(TrackerOwner, ANewOwnerEndsTheCallsOfALapsedOneAtOnce) {
   // Its standby takes over: the calls sent to A end now, not at the lapse's
   // call confirmation.
   Outcome taken;
-  tracker.take_claim(claim("B", 2, 5), taken);
+  tracker.take_claim(claim("B", 2, 5), taken, t0 + contract::kOwnerLapseConfirm);
   EXPECT_EQ(taken.end_calls_of, "A");
   EXPECT_FALSE(taken.keep_calls);
   EXPECT_NE(taken.why.find("now served by"), std::string::npos) << taken.why;
   EXPECT_NE(taken.why.find("killed, frozen or cut off"), std::string::npos) << taken.why;
   EXPECT_EQ(tracker.incarnation("svc"), "B");
+  (void)tracker.owner_alive("B", true);
   EXPECT_TRUE(tracker.confirm_lapses(t0 + contract::kOwnerLapseCallConfirm).empty())
       << "ended once";
 }
