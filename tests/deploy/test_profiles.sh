@@ -18,9 +18,11 @@ failures=0
 fail() { echo "FAILED: $*"; failures=$((failures + 1)); }
 
 create=()
+# The DDS domain the participants are created on; the test PKI grants it.
+domain=7
 run_check() {  # run_check FILE PROFILE...: check_profiles' output into $work/out
   if ((${#create[@]})); then
-    unshare -n sh -c 'ip link set lo up && exec "$@"' sh "$check" "$@" --create 7 >"$work/out" 2>"$work/err"
+    unshare -n sh -c 'ip link set lo up && exec "$@"' sh "$check" "$@" --create "$domain" >"$work/out" 2>"$work/err"
   else
     "$check" "$@" >"$work/out" 2>"$work/err"
   fi
@@ -67,7 +69,7 @@ expect dh3_discovery_client "server 44.53.00.5f.45.50.52.4f.53.49.4d.41 127.0.0.
 ((${#create[@]})) && expect dh3_discovery_client "participant created"
 
 echo "== secure.xml, with a test PKI in place of /etc/dh3/pki"
-"$src/deploy/security/make-test-pki.sh" "$work/pki" >/dev/null || fail "make-test-pki.sh failed"
+"$src/deploy/security/make-test-pki.sh" --domains "$domain" "$work/pki" >/dev/null || fail "make-test-pki.sh failed"
 sed "s|file:///etc/dh3/pki/|file://$work/pki/|g" "$dds/secure.xml" >"$work/secure.xml"
 grep '<value>' "$work/secure.xml" | grep -q '/etc/dh3/pki' &&
   fail "secure.xml has a value naming /etc/dh3/pki other than as file:///etc/dh3/pki/"
