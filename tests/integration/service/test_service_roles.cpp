@@ -15,6 +15,7 @@
 
 #include "dh3/client.hpp"
 #include "service_fixture.hpp"
+#include "support/test_pki.hpp"
 
 namespace dh3::test {
 namespace {
@@ -30,19 +31,11 @@ class AdminRoleTest : public ::testing::Test {
  protected:
   // One PKI for the suite, granting this test's domain: making keys is slow.
   static void SetUpTestSuite() {
-    std::string pattern = (fs::temp_directory_path() / "dh3-roles-pki-XXXXXX").string();
-    if (::mkdtemp(pattern.data()) == nullptr) return;
-    pki_ = pattern;
-    Process script(std::string(DH3_SOURCE_DIR) + "/deploy/security/make-test-pki.sh",
-                   {"--force", "--domains", std::to_string(test_domain()), pki_},
-                   Process::Stdin::dev_null);
-    const auto status = script.wait_exit(std::chrono::seconds(120));
-    made_ = status && WIFEXITED(*status) && WEXITSTATUS(*status) == 0;
+    pki_ = make_test_pki(std::string(DH3_SOURCE_DIR) + "/deploy/security/make-test-pki.sh",
+                         test_domain(), "roles", {"--force"});
+    made_ = !pki_.empty();
   }
-  static void TearDownTestSuite() {
-    std::error_code ignored;
-    if (!pki_.empty()) fs::remove_all(pki_, ignored);
-  }
+  static void TearDownTestSuite() { remove_test_pki(pki_); }
 
   void SetUp() override {
     ASSERT_TRUE(made_) << "make-test-pki.sh failed into " << pki_;

@@ -24,6 +24,7 @@
 #include "dh3/client.hpp"
 #include "fake_service.hpp"
 #include "support/process.hpp"
+#include "support/test_pki.hpp"
 #include "support/test_domain.hpp"
 
 namespace dh3 {
@@ -42,18 +43,10 @@ std::string service_name() {
 class ClientSecurity : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    std::string pattern = (fs::temp_directory_path() / "dh3-client-pki-XXXXXX").string();
-    if (::mkdtemp(pattern.data()) == nullptr) return;
-    dir_ = pattern;
-    test::Process script(DH3_MAKE_TEST_PKI, {"--domains", std::to_string(test_domain()), dir_},
-                         test::Process::Stdin::dev_null);
-    const auto status = script.wait_exit(std::chrono::seconds(120));
-    made_ = status && WIFEXITED(*status) && WEXITSTATUS(*status) == 0;
+    dir_ = test::make_test_pki(DH3_MAKE_TEST_PKI, test_domain(), "client");
+    made_ = !dir_.empty();
   }
-  static void TearDownTestSuite() {
-    std::error_code ignored;
-    if (!dir_.empty()) fs::remove_all(dir_, ignored);
-  }
+  static void TearDownTestSuite() { test::remove_test_pki(dir_); }
   void SetUp() override { ASSERT_TRUE(made_) << "make-test-pki.sh failed into " << dir_; }
 
   static ClientOptions options(const std::string& identity) {

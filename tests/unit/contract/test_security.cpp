@@ -15,6 +15,7 @@
 #include "dh3/contract/participant_setup.hpp"
 #include "dh3/contract/security.hpp"
 #include "support/process.hpp"
+#include "support/test_pki.hpp"
 
 namespace {
 
@@ -27,19 +28,11 @@ class ContractSecurity : public ::testing::Test {
  protected:
   // One PKI for the whole suite: making keys is the slow part.
   static void SetUpTestSuite() {
-    std::string pattern = (fs::temp_directory_path() / "dh3-contract-pki-XXXXXX").string();
-    if (::mkdtemp(pattern.data()) == nullptr) return;
-    dir_ = pattern;
-    dh3::test::Process script(
-        DH3_MAKE_TEST_PKI, {"--domains", std::to_string(dh3::test::contract_test_domain()), dir_},
-        dh3::test::Process::Stdin::dev_null);
-    const auto status = script.wait_exit(std::chrono::seconds(120));
-    made_ = status && WIFEXITED(*status) && WEXITSTATUS(*status) == 0;
+    dir_ = dh3::test::make_test_pki(DH3_MAKE_TEST_PKI, dh3::test::contract_test_domain(),
+                                    "contract");
+    made_ = !dir_.empty();
   }
-  static void TearDownTestSuite() {
-    std::error_code ignored;
-    if (!dir_.empty()) fs::remove_all(dir_, ignored);
-  }
+  static void TearDownTestSuite() { dh3::test::remove_test_pki(dir_); }
   void SetUp() override { ASSERT_TRUE(made_) << "make-test-pki.sh failed into " << dir_; }
 
   static eprosima::fastdds::dds::DomainParticipantQos qos(const std::string& identity) {
