@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -75,7 +76,34 @@ class BoxTest : public ::testing::Test {
     for (std::uint16_t id = 1; id <= 3; ++id) {
       ASSERT_TRUE(client_->wait_status(hand(id), [](const auto& s) { return s.online(); }))
           << "hand " << id << " never online";
+      ASSERT_TRUE(wait_read_afresh(id)) << "hand " << id << " never read afresh";
     }
+  }
+
+  /// Waits until the service has read hand `id`'s registers after it came
+  /// online: those reads are re-sent on a timeout, each after a whole reply
+  /// timeout and ahead of any request, so a test that mutes a hand during
+  /// them would have its request wait for all of them. The rotation's status
+  /// is their last read; any frame to the hand after it means it was answered
+  /// (one frame in flight per hand).
+  bool wait_read_afresh(std::uint16_t id) {
+    constexpr char kHex[] = "0123456789ABCDEF";
+    const std::string to_hand =
+        std::string("FF FE FD FC ") + kHex[(id >> 4) & 0xF] + kHex[id & 0xF];
+    const std::string last_read = to_hand + " 0F 02 00";
+    const auto deadline = std::chrono::steady_clock::now() + kDdsDeadline;
+    while (std::chrono::steady_clock::now() < deadline) {
+      const auto frames = frames_as_hex(proxy_->sent());
+      const auto read = std::find_if(frames.begin(), frames.end(),
+                                     [&](const std::string& f) { return f.starts_with(last_read); });
+      if (read != frames.end() && std::any_of(std::next(read), frames.end(), [&](const auto& f) {
+            return f.starts_with(to_hand);
+          })) {
+        return true;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));  // polling, not a wait for time
+    }
+    return false;
   }
 
   /// Runs once the proxy is up, before the service connects to it.
