@@ -10,7 +10,8 @@ out=${BENCH_OUT:-$build/bench}
 deploy/install-deps.sh
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 cmake --build "$build" -j "${JOBS:-2}" --target bench_bus_efficiency bench_round_trip \
-  bench_status_fanout bench_footprint bench_event_latency bench_cell bench_group_skew
+  bench_status_fanout bench_footprint bench_event_latency bench_cell bench_group_skew \
+  dh3-service dh3ctl
 mkdir -p "$out"
 bench="$build/tests/bench"
 # 1 and 2: round trip vs raw Fast DDS (shm and UDP), five runs and their median
@@ -36,4 +37,8 @@ echo
 echo
 # 8: a cell of 1, 4 and 16 client processes commanding at once (~1 min).
 "$bench/bench_cell" --count 1000 --json "$out/cell.json"
+echo
+# Death detection's cost at rest: the owner liveliness to 1, 4 and 16 clients
+# on loopback, captured by tshark (~1.5 min).
+for clients in 1 4 16; do tests/bench/liveliness-cost.sh "$build" "$clients" 20; done
 echo "JSON written to $out/"
