@@ -66,6 +66,11 @@ Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups,
                  options_.participant.security_dir);
   }
   if (auto claimed = claim_name(taking_over); !claimed) return claimed;
+  if (!taking_over && options_.before_serving) {
+    auto cleared = options_.before_serving(std::move(setups));
+    if (!cleared) return fail(cleared.error());
+    setups = std::move(*cleared);
+  }
   if (auto created = create_writers(); !created) return created;
 
   for (auto& setup : setups) {

@@ -316,6 +316,34 @@ TEST_F(StandbyTest, AStandbyWhosePrimaryLivesTakesNothingAndSendsNothing) {
   EXPECT_EQ(primary->process().stop(), 0);
 }
 
+// An active service that DDS does not show the cell's serving one (here it
+// is on another domain, as across a network partition) still finds the bus
+// driven: it watches the bus before its first frame, refuses to start and
+// sends nothing.
+TEST_F(StandbyTest, AnActiveServiceFindingItsBusDrivenByAnotherRefusesAndSendsNothing) {
+  auto primary = std::make_unique<RunningService>(box_config(sim_.bus_spec()));
+  ASSERT_TRUE(primary->started());
+  drive_hand();
+  ASSERT_FALSE(HasFatalFailure());
+  RecordingProxy proxy(sim_.port());
+  const TempFile config(box_config(proxy.bus_spec()));
+  // Outside test_domain()'s range: no test's service is there.
+  constexpr int kOtherDomain = 230;
+  const auto [code, output] =
+      run_to_exit("--domain " + std::to_string(kOtherDomain) + " --name " + test_service_name() +
+                  " --config " + config.path() + " --role active");
+  EXPECT_EQ(code, 1) << output;
+  EXPECT_THAT(output, HasSubstr("bus 'bus0' carries the requests of another service"));
+  EXPECT_EQ(proxy.connections(), 1) << "the duplicate never connected to the box";
+  EXPECT_TRUE(proxy.sent().empty())
+      << "the duplicate sent frames: " << ::testing::PrintToString(frames_as_hex(proxy.sent()));
+  // The cell's service serves on.
+  const Reply read = hand_->read(reg::position);
+  ASSERT_TRUE(read) << read.message;
+  EXPECT_EQ(read.value, 30);
+  EXPECT_EQ(primary->process().stop(), 0);
+}
+
 TEST_F(StandbyTest, AStandbyRefusesABusSimulatedInItsOwnProcess) {
   const auto [code, output] = run_to_exit("--domain " + std::to_string(test_domain()) + " --name " +
                                           test_service_name() + " --role standby --bus sim:1,2");

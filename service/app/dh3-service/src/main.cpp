@@ -18,6 +18,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "dh3/app/bus_setup.hpp"
@@ -27,6 +28,7 @@
 #include "dh3/base/clock.hpp"
 #include "dh3/base/host_name.hpp"
 #include "dh3/base/version.hpp"
+#include "dh3/bus/bus_spec.hpp"
 #include "dh3/contract/ownership.hpp"
 #include "dh3/contract/participant_flags.hpp"
 #include "dh3/dds/service.hpp"
@@ -233,19 +235,6 @@ int serve(const dh3::app::ServiceConfig& config, dh3::dds::ServiceOptions option
   return lost_ownership ? kExitLostOwnership : 0;
 }
 
-/// Opens the buses and serves them; the exit code.
-int run_service(const dh3::app::ServiceConfig& config, const sigset_t& stop_signals) {
-  auto buses = dh3::app::open_buses(config, dh3::SystemClock::instance());
-  if (!buses) {
-    spdlog::critical("{}", buses.error());
-    return kExitStartFailed;
-  }
-  for (std::size_t i = 0; i < config.buses.size(); ++i) {
-    spdlog::info("bus '{}': {}", config.buses[i].name, (*buses)[i].bus->spec());
-  }
-  return serve(config, service_options(config), std::move(*buses), stop_signals);
-}
-
 std::int64_t as_ms(dh3::Duration duration) {
   return std::chrono::duration_cast<std::chrono::milliseconds>(duration).count();
 }
@@ -259,6 +248,67 @@ dh3::Duration fence_quiet(const std::vector<dh3::dds::BusSetup>& buses) {
   dh3::Duration longest{};
   for (const auto& bus : buses) longest = std::max(longest, bus.scheduler.poll_interval_idle);
   return longest + kFenceMargin;
+}
+
+/// How many quiet times an active service watches a shared bus at most before
+/// it gives up: a bus another service drives carries a request within one.
+constexpr int kStartWatchQuietTimes = 2;
+
+/// An active service's first look at its buses, once DDS showed it no other
+/// service of its name (ServiceOptions::before_serving). It sends nothing until each
+/// bus it may share with another service (a CAN interface, a transfer box;
+/// not a bus simulated in this process) carried no request for the fence's
+/// quiet time: a service of the cell that DDS did not show it (a network
+/// partition, another domain or name, one that took the cell in the same
+/// second) would otherwise get a second master on its bus, and the two
+/// would complete on each other's echoes. The buses, promoted, ready to
+/// serve; or why this service must not serve them.
+dh3::Result<std::vector<dh3::dds::BusSetup>, std::string> watch_buses_first(
+    std::vector<dh3::dds::BusSetup> buses) {
+  const bool shared = std::any_of(buses.begin(), buses.end(), [](const auto& setup) {
+    const auto spec = dh3::bus::parse_bus_spec(setup.bus->spec());
+    return !spec || spec->kind != dh3::bus::BusKind::sim;
+  });
+  if (!shared) return buses;
+  const dh3::Clock& clock = dh3::SystemClock::instance();
+  const dh3::Duration quiet = fence_quiet(buses);
+  dh3::app::StandbyWatch watch(std::move(buses), quiet, clock);
+  watch.start();
+  spdlog::info("watching the buses {} ms for requests of another service before sending",
+               as_ms(quiet));
+  const dh3::TimePoint give_up = clock.now() + kStartWatchQuietTimes * quiet;
+  for (;;) {
+    const dh3::TimePoint now = clock.now();
+    if (watch.fences_clear(now)) return watch.take_buses();
+    if (now >= give_up) {
+      std::string names;
+      for (const auto& name : watch.busy_buses(now)) {
+        names += (names.empty() ? "'" : ", '") + name + "'";
+      }
+      return dh3::fail(
+          "bus " + names + " carries the requests of another service (" +
+          std::to_string(watch.requests_seen()) + " seen in " +
+          std::to_string(as_ms(kStartWatchQuietTimes * quiet)) +
+          " ms) that DDS does not show as serving this cell (another DDS domain, another name, "
+          "a network partition?): not serving, so that its hands do not get two masters");
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));  // how soon a quiet bus is noticed
+  }
+}
+
+/// Opens the buses and serves them; the exit code.
+int run_service(const dh3::app::ServiceConfig& config, const sigset_t& stop_signals) {
+  auto buses = dh3::app::open_buses(config, dh3::SystemClock::instance());
+  if (!buses) {
+    spdlog::critical("{}", buses.error());
+    return kExitStartFailed;
+  }
+  for (std::size_t i = 0; i < config.buses.size(); ++i) {
+    spdlog::info("bus '{}': {}", config.buses[i].name, (*buses)[i].bus->spec());
+  }
+  dh3::dds::ServiceOptions options = service_options(config);
+  options.before_serving = watch_buses_first;
+  return serve(config, std::move(options), std::move(*buses), stop_signals);
 }
 
 /// How long a cell may go unserved before a standby that saw no owner takes

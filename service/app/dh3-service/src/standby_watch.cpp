@@ -96,11 +96,16 @@ std::vector<std::vector<hand::HandState>> StandbyWatch::states() const {
 }
 
 bool StandbyWatch::fences_clear(TimePoint now) const {
+  return busy_buses(now).empty();
+}
+
+std::vector<std::string> StandbyWatch::busy_buses(TimePoint now) const {
+  std::vector<std::string> busy;
   for (const auto& watched : buses_) {
     const std::lock_guard lock(watched->mutex);
-    if (!watched->fence.clear(now)) return false;
+    if (!watched->fence.clear(now)) busy.push_back(watched->setup.name);
   }
-  return true;
+  return busy;
 }
 
 std::uint64_t StandbyWatch::requests_seen() const {

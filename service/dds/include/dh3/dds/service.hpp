@@ -26,6 +26,18 @@
 
 namespace dh3::dds {
 
+/// One bus the service runs: the open bus, the hands expected on it (empty:
+/// discover them) and the scheduler's tuning.
+struct BusSetup {
+  std::string name;
+  std::unique_ptr<bus::Bus> bus;
+  std::vector<hand::HandConfig> hands;
+  hand::SchedulerOptions scheduler;
+  /// What a standby saw of the hands before it took the bus over (empty:
+  /// nothing known; the hands are read afresh).
+  std::vector<hand::HandState> warm;
+};
+
 struct ServiceOptions {
   std::string name = "dh3";  ///< answers requests whose hand.service is this
   /// Domain, transports, discovery servers, XML profile and DDS Security of
@@ -49,6 +61,12 @@ struct ServiceOptions {
   /// longer than the owner lease (a service killed just before is seen dead)
   /// and than discovery takes.
   std::optional<Duration> claim_window;
+  /// Runs once in create(), after the name was claimed and before any bus
+  /// is used, with the buses: those to serve, or why the service must not
+  /// serve them (create() fails with it, and the claim is withdrawn). The
+  /// program's bus fence (dh3-service: nobody else drives them). Unset: the
+  /// buses as given. Not run at a takeover (the standby fenced them).
+  std::function<Result<std::vector<BusSetup>, std::string>(std::vector<BusSetup>)> before_serving;
   /// The least epoch the claim takes: a standby taking over claims above the
   /// owner it replaces, whose claim its new participant never receives.
   std::uint64_t epoch_floor = 0;
@@ -69,18 +87,6 @@ struct ServiceOptions {
     participant.security_identity = "service";
     return participant;
   }
-};
-
-/// One bus the service runs: the open bus, the hands expected on it (empty:
-/// discover them) and the scheduler's tuning.
-struct BusSetup {
-  std::string name;
-  std::unique_ptr<bus::Bus> bus;
-  std::vector<hand::HandConfig> hands;
-  hand::SchedulerOptions scheduler;
-  /// What a standby saw of the hands before it took the bus over (empty:
-  /// nothing known; the hands are read afresh).
-  std::vector<hand::HandState> warm;
 };
 
 class StandbyPresence;

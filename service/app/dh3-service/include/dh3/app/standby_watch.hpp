@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -42,6 +43,8 @@ class StandbyWatch {
   [[nodiscard]] std::vector<std::vector<hand::HandState>> states() const;
   /// No bus carried a request in its quiet time before `now`.
   [[nodiscard]] bool fences_clear(TimePoint now) const;
+  /// The names of the buses that did.
+  [[nodiscard]] std::vector<std::string> busy_buses(TimePoint now) const;
   /// Requests of another service seen, over every bus.
   [[nodiscard]] std::uint64_t requests_seen() const;
 
