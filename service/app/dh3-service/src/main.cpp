@@ -253,6 +253,10 @@ dh3::Duration fence_quiet(const std::vector<dh3::dds::BusSetup>& buses) {
 /// How many quiet times an active service watches a shared bus at most before
 /// it gives up: a bus another service drives carries a request within one.
 constexpr int kStartWatchQuietTimes = 2;
+/// The longest quiet time it waits for at start: a cell whose idle poll is
+/// slower (a minute, say) is not kept from serving that long; a master as
+/// quiet as that is caught only if it sends meanwhile.
+constexpr dh3::Duration kStartWatchLongest = std::chrono::seconds(2);
 
 /// An active service's first look at its buses, once DDS showed it no other
 /// service of its name (ServiceOptions::before_serving). It sends nothing until each
@@ -271,7 +275,7 @@ dh3::Result<std::vector<dh3::dds::BusSetup>, std::string> watch_buses_first(
   });
   if (!shared) return buses;
   const dh3::Clock& clock = dh3::SystemClock::instance();
-  const dh3::Duration quiet = fence_quiet(buses);
+  const dh3::Duration quiet = std::min(fence_quiet(buses), kStartWatchLongest);
   dh3::app::StandbyWatch watch(std::move(buses), quiet, clock);
   watch.start();
   spdlog::info("watching the buses {} ms for requests of another service before sending",
