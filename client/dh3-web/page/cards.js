@@ -99,15 +99,6 @@ function tokenBlock(level) {
   return roleBlock(level || "operator");
 }
 
-/// Disables each of `controls` (inputs, selects) with `reason` as its title,
-/// or enables it when `reason` is "".
-function offFor(controls, reason) {
-  controls.forEach((control) => {
-    control.disabled = reason !== "";
-    if (reason) control.title = reason; else control.removeAttribute("title");
-  });
-}
-
 /// Why this hand takes no commands now, or "" when it does.
 function blockReason(s) {
   const token = tokenBlock();

@@ -86,3 +86,12 @@ function setText(element, text) {
 function nsTimeOfDay(ns) { return ns ? timeOfDay(Math.round(Number(ns) / 1e6)) : "never"; }
 
 function handName(s) { return "hand " + s.hand + (s.name ? " (" + s.name + ")" : ""); }
+
+/// Disables each of `controls` (buttons, fields, lists) with `reason` as its title,
+/// or enables it when `reason` is "".
+function offFor(controls, reason) {
+  controls.forEach((control) => {
+    control.disabled = reason !== "";
+    if (reason) control.title = reason; else control.removeAttribute("title");
+  });
+}
