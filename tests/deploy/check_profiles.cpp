@@ -115,6 +115,7 @@ void try_endpoints(fdds::DomainParticipant* participant) {
       {dh3::topics::SERVICE_INFO, new dh3::msg::ServiceInfoPubSubType(), TopicRole::service_info},
       {dh3::topics::COMMAND_REQUEST, new dh3::msg::CommandRequestPubSubType(), TopicRole::request},
       {dh3::topics::COMMAND_REPLY, new dh3::msg::CommandReplyPubSubType(), TopicRole::reply},
+      {dh3::topics::ADMIN_REQUEST, new dh3::msg::CommandRequestPubSubType(), TopicRole::request},
   };
   auto* publisher = participant->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
   auto* subscriber = participant->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);

@@ -3,8 +3,9 @@
 #   udp_only.xml          UDP only, no shared memory, simple discovery
 #   discovery_client.xml  discovery CLIENT of server id 0, UDP only
 #   secure.xml            PKI-DH, Access-Permissions, AES-GCM-GMAC for service,
-#                         operator and monitor, with the permissions the test
-#                         PKI grants them, UDP only
+#                         operator, admin and monitor, with the permissions
+#                         the test PKI grants them (admin requests: the admin
+#                         only), UDP only
 # Participants are created from every profile where a private network
 # namespace can be made (root), so "every interface" is loopback only.
 #
@@ -73,9 +74,9 @@ echo "== secure.xml, with a test PKI in place of /etc/dh3/pki"
 sed "s|file:///etc/dh3/pki/|file://$work/pki/|g" "$dds/secure.xml" >"$work/secure.xml"
 grep '<value>' "$work/secure.xml" | grep -q '/etc/dh3/pki' &&
   fail "secure.xml has a value naming /etc/dh3/pki other than as file:///etc/dh3/pki/"
-run_check "$work/secure.xml" dh3_service_secure dh3_operator_secure dh3_monitor_secure ||
-  fail "secure.xml did not load"
-for id in service operator monitor; do
+run_check "$work/secure.xml" dh3_service_secure dh3_operator_secure dh3_admin_secure \
+  dh3_monitor_secure || fail "secure.xml did not load"
+for id in service operator admin monitor; do
   p=dh3_${id}_secure
   transports_udp_only "$p"
   expect "$p" "property dds.sec.auth.plugin=builtin.PKI-DH"
@@ -89,22 +90,29 @@ for id in service operator monitor; do
   expect "$p" "property dds.sec.access.builtin.Access-Permissions.permissions=file://$work/pki/$id/permissions.p7s"
 done
 if ((${#create[@]})); then
-  for id in service operator monitor; do expect "dh3_${id}_secure" "participant created"; done
+  for id in service operator admin monitor; do expect "dh3_${id}_secure" "participant created"; done
   # What each identity may do, as Fast DDS enforces it from these profiles.
   for e in "writer dh3/hand_status" "writer dh3/hand_event" "writer dh3/service_info" \
-    "writer dh3/command_reply" "reader dh3/command_request"; do
+    "writer dh3/command_reply" "reader dh3/command_request" "reader dh3/admin_request"; do
     expect dh3_service_secure "$e created"
   done
   expect dh3_service_secure "writer dh3/command_request refused"
-  for e in "reader dh3/hand_status" "reader dh3/hand_event" "reader dh3/service_info" \
-    "reader dh3/command_reply" "writer dh3/command_request"; do
-    expect dh3_operator_secure "$e created"
+  expect dh3_service_secure "writer dh3/admin_request refused"
+  for p in dh3_operator_secure dh3_admin_secure; do
+    for e in "reader dh3/hand_status" "reader dh3/hand_event" "reader dh3/service_info" \
+      "reader dh3/command_reply" "writer dh3/command_request"; do
+      expect "$p" "$e created"
+    done
+    expect "$p" "writer dh3/hand_status refused"
+    expect "$p" "reader dh3/admin_request refused"
   done
-  expect dh3_operator_secure "writer dh3/hand_status refused"
+  # Administration is the admin's alone: only its profile publishes admin requests.
+  expect dh3_admin_secure "writer dh3/admin_request created"
+  expect dh3_operator_secure "writer dh3/admin_request refused"
   expect dh3_monitor_secure "reader dh3/hand_status created"
   expect dh3_monitor_secure "reader dh3/hand_event created"
   for e in "writer dh3/command_request" "reader dh3/service_info" "reader dh3/command_reply" \
-    "writer dh3/hand_status"; do
+    "writer dh3/hand_status" "writer dh3/admin_request"; do
     expect dh3_monitor_secure "$e refused"
   done
 fi

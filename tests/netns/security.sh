@@ -8,7 +8,9 @@
 #    service's link holds a hand's name in plain text (the capture works), and
 #    the service warned once at start that anyone on that network can drive
 #    every hand; the secure service does not warn.
-# 1. The operator drives a hand.
+# 1. The operator drives a hand; its CAN ID change is refused (its
+#    permissions do not grant the admin request topic), the admin's, through
+#    secure.xml's dh3_admin_secure, is taken (the service allows admin).
 # 2. The monitor sees the hands' status, but its command never reaches the
 #    service: the hand does not move, and the monitor gets an error or a
 #    timeout of its own, promptly (no hang).
@@ -56,6 +58,7 @@ link "$srv" "$srv_addr" "$cli" "$cli_addr" "s${$}"
 
 cat >"$work/config.yaml" <<EOF
 name: cell
+allow_admin: true
 buses:
   - name: bus0
     spec: sim
@@ -114,11 +117,15 @@ start_service() {  # start_service [OPTIONS...]
     --interface "$srv_addr" --udp-only --log-level info "$@" >"$work/service.log" 2>&1 &
   service_pid=$!
 }
-# Clients: the operator and the monitor through secure.xml's profiles; the
-# outsider with no credentials at all.
+# Clients: the operator, the admin and the monitor through secure.xml's
+# profiles; the outsider with no credentials at all.
 operator() {
   ip netns exec "$cli" "$ctl_bin" --domain "$domain" --xml "$work/secure.xml" \
     --profile dh3_operator_secure "$@"
+}
+admin() {
+  ip netns exec "$cli" "$ctl_bin" --domain "$domain" --xml "$work/secure.xml" \
+    --profile dh3_admin_secure "$@"
 }
 monitor() {
   ip netns exec "$cli" "$ctl_bin" --domain "$domain" --xml "$work/secure.xml" \
@@ -162,6 +169,18 @@ for _ in $(seq 1 100); do
   sleep 0.2
 done
 ((arrived)) || fail "hand 1 did not reach 30 after the operator's move"
+
+echo "== 1b. only the admin changes a CAN ID"
+if operator --timeout 10 set-can-id cell/bus0/2 9 --yes >"$work/operator-admin.out" 2>&1; then
+  cat "$work/operator-admin.out"
+  fail "the operator changed hand 2's CAN ID"
+fi
+grep -q "not permitted to publish administrative requests" "$work/operator-admin.out" ||
+  { cat "$work/operator-admin.out"; fail "the operator's CAN ID change failed for another reason"; }
+echo "   the operator's refused: not permitted to publish administrative requests"
+admin --timeout 20 set-can-id cell/bus0/2 9 --yes >"$work/admin.out" 2>&1 ||
+  { cat "$work/admin.out"; show_logs; fail "the admin (dh3_admin_secure) cannot change hand 2's CAN ID"; }
+echo "   the admin's taken: $(head -n 1 "$work/admin.out")"
 
 echo "== 2. the monitor sees status but cannot command"
 monitor --timeout 20 --json status cell/bus0/1 >"$work/monitor.json" 2>"$work/monitor.err" ||

@@ -1,6 +1,8 @@
 """dh3-web's page in headless Chromium (Selenium), against dh3-service on the
 simulator: the hands appear (three there, one configured but offline), a
-wrong token is said at once, a grasp clicked on the hand with an object shows
+wrong token is said at once, a token's role is shown and what it may not
+use is off with the reason (a viewer's: every command; an operator's: CAN ID
+and baud rate) while dh3-web still refuses them itself, a grasp clicked on the hand with an object shows
 GRASPED on its card and in the log, a move made by dh3ctl appears without a
 reload; an emptied or invalid field sends nothing; an offline hand and a hand
 leased by another client take no commands, with the reason; STOP ALL stays
@@ -31,8 +33,9 @@ from selenium.webdriver.support.ui import Select
 from selenium.webdriver.support.ui import WebDriverWait
 
 sys.path.insert(0, os.path.dirname(__file__))
-from webtest import (DEADLINE, DOMAIN, SERVICE, TOKEN, api, dh3ctl, hand, page_files,  # noqa: E402
-                     headless_chromium, service_and_web, start_web, stop)
+from webtest import (ADMIN_TOKEN, DEADLINE, DOMAIN, SERVICE, TOKEN, VIEW_TOKEN, api,  # noqa: E402
+                     dh3ctl, hand, headless_chromium, page_files, service_and_web, start_web,
+                     stop)
 
 PAGE_LIMIT = 100 * 1024
 
@@ -151,6 +154,9 @@ def test_a_wrong_token_is_said_at_once_and_commands_stay_off(cell, browser):
     assert "left" in cell_text(browser, 1, "hand")
     assert not button(browser, 1, "init").is_enabled()
     assert "commands need the token" in cell_text(browser, 1, "blocked")
+    assert not browser.find_element(By.ID, "stop-all").is_enabled()
+    assert browser.find_element(By.ID, "stop-all-blocked").text == \
+        "Stop all off: commands need the token; enter it above"
     use_token(browser, "not-the-token-0123456789")
     wait_for(browser, "the wrong token reported", lambda d: d.find_element(
         By.ID, "token-state").text.startswith("Error: the token is wrong"))
@@ -160,6 +166,78 @@ def test_a_wrong_token_is_said_at_once_and_commands_stay_off(cell, browser):
     wait_for(browser, "the token accepted", lambda d: d.find_element(
         By.ID, "token-state").text.startswith("Token accepted"))
     wait_for(browser, "hand 1's buttons on", lambda d: button(d, 1, "init").is_enabled())
+
+
+def token_state(driver) -> str:
+    return driver.find_element(By.ID, "token-state").text
+
+
+def enabled_command_controls(driver) -> list:
+    """Every button, field and list of the page that is on, but for the
+    token's form, the commissioning panel's choice of hand and the closed
+    confirmation dialog."""
+    return driver.execute_script("""
+        return [...document.querySelectorAll('button, input, select')]
+            .filter((e) => !e.disabled && !e.closest('#token-form, dialog') && e.id !== 'commission-hand')
+            .map((e) => e.outerHTML.slice(0, 80));""")
+
+
+def commission_control(driver, selector: str):
+    panel = driver.find_element(By.ID, "commission-title").find_element(By.XPATH, "..")
+    return panel.find_element(By.CSS_SELECTOR, selector)
+
+
+VIEW_ONLY = "this token may only view: commands need an operator's token"
+ADMIN_ONLY = "admin only: this token is an operator's; CAN ID and baud-rate changes need an admin's"
+
+
+def test_a_view_token_sees_no_command_on(cell, browser):
+    # hand 4's alarm brings an Acknowledge button: it must be off too.
+    wait_for(browser, "hand 4's alarm", lambda d: alarm(d, f"offline:{hand(4)}") is not None)
+    use_token(browser, VIEW_TOKEN)
+    wait_for(browser, "the viewer's role shown", lambda d: token_state(d) ==
+             "Token accepted: view. This token may only view: every command is off.")
+    wait_for(browser, "every command off", lambda d: enabled_command_controls(d) == [])
+    for can_id in (1, 2, 3):
+        assert cell_text(browser, can_id, "blocked") == "Commands off: " + VIEW_ONLY
+        assert button(browser, can_id, "move").get_attribute("title") == VIEW_ONLY
+    assert browser.find_element(By.ID, "stop-all-blocked").text == "Stop all off: " + VIEW_ONLY
+    Select(browser.find_element(By.ID, "commission-hand")).select_by_value(hand(1))
+    wait_for(browser, "commissioning off with the reason", lambda d: d.find_element(
+        By.ID, "commission-blocked").text == "Commands off: " + VIEW_ONLY)
+    # dh3-web refuses the viewer's command itself; nothing reaches the hand.
+    written = requests_written(cell.url)
+    status, reply = api(cell.url, f"/api/hands/{hand(1)}/stop", {}, token=VIEW_TOKEN)
+    assert (status, reply["code"]) == (403, "READ_ONLY_TOKEN"), reply
+    assert requests_written(cell.url) == written
+
+
+def test_an_operator_token_drives_the_hands_but_not_admin_commands(cell, browser):
+    use_token(browser, TOKEN)
+    wait_for(browser, "the operator's role shown", lambda d: token_state(d).startswith(
+        "Token accepted: operator. Commands go to the hands; CAN ID and baud-rate changes are "
+        "admin only."))
+    wait_for(browser, "hand 1's buttons on", lambda d: button(d, 1, "move").is_enabled())
+    assert browser.find_element(By.ID, "stop-all").is_enabled()
+    assert not browser.find_element(By.ID, "stop-all-blocked").is_displayed()
+    Select(browser.find_element(By.ID, "commission-hand")).select_by_value(hand(1))
+    wait_for(browser, "the admin commands off with the reason", lambda d: d.find_element(
+        By.ID, "admin-blocked").text == "CAN ID and baud rate off: " + ADMIN_ONLY)
+    for command in ("set-can-id", "set-baud"):
+        shown = commission_control(browser, f'button[data-commission="{command}"]')
+        assert not shown.is_enabled(), command
+        assert shown.get_attribute("title") == ADMIN_ONLY
+    assert not commission_control(browser, 'input[data-input="can_id"]').is_enabled()
+    assert not browser.find_element(By.ID, "baud").is_enabled()
+    for command in ("scan", "versions", "read", "force"):
+        assert commission_control(browser, f'button[data-commission="{command}"]').is_enabled(), command
+    assert browser.find_element(By.ID, "register").is_enabled()
+    assert browser.find_element(By.ID, "commission-blocked").text == ""
+    # dh3-web refuses the operator's admin command itself.
+    written = requests_written(cell.url)
+    status, reply = api(cell.url, f"/api/hands/{hand(1)}/set-can-id", {"can_id": 9, "confirm": True})
+    assert (status, reply["code"]) == (403, "ADMIN_TOKEN_NEEDED"), reply
+    assert requests_written(cell.url) == written
 
 
 def test_the_health_panel_shows_each_service(cell, browser):
@@ -376,9 +454,12 @@ def test_firmware_and_a_register_are_read_and_forces_set(cell, browser):
 
 
 def test_a_can_id_change_asks_first_and_sends_nothing_when_cancelled(cell, browser):
+    use_token(browser, ADMIN_TOKEN)  # the rest of the module's tests run with it
+    wait_for(browser, "the admin's role shown", lambda d: token_state(d) ==
+             "Token accepted: admin. Commands go to the hands, CAN ID and baud-rate changes too.")
     written = requests_written(cell.url)
-    panel = browser.find_element(By.ID, "commission-title").find_element(By.XPATH, "..")
-    field = panel.find_element(By.CSS_SELECTOR, 'input[data-input="can_id"]')
+    field = commission_control(browser, 'input[data-input="can_id"]')
+    wait_for(browser, "the CAN ID field on", lambda d: field.is_enabled())
     field.clear()
     field.send_keys("9")
     commission(browser, 3, "set-can-id")
@@ -477,7 +558,7 @@ def test_a_service_without_admin_commands_has_them_off_with_the_reason(cell, bro
     name = SERVICE + "noadmin"
     with service_and_web(allow_admin=False, name=name) as other:
         browser.get(other.url)
-        use_token(browser, TOKEN)
+        use_token(browser, ADMIN_TOKEN)  # the service's refusal, not the token's
         address = f"{name}/bus0/1"
         wait_for(browser, "its hand 1 online", lambda d: d.find_elements(
             By.CSS_SELECTOR, f'article[data-hand="{address}"]') and d.find_element(

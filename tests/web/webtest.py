@@ -23,7 +23,10 @@ from test_domain import pick_domain  # noqa: E402
 
 #: Generous: a loaded machine may be slow, a healthy one answers at once.
 DEADLINE = 30.0
+#: The tokens of dh3-web's token file, one of each role: TOKEN an operator's.
 TOKEN = "browser-test-token-0123456789"
+VIEW_TOKEN = "browser-test-viewer-0123456789"
+ADMIN_TOKEN = "browser-test-admin-0123456789"
 DOMAIN = pick_domain()
 SERVICE = f"web{os.getpid()}"
 
@@ -88,14 +91,15 @@ class Cell:
 def service_and_web(position_speed: int = 100, allow_admin: bool = True, name: str = SERVICE,
                     config_text: str = ""):
     """dh3-service (named `name`, on sim_config() unless `config_text` is
-    given) and dh3-web (commands with TOKEN); yields the Cell."""
+    given) and dh3-web (VIEW_TOKEN a viewer's, TOKEN an operator's and
+    ADMIN_TOKEN an admin's); yields the Cell."""
     with tempfile.TemporaryDirectory(prefix="dh3-web-test-") as tmp:
         config = os.path.join(tmp, "sim.yaml")
         token = os.path.join(tmp, "token")
         with open(config, "w") as f:
             f.write(config_text or sim_config(position_speed, allow_admin))
         with open(token, "w") as f:
-            f.write(TOKEN + "\n")
+            f.write(f"view {VIEW_TOKEN}\noperator {TOKEN}\nadmin {ADMIN_TOKEN}\n")
         os.chmod(token, 0o600)  # dh3-web refuses a token others may read
         service = subprocess.Popen(
             [os.environ["DH3_SERVICE"], "--domain", str(DOMAIN), "--name", name,

@@ -62,9 +62,7 @@ function showAlarms() {
     item.className = alarm.active ? "active" : "over";
     setText(item.firstChild, nsTimeOfDay(alarm.since_ns) + " " + alarm.text +
             (alarm.active ? "" : " (over since " + nsTimeOfDay(alarm.over_ns) + ")"));
-    const button = item.querySelector("button");
-    button.disabled = blocked !== "";
-    if (blocked) button.title = blocked; else button.removeAttribute("title");
+    offFor([item.querySelector("button")], blocked);
     if (list.children[i] !== item) list.insertBefore(item, list.children[i] || null);
   });
   document.getElementById("no-alarms").hidden = shown.length > 0;

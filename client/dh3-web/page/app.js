@@ -4,6 +4,7 @@
 
 function refresh() {
   showConnection();
+  showStopAll();
   hands.forEach((entry) => { if (entry.status) showLiveness(entry); });
   services.forEach(showServiceHealth);
   showAlarms();

@@ -74,13 +74,29 @@ function liveness(entry) {
   return {text: "online", live: true};
 }
 
-/// Why no command leaves this console now, or "" when they do.
-function tokenBlock() {
+/// Why the accepted token's role may not give commands of `level`
+/// ("operator": drive the hands; "admin": also change CAN IDs and baud
+/// rates), or "" when it may or no token is accepted. dh3-web refuses them
+/// all the same; the page says so before anything is clicked.
+function roleBlock(level) {
+  if (tokenState !== "accepted") return "";
+  if (tokenRole !== "operator" && tokenRole !== "admin") {
+    return "this token may only view: commands need an operator's token";
+  }
+  if (level === "admin" && tokenRole !== "admin") {
+    return "admin only: this token is an operator's; CAN ID and baud-rate changes need an admin's";
+  }
+  return "";
+}
+
+/// Why no command of `level` (roleBlock's; "operator" unless given) leaves
+/// this console now, or "" when they do.
+function tokenBlock(level) {
   if (tokenState === "disabled") return "this dh3-web takes no commands (started without --token-file)";
   if (tokenState === "wrong") return "the token is wrong; enter the right one above";
   if (tokenState === "none") return "commands need the token; enter it above";
   if (tokenState !== "accepted") return "checking the token…";
-  return "";
+  return roleBlock(level || "operator");
 }
 
 /// Why this hand takes no commands now, or "" when it does.
@@ -109,10 +125,10 @@ function showLiveness(entry) {
   const words = reason ? "Commands off: " + reason : "";
   if (blocked.textContent !== words) blocked.textContent = words;
   blocked.hidden = !reason;
-  c.querySelectorAll("button[data-command]").forEach((button) => {
-    button.disabled = reason !== "";
-    if (reason) button.title = reason; else button.removeAttribute("title");
-  });
+  offFor(c.querySelectorAll("button[data-command]"), reason);
+  // The fields stay on for a hand that is offline or leased for now, not for
+  // a token that may never send what they hold.
+  offFor(c.querySelectorAll("input[data-input]"), roleBlock("operator"));
 }
 
 function showConnection() {

@@ -90,6 +90,21 @@ async function runCommand(address, button) {
   showResult(address, described);
 }
 
+/// Why STOP ALL is off: only when dh3-web is known to refuse this console's
+/// stops (no token, a wrong one, a viewer's, no commands at all); while the
+/// token is being checked, or could not be, it stays on and dh3-web decides.
+function stopAllBlock() {
+  return tokenState === "checking" || tokenState === "unknown" ? "" : tokenBlock();
+}
+
+function showStopAll() {
+  const reason = stopAllBlock();
+  offFor([document.getElementById("stop-all")], reason);
+  const blocked = document.getElementById("stop-all-blocked");
+  setText(blocked, reason ? "Stop all off: " + reason : "");
+  blocked.hidden = !reason;
+}
+
 /// Stop to every hand the page shows, whatever their state: an offline hand
 /// refuses it in words, and no hand is skipped on the page's judgement.
 async function stopAll() {
@@ -113,19 +128,30 @@ async function stopAll() {
   result.className = failed.length ? "error" : "ok";
 }
 
-function setTokenState(state, detail) {
+/// What an accepted token's role lets its holder do, in words.
+const ROLE_WORDS = {
+  view: "Token accepted: view. This token may only view: every command is off.",
+  operator: "Token accepted: operator. Commands go to the hands; CAN ID and baud-rate changes are " +
+            "admin only.",
+  admin: "Token accepted: admin. Commands go to the hands, CAN ID and baud-rate changes too.",
+};
+
+function setTokenState(state, detail, role) {
   tokenState = state;
+  tokenRole = state === "accepted" ? role : "";
   const words = {
     none: "No token: the hands can be watched, not driven.",
     checking: "Checking the token…",
-    accepted: "Token accepted: commands go to the hands.",
+    accepted: ROLE_WORDS[tokenRole] || ROLE_WORDS.view,
     wrong: "Error: the token is wrong (dh3-web refused it); commands are off.",
     disabled: "Error: this dh3-web takes no commands (started without --token-file).",
     unknown: "Error: the token could not be checked (" + (detail || "no answer") + "); commands are off.",
   };
   const shown = document.getElementById("token-state");
   shown.textContent = words[state];
-  shown.className = state === "accepted" ? "ok" : (state === "none" || state === "checking" ? "" : "error");
+  shown.className = state === "accepted" ? (roleBlock("operator") ? "" : "ok")
+      : (state === "none" || state === "checking" ? "" : "error");
+  shown.dataset.role = tokenRole;
   refresh();
 }
 
@@ -141,7 +167,7 @@ async function checkToken() {
     const reply = await response.json();
     if (response.ok) {
       consoleName = reply.console || "";
-      setTokenState("accepted");
+      setTokenState("accepted", "", reply.role);
     } else {
       setTokenState(response.status === 403 ? "disabled" : (response.status === 401 ? "wrong" : "unknown"),
                     reply.message);

@@ -1,10 +1,13 @@
 // Commissioning: scan a bus, firmware, a register, forces; CAN ID and
-// baud rate (administrative: the service must allow them, and they are
-// confirmed in a dialog that says the hand must then be rebooted).
+// baud rate (administrative: the service must allow them, the token must be
+// an admin's, and they are confirmed in a dialog that says the hand must
+// then be rebooted).
 
 "use strict";
 
 const BUS_WIDE = ["scan", "versions"];
+/// The commands dh3-web takes only with an admin's token.
+const ADMIN_ONLY = ["set-can-id", "set-baud"];
 
 function commissionSection() { return document.getElementById("commission-title").parentElement; }
 
@@ -15,14 +18,14 @@ function selectedStatus() {
 
 function commissionBlock(command, s) {
   if (!s) return "no hand seen yet";
-  const token = tokenBlock();
+  const token = tokenBlock(ADMIN_ONLY.includes(command) ? "admin" : "operator");
   if (token) return token;
   if (serviceLost(s)) return "its service is lost";
   if (BUS_WIDE.includes(command)) return "";
   const hand = blockReason(s);
   if (hand) return hand;
   const info = services.get(s.service);
-  if (command.startsWith("set-") && !(info && info.admin_allowed)) {
+  if (ADMIN_ONLY.includes(command) && !(info && info.admin_allowed)) {
     return "admin only: service " + s.service + " does not allow CAN ID and baud-rate changes (allow_admin)";
   }
   return "";
@@ -41,10 +44,14 @@ function showCommissioning() {
   }
   const s = selectedStatus();
   commissionSection().querySelectorAll("button[data-commission]").forEach((button) => {
-    const reason = commissionBlock(button.dataset.commission, s);
-    button.disabled = reason !== "";
-    if (reason) button.title = reason; else button.removeAttribute("title");
+    offFor([button], commissionBlock(button.dataset.commission, s));
   });
+  // The fields of what this token may never send are off too.
+  const section = commissionSection();
+  offFor([document.getElementById("register"), ...section.querySelectorAll(
+      'input[data-input="closing"], input[data-input="opening"]')], roleBlock("operator"));
+  offFor([section.querySelector('input[data-input="can_id"]'), document.getElementById("baud")],
+         roleBlock("admin"));
   const bus = commissionBlock("scan", s);
   const hand = commissionBlock("read", s);
   const admin = commissionBlock("set-can-id", s);

@@ -38,6 +38,9 @@ const services = new Map();  // name -> service info
 let token = sessionStorage.getItem("dh3-token") || "";
 /// "unknown" (not checked yet), "checking", "accepted", "wrong", "disabled", "none"
 let tokenState = token ? "unknown" : "none";
+/// The accepted token's role as dh3-web names it: "view", "operator" or
+/// "admin"; "" while no token is accepted.
+let tokenRole = "";
 let consoleName = "";        // how the services show this console as a lease holder
 let consoleHealth = null;    // dh3-web's /api/health
 let healthError = "asking…"; // why there is no consoleHealth
@@ -83,3 +86,12 @@ function setText(element, text) {
 function nsTimeOfDay(ns) { return ns ? timeOfDay(Math.round(Number(ns) / 1e6)) : "never"; }
 
 function handName(s) { return "hand " + s.hand + (s.name ? " (" + s.name + ")" : ""); }
+
+/// Disables each of `controls` (buttons, fields, lists) with `reason` as its title,
+/// or enables it when `reason` is "".
+function offFor(controls, reason) {
+  controls.forEach((control) => {
+    control.disabled = reason !== "";
+    if (reason) control.title = reason; else control.removeAttribute("title");
+  });
+}

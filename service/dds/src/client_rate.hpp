@@ -8,10 +8,13 @@
 // reader's time from the others. A request beyond the rate is answered BUSY
 // at once, saying why.
 //
-// Clients are the participants that wrote the requests (Caller::id).
+// Clients are the participants that wrote the requests (Caller::id). A
+// group request is one request of its caller, in the same bucket as the
+// caller's single ones: otherwise groups would be a way around the rate.
 //
-// Thread-safe: admit() on the request listener's thread, forget() on the
-// participant listener's. Knows no Fast DDS; time comes from a Clock.
+// Thread-safe: admit() on the request and group listeners' threads,
+// forget() on the participant listener's. Knows no Fast DDS; time comes
+// from a Clock.
 
 #include <cstdint>
 #include <map>

@@ -74,6 +74,12 @@ void GroupCommands::handle(msg::GroupRequest& request, const Caller& caller, boo
     refuse(reply, GroupRefusal{{}, Rejection{msg::CANCELLED, "the service is shutting down"}});
     return;
   }
+  // Before the checks, as for a single request: a group refused at once
+  // costs a reply too, and its members' checks cost more.
+  if (auto admitted = parts_.rate.admit(caller.id, caller.shown_as); !admitted) {
+    refuse(reply, GroupRefusal{{}, Rejection{msg::BUSY, std::move(admitted).error()}});
+    return;
+  }
   const std::string client_id = request.client_id();
   auto valid =
       validate_group(request, parts_.directory, [&](std::uint16_t bus, std::uint8_t can_id) {

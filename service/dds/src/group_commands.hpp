@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "client_rate.hpp"
 #include "dh3/base/clock.hpp"
 #include "dh3/contract/dh3.h"
 #include "dh3/dds/service.hpp"
@@ -39,6 +40,9 @@ class GroupCommands {
     ReplySink& replies;
     /// A group in flight is one of its caller's requests in flight.
     ClientShare& share;
+    /// A group is one of its caller's requests a second, in the same bucket
+    /// as its single requests.
+    ClientRate& rate;
   };
   explicit GroupCommands(Parts parts) : parts_(parts) {}
   GroupCommands(const GroupCommands&) = delete;

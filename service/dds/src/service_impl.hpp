@@ -172,7 +172,8 @@ class Service::Impl {
   ClientRate rate_{clock_, options_.client_rate_limit};
   RequestHandler requests_{
       {options_, directory_, leases_, schedulers_, statuses_, replies_, timer_, share_}};
-  GroupCommands groups_{{options_, clock_, directory_, leases_, schedulers_, replies_, share_}};
+  GroupCommands groups_{
+      {options_, clock_, directory_, leases_, schedulers_, replies_, share_, rate_}};
 
   RequestListener request_listener_{*this, RequestTopic::commands};
   RequestListener admin_request_listener_{*this, RequestTopic::admin};

@@ -84,7 +84,8 @@ class GroupCommandsRefusalTest : public ::testing::Test {
   Schedulers schedulers_;  // no bus runs: only answers given at once are tested
   RecordingReplySink sink_;
   ClientShare share_;
-  GroupCommands groups_{{options_, clock_, directory_, leases_, schedulers_, sink_, share_}};
+  ClientRate rate_{clock_, 0};  // no bound: test_request_handler.cpp tests the rate
+  GroupCommands groups_{{options_, clock_, directory_, leases_, schedulers_, sink_, share_, rate_}};
 };
 
 TEST_F(GroupCommandsRefusalTest, AnotherServicesGroupIsNotAnswered) {

@@ -9,6 +9,7 @@
 
 #include "dh3/hand/hand_roster.hpp"
 #include "expiry_timer.hpp"
+#include "group_commands.hpp"
 #include "hand_directory.hpp"
 #include "lease_table.hpp"
 #include "recording_reply_sink.hpp"
@@ -216,6 +217,55 @@ TEST_F(RequestHandlerTest, AClientBeyondItsRateIsAnsweredBusySayingWhy) {
   EXPECT_EQ(answer(request(msg::MOVE, 30, "bob")).code(), msg::DENIED);  // alice's lease
   clock_.advance(500ms);
   EXPECT_EQ(answer(request(msg::RELEASE_LEASE)).code(), msg::OK);
+}
+
+/// A group request for hand 1 and 2 of bus0 that its checks refuse as a
+/// whole (no bus runs here), so that only the rate decides whether it is BUSY.
+msg::GroupRequest refused_group(const std::string& client) {
+  msg::GroupRequest r;
+  r.client_id(client);
+  r.request_seq(8);
+  r.command(msg::ACQUIRE_LEASE);  // no group command
+  for (const std::uint8_t can_id : {1, 2}) {
+    msg::HandAddress& hand = r.hands().emplace_back();
+    hand.bus("bus0");
+    hand.can_id(can_id);
+  }
+  return r;
+}
+
+TEST_F(RequestHandlerTest, AGroupCountsInItsCallersRateAsASingleRequestDoes) {
+  ClientRate rate(clock_, 3);
+  handler_.set_rate(&rate);
+  GroupCommands groups{{options_, clock_, directory_, leases_, schedulers_, sink_, share_, rate}};
+  const Caller alice{"alice", "alice@cell-pc"};
+  auto group = refused_group("alice");
+  groups.handle(group, alice, false);
+  ASSERT_EQ(sink_.group_replies.size(), 1U);
+  EXPECT_NE(sink_.group_replies.back().code(), msg::BUSY);  // its checks' answer
+  EXPECT_EQ(answer(request(msg::ACQUIRE_LEASE, 2000)).code(), msg::OK);
+  group = refused_group("alice");
+  groups.handle(group, alice, false);
+  EXPECT_NE(sink_.group_replies.back().code(), msg::BUSY);
+  // Two groups and a request: the rate of 3 is spent, by either kind.
+  EXPECT_EQ(answer(request(msg::RENEW_LEASE, 2000)).code(), msg::BUSY);
+  group = refused_group("alice");
+  groups.handle(group, alice, false);
+  ASSERT_EQ(sink_.group_replies.size(), 3U);
+  const msg::GroupReply& busy = sink_.group_replies.back();
+  EXPECT_EQ(busy.code(), msg::BUSY);
+  EXPECT_THAT(busy.message(), HasSubstr("client 'alice@cell-pc' (participant alice) sends more "
+                                        "than 3 requests a second"));
+  for (const auto& member : busy.results()) EXPECT_EQ(member.code(), msg::CANCELLED);
+  EXPECT_EQ(rate.refused(), 2U);
+  // Another client's groups have a rate of their own; alice's comes back.
+  group = refused_group("bob");
+  groups.handle(group, Caller{"bob", "bob"}, false);
+  EXPECT_NE(sink_.group_replies.back().code(), msg::BUSY);
+  clock_.advance(400ms);
+  group = refused_group("alice");
+  groups.handle(group, alice, false);
+  EXPECT_NE(sink_.group_replies.back().code(), msg::BUSY);
 }
 
 }  // namespace
