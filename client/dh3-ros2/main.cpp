@@ -2,12 +2,12 @@
 // linking ROS 2. A client of the domain like dh3ctl and dh3-web, with a second
 // participant that follows ROS 2's conventions on DDS (docs/ros2.md).
 
-#include <pthread.h>
 #include <spdlog/spdlog.h>
 
 #include <csignal>
 #include <iostream>
 
+#include "dh3/base/stop_signals.hpp"
 #include "dh3/client.hpp"
 #include "hand_actions.hpp"
 #include "joint_state_publisher.hpp"
@@ -15,11 +15,7 @@
 #include "ros_participant.hpp"
 
 int main(int argc, char** argv) {
-  sigset_t signals;
-  sigemptyset(&signals);
-  sigaddset(&signals, SIGINT);
-  sigaddset(&signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  const sigset_t signals = dh3::block_stop_signals();
 
   dh3::ros2::Ros2Options options;
   if (auto exit_code = dh3::ros2::parse_ros2_options(argc, argv, options, std::cout, std::cerr)) {

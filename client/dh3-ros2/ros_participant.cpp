@@ -21,8 +21,9 @@ void announce_enclave(fdds::DomainParticipantQos& qos) {
   qos.user_data().data_vec(bytes);
 }
 
+/// `qos` (a writer's or a reader's default) with the ROS 2 profile of `kind`.
 template <typename Qos>
-void apply(Qos& qos, RosQos kind) {
+Qos with_profile(Qos qos, RosQos kind) {
   qos.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;
   qos.history().kind = fdds::KEEP_LAST_HISTORY_QOS;
   if (kind == RosQos::action_status) {
@@ -32,6 +33,7 @@ void apply(Qos& qos, RosQos kind) {
     qos.durability().kind = fdds::VOLATILE_DURABILITY_QOS;
     qos.history().depth = 10;
   }
+  return qos;
 }
 
 }  // namespace
@@ -78,18 +80,16 @@ fdds::DataWriter* RosParticipant::writer(const std::string& topic_name, fdds::Ty
                                          RosQos qos, fdds::DataWriterListener* listener) {
   auto* on = topic(topic_name, type);
   if (on == nullptr) return nullptr;
-  fdds::DataWriterQos writer_qos = publisher_->get_default_datawriter_qos();
-  apply(writer_qos, qos);
-  return publisher_->create_datawriter(on, writer_qos, listener);
+  return publisher_->create_datawriter(
+      on, with_profile(publisher_->get_default_datawriter_qos(), qos), listener);
 }
 
 fdds::DataReader* RosParticipant::reader(const std::string& topic_name, fdds::TypeSupport type,
                                          RosQos qos, fdds::DataReaderListener* listener) {
   auto* on = topic(topic_name, type);
   if (on == nullptr) return nullptr;
-  fdds::DataReaderQos reader_qos = subscriber_->get_default_datareader_qos();
-  apply(reader_qos, qos);
-  return subscriber_->create_datareader(on, reader_qos, listener);
+  return subscriber_->create_datareader(
+      on, with_profile(subscriber_->get_default_datareader_qos(), qos), listener);
 }
 
 }  // namespace dh3::ros2

@@ -13,6 +13,7 @@
 #include <string>
 #include <thread>
 
+#include "dds_options.hpp"
 #include "dh3/client.hpp"
 
 namespace {
@@ -26,21 +27,7 @@ int main(int argc, char** argv) {
   CLI::App app{"event_watcher: print DH-3 hand events (a libdh3client example)"};
   dh3::ClientOptions options;
   std::string hand_spec;
-  app.add_option("-d,--domain", options.domain, "DDS domain id (default 0)");
-  app.add_option("-i,--interface", options.interfaces,
-                 "IPv4 address of a network interface for DDS (repeatable); default loopback");
-  app.add_flag("--udp-only", options.udp_only, "no shared-memory transport");
-  app.add_option("--discovery-server", options.discovery_servers,
-                 "a Fast DDS discovery server, HOST[:PORT] (repeatable; the n-th is server id n)");
-  app.add_option("--xml", options.xml_profile_file,
-                 "Fast DDS XML profiles file (replaces --interface and --udp-only)")
-      ->check(CLI::ExistingFile);
-  app.add_option("--profile", options.xml_profile, "participant profile name in --xml");
-  app.add_option("--security-dir", options.security_dir,
-                 "DDS Security credentials, as deploy/security/make-test-pki.sh lays them out")
-      ->check(CLI::ExistingDirectory);
-  app.add_option("--security-identity", options.security_identity,
-                 "identity in --security-dir (default operator)");
+  add_dds_options(app, options);
   app.add_option("HAND", hand_spec, "only this hand (default: every hand)");
   CLI11_PARSE(app, argc, argv);
   std::signal(SIGINT, on_signal);

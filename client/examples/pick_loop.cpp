@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "dds_options.hpp"
 #include "dh3/client.hpp"
 
 namespace {
@@ -35,21 +36,7 @@ int main(int argc, char** argv) {
   int force = 40;
   int open_position = 100;
   double timeout_s = 20.0;
-  app.add_option("-d,--domain", options.domain, "DDS domain id (default 0)");
-  app.add_option("-i,--interface", options.interfaces,
-                 "IPv4 address of a network interface for DDS (repeatable); default loopback");
-  app.add_flag("--udp-only", options.udp_only, "no shared-memory transport");
-  app.add_option("--discovery-server", options.discovery_servers,
-                 "a Fast DDS discovery server, HOST[:PORT] (repeatable; the n-th is server id n)");
-  app.add_option("--xml", options.xml_profile_file,
-                 "Fast DDS XML profiles file (replaces --interface and --udp-only)")
-      ->check(CLI::ExistingFile);
-  app.add_option("--profile", options.xml_profile, "participant profile name in --xml");
-  app.add_option("--security-dir", options.security_dir,
-                 "DDS Security credentials, as deploy/security/make-test-pki.sh lays them out")
-      ->check(CLI::ExistingDirectory);
-  app.add_option("--security-identity", options.security_identity,
-                 "identity in --security-dir (default operator)");
+  add_dds_options(app, options);
   app.add_option("--hand", hand_spec, "the hand: SERVICE/BUS/ID, BUS/ID, ID or NAME")->required();
   app.add_option("--cycles", cycles, "grasp-release cycles (default 3)")
       ->check(CLI::NonNegativeNumber);

@@ -664,17 +664,22 @@ std::shared_ptr<SubscriptionState> ClientCore::new_subscription(std::optional<Ha
   return state;
 }
 
-std::shared_ptr<SubscriptionState> ClientCore::subscribe_events(EventCallback callback,
-                                                                std::optional<HandAddress> only) {
-  auto state = new_subscription(std::move(only));
-  state->on_event = std::move(callback);
+std::shared_ptr<SubscriptionState> ClientCore::add_subscription(
+    std::shared_ptr<SubscriptionState> state, const std::function<void()>& add) {
   std::lock_guard lock(mutex_);
   if (closed_) {
     state->active = false;
   } else {
-    subscriptions_.add_events(state);
+    add();
   }
   return state;
+}
+
+std::shared_ptr<SubscriptionState> ClientCore::subscribe_events(EventCallback callback,
+                                                                std::optional<HandAddress> only) {
+  auto state = new_subscription(std::move(only));
+  state->on_event = std::move(callback);
+  return add_subscription(state, [&] { subscriptions_.add_events(state); });
 }
 
 std::shared_ptr<SubscriptionState> ClientCore::subscribe_status(StatusCallback callback,
@@ -683,13 +688,8 @@ std::shared_ptr<SubscriptionState> ClientCore::subscribe_status(StatusCallback c
   state->on_status = std::move(callback);
   // Under mutex_, which every later status is posted under: the subscriber
   // sees the statuses known now, then each later one, in order.
-  std::lock_guard lock(mutex_);
-  if (closed_) {
-    state->active = false;
-  } else {
-    subscriptions_.add_status(state, cache_.matching(state->only));
-  }
-  return state;
+  return add_subscription(
+      state, [&] { subscriptions_.add_status(state, cache_.matching(state->only)); });
 }
 
 void ClientCore::unsubscribe(const std::shared_ptr<SubscriptionState>& state) {

@@ -164,6 +164,10 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
  private:
   /// A subscription of this client to `only` (or every hand), not yet added.
   std::shared_ptr<SubscriptionState> new_subscription(std::optional<HandAddress> only);
+  /// Adds `state` by `add`, under mutex_; after close() it is not added but
+  /// made inactive.
+  std::shared_ptr<SubscriptionState> add_subscription(std::shared_ptr<SubscriptionState> state,
+                                                      const std::function<void()>& add);
   using Clock = PendingCalls::Clock;
   /// What a state change leads to, done after `mutex_` is released.
   struct Actions {

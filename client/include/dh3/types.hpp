@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "dh3/base/event_kind.hpp"
 #include "dh3/export.hpp"
 
 namespace dh3 {
@@ -51,23 +52,8 @@ DH3_CLIENT_API std::string_view to_string(GripState state);
 enum class RotationState : std::uint8_t { unknown, moving, arrived, blocked };
 DH3_CLIENT_API std::string_view to_string(RotationState state);
 
-enum class EventKind : std::uint8_t {
-  online,
-  offline,
-  initialized,
-  init_failed,
-  arrived,
-  grasped,
-  missed,
-  dropped,
-  rotation_arrived,
-  rotation_blocked,
-  fault,
-  /// Made by the client library, never sent by a service: another process
-  /// serves the hand's service now (a standby took over, a restart); the
-  /// message says which, and which one served it before.
-  taken_over,
-};
+// EventKind (online, offline, ... fault, and the client's own taken_over) is
+// dh3/base/event_kind.hpp's, the one list the service's layers use too.
 DH3_CLIENT_API std::string_view to_string(EventKind kind);
 
 /// A hand, unique in a DDS domain.

@@ -97,6 +97,7 @@ msg::EventKind to_msg(hand::EventKind kind) {
     case EventKind::rotation_blocked:
       return msg::EVENT_ROTATION_BLOCKED;
     case EventKind::fault:
+    case EventKind::taken_over:  // the client library's own, never made by the hand layer
       return msg::EVENT_FAULT;
   }
   return msg::EVENT_FAULT;

@@ -106,6 +106,8 @@ std::string_view to_string(EventKind kind) {
       return "rotation blocked";
     case EventKind::fault:
       return "fault";
+    case EventKind::taken_over:  // the client library's own, never made here
+      return "taken over";
   }
   return "unknown";
 }

@@ -27,6 +27,7 @@
 #include "dh3/app/standby_watch.hpp"
 #include "dh3/base/clock.hpp"
 #include "dh3/base/host_name.hpp"
+#include "dh3/base/stop_signals.hpp"
 #include "dh3/base/version.hpp"
 #include "dh3/bus/bus_spec.hpp"
 #include "dh3/contract/ownership.hpp"
@@ -417,13 +418,8 @@ int run_standby(const dh3::app::ServiceConfig& config, const sigset_t& stop_sign
 }  // namespace
 
 int main(int argc, char** argv) {
-  // Signals are taken by sigwait() below; every thread started later inherits
-  // the blocked mask, so none of them is interrupted.
-  sigset_t stop_signals;
-  sigemptyset(&stop_signals);
-  sigaddset(&stop_signals, SIGINT);
-  sigaddset(&stop_signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+  // Taken by sigwait() in serve() (sigtimedwait() while a standby waits).
+  const sigset_t stop_signals = dh3::block_stop_signals();
 
   const auto invocation = parse_command_line(argc, argv);
   if (!invocation) return invocation.error().status;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "dh3/base/clock.hpp"
+#include "dh3/base/event_kind.hpp"
 #include "dh3/base/result.hpp"
 #include "dh3/protocol/registers.hpp"
 
@@ -110,19 +111,9 @@ struct HandState {
   TimePoint read_at{};
 };
 
-enum class EventKind : std::uint8_t {
-  online,
-  offline,
-  initialized,
-  init_failed,
-  arrived,
-  grasped,
-  missed,
-  dropped,
-  rotation_arrived,
-  rotation_blocked,
-  fault,
-};
+/// The events this layer makes: every kind of dh3/base/event_kind.hpp but
+/// taken_over, which only the client library makes.
+using EventKind = dh3::EventKind;
 
 [[nodiscard]] std::string_view to_string(EventKind kind);
 
