@@ -52,6 +52,7 @@ Result<void, std::string> ClientCore::set_up(const EndpointCreator& creator) {
   {
     std::lock_guard lock(mutex_);
     tracker_.set_endpoints(can_command_, endpoints_->has_owner_reader());
+    tracker_.set_receive_looker(endpoints_->receive_looker());
   }
   can_administer_ = endpoints_->can_administer();
   if (!can_command_) denied_message_ = ClientEndpoints::denied_message(options_);

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -16,6 +17,7 @@
 #include "dh3/contract/listened_participant.hpp"
 #include "dh3/contract/participant_setup.hpp"
 #include "endpoint_creator.hpp"
+#include "receive_queues.hpp"
 
 namespace dh3::detail {
 
@@ -169,6 +171,11 @@ class ClientEndpoints {
   }
   [[nodiscard]] bool has_info_reader() const { return info_reader_ != nullptr; }
   [[nodiscard]] bool has_owner_reader() const { return owner_reader_ != nullptr; }
+  /// How a lapse's judge looks at this process's receive queues: only a
+  /// participant that receives over UDP alone has queues to ask (lapse_judge.hpp).
+  [[nodiscard]] std::function<ReceiveState()> receive_looker() const {
+    return ReceiveQueues::looker(participant_->receives_over_udp_only());
+  }
   /// Why commands end DENIED on a read-only client.
   [[nodiscard]] static std::string denied_message(const ClientOptions& options);
   /// Why administrative commands end DENIED on a client that may command.

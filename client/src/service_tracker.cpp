@@ -106,10 +106,7 @@ ServiceTracker::Outcome ServiceTracker::owner_alive(const std::string& prefix, b
 
 void ServiceTracker::owner_lapsed(const std::string& prefix,
                                   std::chrono::steady_clock::time_point now) {
-  Lapse lapse;
-  lapse.confirm_at = now + contract::kOwnerLapseConfirm;
-  lapse.calls_at = now + contract::kOwnerLapseCallConfirm;
-  lapses_.try_emplace(prefix, std::move(lapse));
+  lapses_.try_emplace(prefix, now);
 }
 
 std::vector<ServiceTracker::Outcome> ServiceTracker::confirm_lapses(
@@ -126,11 +123,16 @@ std::vector<ServiceTracker::Outcome> ServiceTracker::confirm_lapses(
     waived.may_dispatch = true;  // ready without its owner writer, if it was waiting for it
     out.push_back(std::move(waived));
   }
+  std::optional<ReceiveState> seen;  // one look for every lapse that wants one
   for (auto it = lapses_.begin(); it != lapses_.end();) {
     Lapse& lapse = it->second;
+    if (lapse.judge.next_look() <= now) {
+      if (!seen) seen = look_();
+      lapse.judge.take(now, *seen);
+    }
     if (!lapse.believed && lapse.confirm_at <= now) {
       // The service is lost for statuses, events and new calls; its calls in
-      // flight wait for calls_at (a lapse the owner overturns ends none).
+      // flight wait for the judge (a lapse the owner overturns ends none).
       lapse.believed = true;
       owners_.set_alive(it->first, false);
       if (const auto claim = owners_.claim_of(it->first)) {
@@ -142,7 +144,7 @@ std::vector<ServiceTracker::Outcome> ServiceTracker::confirm_lapses(
         out.push_back(std::move(lost));
       }
     }
-    if (lapse.believed && lapse.calls_at <= now) {
+    if (lapse.believed && lapse.judge.calls_end(now)) {
       Outcome calls;
       calls.end_calls_of = lapse.incarnation;
       calls.why = lapse.why;
@@ -158,7 +160,8 @@ std::vector<ServiceTracker::Outcome> ServiceTracker::confirm_lapses(
 std::chrono::steady_clock::time_point ServiceTracker::next_lapse() const {
   auto next = std::chrono::steady_clock::time_point::max();
   for (const auto& [prefix, lapse] : lapses_) {
-    next = std::min(next, lapse.believed ? lapse.calls_at : lapse.confirm_at);
+    next = std::min({next, lapse.judge.next_look(),
+                     lapse.believed ? lapse.judge.blind_end() : lapse.confirm_at});
   }
   for (const auto& [prefix, participant] : participants_) {
     if (!participant.owner_waived && participant.owner_wait_until) {

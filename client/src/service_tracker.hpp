@@ -21,6 +21,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <set>
@@ -30,6 +31,7 @@
 
 #include "dh3/contract/ownership.hpp"
 #include "dh3/types.hpp"
+#include "lapse_judge.hpp"
 
 namespace dh3::detail {
 
@@ -100,11 +102,16 @@ class ServiceTracker {
   Outcome owner_alive(const std::string& prefix, bool alive);
   /// The owner writer of `prefix` missed its lease at `now`. If it has not
   /// asserted again kOwnerLapseConfirm later the service is lost (its hands
-  /// offline, no new call sent to it), and kOwnerLapseCallConfirm later its
-  /// calls in flight end (confirm_lapses); asserting again undoes what is left.
+  /// offline, no new call sent to it), and its calls in flight end when the
+  /// lapse's judge says so (lapse_judge.hpp: then too if this process has
+  /// read all it received); asserting again undoes what is left.
   void owner_lapsed(const std::string& prefix, std::chrono::steady_clock::time_point now);
+  /// How confirm_lapses() looks at this process's receive queues
+  /// (receive_queues.hpp); until set, they cannot be seen.
+  void set_receive_looker(std::function<ReceiveState()> looker) { look_ = std::move(looker); }
   /// What the lapses that stood until `now` mean, and the services ready
-  /// because their owner writer's wait (kOwnerWait) ended.
+  /// because their owner writer's wait (kOwnerWait) ended. Looks at the
+  /// receive queues once if a lapse's judge wants a look.
   std::vector<Outcome> confirm_lapses(std::chrono::steady_clock::time_point now);
   /// When the next lapse is to be confirmed or owner wait ends; max() if none.
   [[nodiscard]] std::chrono::steady_clock::time_point next_lapse() const;
@@ -181,14 +188,17 @@ class ServiceTracker {
   contract::OwnerTable owners_;
   /// A lapse reported and not yet final.
   struct Lapse {
+    explicit Lapse(std::chrono::steady_clock::time_point reported)
+        : confirm_at(reported + contract::kOwnerLapseConfirm), judge(reported) {}
     std::chrono::steady_clock::time_point confirm_at;  ///< the service is lost then
-    std::chrono::steady_clock::time_point calls_at;    ///< its calls in flight end then
+    LapseJudge judge;  ///< when its calls in flight end
     bool believed = false;
     std::string incarnation;  ///< lost, once believed
     std::string why;
   };
   /// Lapsed owner writers whose lapse is not final yet, by prefix.
   std::map<std::string, Lapse> lapses_;
+  std::function<ReceiveState()> look_ = [] { return ReceiveState::unknown; };
   std::multiset<std::string> request_readers_;  ///< prefixes of matched request readers
   std::multiset<std::string> reply_writers_;    ///< prefixes of matched reply writers
   std::multiset<std::string> event_writers_;    ///< prefixes of matched event writers

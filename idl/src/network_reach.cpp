@@ -1,6 +1,7 @@
 #include "dh3/contract/network_reach.hpp"
 
 #include <fastdds/rtps/transport/SocketTransportDescriptor.h>
+#include <fastdds/rtps/transport/UDPTransportDescriptor.h>
 #include <fastdds/rtps/transport/shared_mem/SharedMemTransportDescriptor.h>
 
 #include <algorithm>
@@ -26,6 +27,17 @@ bool reaches_other_hosts(const eprosima::fastdds::dds::DomainParticipantQos& qos
                !std::all_of(allowed.begin(), allowed.end(),
                             [](const std::string& address) { return is_loopback_host(address); });
       });
+}
+
+bool receives_over_udp_only(const eprosima::fastdds::dds::DomainParticipantQos& qos) {
+  namespace rtps = eprosima::fastdds::rtps;
+  const auto& transport = qos.transport();
+  if (transport.use_builtin_transports || transport.user_transports.empty()) return false;
+  return std::all_of(transport.user_transports.begin(), transport.user_transports.end(),
+                     [](const std::shared_ptr<rtps::TransportDescriptorInterface>& descriptor) {
+                       return dynamic_cast<const rtps::UDPTransportDescriptor*>(
+                                  descriptor.get()) != nullptr;
+                     });
 }
 
 }  // namespace dh3::contract

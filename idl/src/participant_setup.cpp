@@ -115,6 +115,7 @@ Result<std::unique_ptr<Participant>, std::string> Participant::create(
   std::unique_ptr<Participant> made(new Participant());
   made->security_from_profile_ = has_property(*qos, "dds.sec.auth.plugin");
   made->access_control_ = has_property(*qos, "dds.sec.access.plugin");
+  made->udp_only_ = contract::receives_over_udp_only(*qos);
   // Its first announcement leaves once it hears: an answer sent before would be
   // lost, and the service would not answer again (dh3/contract/send_gate.hpp).
   const auto gate = SendGate::put_before_transports(*qos);

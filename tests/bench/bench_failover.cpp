@@ -1,6 +1,7 @@
 // Death detection (docs/failover.md): how long after dh3-service is killed
 // (SIGKILL) or frozen (SIGSTOP) the C++ client library reports its hand
-// OFFLINE, over many kills; and what the owner liveliness costs at rest, as
+// OFFLINE and ends a call in flight to it (an INITIALIZE, which takes ten
+// minutes here) SERVICE_LOST, over many kills; and what the owner liveliness costs at rest, as
 // the bytes and CPU time of writers that assert it against writers that do
 // not, with their readers, all in this process.
 //
@@ -14,6 +15,7 @@
 #include <CLI/CLI.hpp>
 #include <condition_variable>
 #include <csignal>
+#include <future>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/subscriber/DataReader.hpp>
 #include <fastdds/dds/subscriber/DataReaderListener.hpp>
@@ -27,6 +29,7 @@
 #include "dh3/contract/ownership.hpp"
 #include "dh3/contract/participant_setup.hpp"
 #include "dh3/contract/qos.hpp"
+#include "dh3/registers.hpp"
 
 namespace {
 
@@ -37,8 +40,11 @@ std::string sim_config() {
   return "buses:\n"
          "  - name: bus0\n"
          "    spec: sim\n"
+         "    init_timeout_ms: 1200000\n"
+         "    sim: {init_time_ms: 600000}\n"
          "    hands:\n"
-         "      - {id: 1}\n";
+         "      - {id: 1}\n"
+         "      - {id: 2}\n";
 }
 
 /// Waits for the hand's first OFFLINE event after arm().
@@ -66,11 +72,17 @@ class OfflineWatch {
   std::optional<BenchClock::time_point> seen_;
 };
 
-/// One kill: the service started, its hand online at the client, then the
-/// signal after a random pause (any phase of the assertion period); the time
-/// to the client's OFFLINE event in ms, nullopt if none came within 30 s.
-std::optional<double> one_kill(dh3::Client& client, int domain, const std::string& name,
-                               int signal_number, std::mt19937& random) {
+/// What one kill took at the client, in ms from the signal.
+struct Seen {
+  double offline_ms = 0;
+  std::optional<double> call_ended_ms;  ///< nullopt: not SERVICE_LOST within 30 s
+};
+
+/// One kill: the service started, its hand online at the client and an
+/// INITIALIZE of it in flight, then the signal after a random pause (any
+/// phase of the assertion period); nullopt if no OFFLINE came within 30 s.
+std::optional<Seen> one_kill(dh3::Client& client, int domain, const std::string& name,
+                             int signal_number, std::mt19937& random) {
   dh3::bench::ServiceChild service(sim_config(), domain, name, true);
   const dh3::HandAddress address{name, "bus0", 1};
   auto hand = client.wait_for_hand(address.to_string(), std::chrono::seconds(30));
@@ -81,15 +93,36 @@ std::optional<double> one_kill(dh3::Client& client, int domain, const std::strin
   }
   OfflineWatch watch;
   auto subscription = hand->subscribe([&watch](const dh3::HandEvent& e) { watch.on_event(e); });
+  // Its end timed where it is told, on the callback thread (as the OFFLINE event is).
+  auto ended_promise = std::make_shared<std::promise<std::optional<BenchClock::time_point>>>();
+  auto pending = ended_promise->get_future();
+  hand->initialize_async(
+      [ended_promise](const dh3::Reply& reply) {
+        ended_promise->set_value(reply.code == dh3::Code::service_lost
+                                     ? std::optional(BenchClock::now())
+                                     : std::nullopt);
+      },
+      std::chrono::seconds(120));
+  // Requests of one client arrive in order: once hand 2's read is answered,
+  // the service has the INITIALIZE.
+  if (!client.hand(dh3::HandAddress{name, "bus0", 2}).read(dh3::reg::position)) {
+    std::fprintf(stderr, "the read behind the INITIALIZE was not answered\n");
+    return std::nullopt;
+  }
   std::this_thread::sleep_for(
       std::chrono::milliseconds(std::uniform_int_distribution<int>(300, 700)(random)));
   watch.arm();
   const auto killed = BenchClock::now();
   service.signal(signal_number);
-  const auto seen = watch.wait(std::chrono::seconds(30));
+  const auto offline = watch.wait(std::chrono::seconds(30));
+  std::optional<BenchClock::time_point> ended;
+  if (pending.wait_for(std::chrono::seconds(30)) == std::future_status::ready) ended = pending.get();
   if (signal_number == SIGSTOP) service.signal(SIGKILL);
-  if (!seen) return std::nullopt;
-  return dh3::bench::micros_between(killed, *seen) / 1000.0;
+  if (!offline) return std::nullopt;
+  Seen seen;
+  seen.offline_ms = dh3::bench::micros_between(killed, *offline) / 1000.0;
+  if (ended) seen.call_ended_ms = dh3::bench::micros_between(killed, *ended) / 1000.0;
+  return seen;
 }
 
 void run_kills(int kills, int signal_number) {
@@ -99,24 +132,39 @@ void run_kills(int kills, int signal_number) {
   options.domain = domain;
   dh3::Client client(options);
   std::mt19937 random(std::random_device{}());
-  std::vector<double> ms;
+  std::vector<double> offline_ms;
+  std::vector<double> ended_ms;
   int missed = 0;
+  int not_ended = 0;
   for (int i = 0; i < kills; ++i) {
     if (const auto took = one_kill(client, domain, name, signal_number, random)) {
-      ms.push_back(*took);
-      std::printf("kill %2d: OFFLINE after %.0f ms\n", i + 1, *took);
+      offline_ms.push_back(took->offline_ms);
+      if (took->call_ended_ms) {
+        ended_ms.push_back(*took->call_ended_ms);
+        std::printf("kill %2d: OFFLINE after %.0f ms, call ended SERVICE_LOST after %.0f ms\n",
+                    i + 1, took->offline_ms, *took->call_ended_ms);
+      } else {
+        ++not_ended;
+        std::printf("kill %2d: OFFLINE after %.0f ms, call not ended SERVICE_LOST within 30 s\n",
+                    i + 1, took->offline_ms);
+      }
     } else {
       ++missed;
       std::printf("kill %2d: no OFFLINE within 30 s\n", i + 1);
     }
     std::fflush(stdout);
   }
-  const auto p = dh3::bench::percentiles(ms);
-  std::printf("death detection, C++ client, SIG%s, %zu kills (%d missed): p50 %.0f ms, "
+  const char* signal_text = signal_number == SIGSTOP ? "STOP" : "KILL";
+  const auto p = dh3::bench::percentiles(offline_ms);
+  std::printf("death detection, C++ client, SIG%s, %zu kills (%d missed): OFFLINE p50 %.0f ms, "
               "p99 %.0f ms, max %.0f ms (lease %lld ms, asserted every %lld ms)\n",
-              signal_number == SIGSTOP ? "STOP" : "KILL", p.count, missed, p.p50, p.p99, p.max,
+              signal_text, p.count, missed, p.p50, p.p99, p.max,
               static_cast<long long>(dh3::contract::kOwnerLease.count()),
               static_cast<long long>(dh3::contract::kOwnerAssertPeriod.count()));
+  const auto e = dh3::bench::percentiles(ended_ms);
+  std::printf("death detection, C++ client, SIG%s, %zu calls in flight (%d not ended): "
+              "SERVICE_LOST p50 %.0f ms, p99 %.0f ms, max %.0f ms\n",
+              signal_text, e.count, not_ended, e.p50, e.p99, e.max);
 }
 
 /// Bytes sent on the loopback interface so far (/proc/net/dev).

@@ -5,9 +5,9 @@
 // at a random phase of the owner assertions. Measured at the client: the
 // hand seen OFFLINE and then online again (the standby's statuses), and a
 // read of its position answered by the standby after that. Also prints the
-// takeover time the standby logs (from the loss it confirmed to serving).
-// A call written to the killed service just before is not measured: it ends
-// SERVICE_LOST kOwnerLapseCallConfirm (5 s) after the lapse.
+// takeover time the standby logs (from the loss it confirmed to serving),
+// and when a read written at the kill ended (SERVICE_LOST with the lapse, or
+// once the standby's claim arrives: docs/failover.md).
 //
 //   bench_takeover --kills 5
 

@@ -127,6 +127,29 @@ TEST_F(FailoverTest, AFrozenServiceIsSeenAndServesAgainWhenItContinues) {
   EXPECT_TRUE(read) << read.message;
 }
 
+TEST_F(FailoverTest, ACallInFlightToAFrozenServiceEndsWithItsHandsOfflineEvenIfItContinuesAtOnce) {
+  // This client reads all it receives (nothing else runs in it), so the
+  // lapse that takes the hand offline is the service's own silence and ends
+  // the call with it (client/src/lapse_judge.hpp). The service continuing
+  // right after the OFFLINE does not bring the call back: it was ended.
+  auto pending = command_in_flight();
+  Process& process = service_->process().process();
+  process.send_signal(SIGSTOP);
+  const auto offline = offline_.wait(kBeforeParticipantLease);
+  process.send_signal(SIGCONT);
+  ASSERT_TRUE(offline) << "no OFFLINE event";
+  EXPECT_THAT(*offline, HasSubstr("killed, frozen or cut off"));
+  ASSERT_EQ(pending.wait_for(kBeforeParticipantLease), std::future_status::ready)
+      << "the call outlived its service's loss";
+  const Reply lost = pending.get();
+  EXPECT_EQ(lost.code, Code::service_lost) << lost.message;
+  EXPECT_THAT(lost.message, HasSubstr("may or may not have reached the hand"));
+  // The service asserts again: its hand comes back and serves.
+  EXPECT_TRUE(hand_->wait_until([](const HandStatus& s) { return s.online; }, kClientDeadline));
+  const Reply read = hand_->read(reg::position);
+  EXPECT_TRUE(read) << read.message;
+}
+
 TEST_F(FailoverTest, DhctlEventsReportsAKilledServiceOffline) {
   Process events(DH3CTL_PATH, ctl_args({"events", hand_spec(2), "--count", "1"}),
                  Process::Stdin::dev_null);

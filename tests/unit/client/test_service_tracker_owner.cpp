@@ -4,6 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <functional>
+#include <optional>
+#include <vector>
+
 #include "service_tracker.hpp"
 
 namespace dh3::detail {
@@ -69,14 +74,33 @@ TEST(TrackerOwner, AClaimWhoseLivelinessIsNotSeenYetIsNotLost) {
   EXPECT_TRUE(tracker.owner_alive("A", false).lost_service) << "a lapse after it was seen is";
 }
 
-TEST(TrackerOwner, ALapseLosesTheServiceIfItStandsAndItsCallsIfItStandsLonger) {
+/// A looker that reports `states` in turn (the last one once they run out),
+/// counting its looks.
+struct ScriptedLooks {
+  std::vector<ReceiveState> states;
+  std::size_t looks = 0;
+  std::function<ReceiveState()> looker() {
+    return [this] {
+      const ReceiveState state = states[std::min(looks, states.size() - 1)];
+      ++looks;
+      return state;
+    };
+  }
+};
+
+TEST(TrackerOwner, ALapseThatStandsLosesTheServiceAndItsCallsAtOnceIfThisProcessIsCurrent) {
   using namespace std::chrono_literals;
+  ScriptedLooks looks{{ReceiveState::current}};
   ServiceTracker tracker;
+  tracker.set_receive_looker(looks.looker());
   serve(tracker, "A", 1, 10);
   const auto t0 = std::chrono::steady_clock::time_point{} + 1h;
   EXPECT_EQ(tracker.next_lapse(), std::chrono::steady_clock::time_point::max());
-  // A lapse the owner's next assertion overturns (this client was stalled).
+  // A lapse the owner's next assertion overturns.
   tracker.owner_lapsed("A", t0);
+  EXPECT_EQ(tracker.next_lapse(), t0) << "a look at once";
+  EXPECT_TRUE(tracker.confirm_lapses(t0).empty());
+  EXPECT_EQ(looks.looks, 1U);
   EXPECT_TRUE(tracker.alive("svc")) << "not believed yet";
   EXPECT_EQ(tracker.next_lapse(), t0 + contract::kOwnerLapseConfirm);
   EXPECT_TRUE(tracker.confirm_lapses(t0 + contract::kOwnerLapseConfirm - 1ms).empty());
@@ -84,20 +108,80 @@ TEST(TrackerOwner, ALapseLosesTheServiceIfItStandsAndItsCallsIfItStandsLonger) {
   EXPECT_TRUE(tracker.confirm_lapses(t0 + 10s).empty()) << "overturned";
   EXPECT_TRUE(tracker.alive("svc"));
 
-  // A lapse that stands: the service is lost, its calls in flight not yet.
+  // A lapse that stands: the service is lost and its calls in flight end with it.
   const auto t1 = t0 + 20s;
   tracker.owner_lapsed("A", t1);
   tracker.owner_lapsed("A", t1 + 100ms);  // reported again: the first one counts
+  EXPECT_TRUE(tracker.confirm_lapses(t1).empty());
+  const auto lost = tracker.confirm_lapses(t1 + contract::kOwnerLapseConfirm);
+  ASSERT_EQ(lost.size(), 2U);
+  EXPECT_TRUE(lost[0].lost_service);
+  EXPECT_EQ(lost[0].lost, "A");
+  EXPECT_NE(lost[0].why.find("killed, frozen or cut off"), std::string::npos) << lost[0].why;
+  EXPECT_FALSE(lost[1].lost_service) << "already lost";
+  EXPECT_EQ(lost[1].end_calls_of, "A");
+  EXPECT_EQ(lost[1].why, lost[0].why);
+  EXPECT_FALSE(tracker.alive("svc"));
+  EXPECT_EQ(tracker.next_lapse(), std::chrono::steady_clock::time_point::max());
+}
+
+TEST(TrackerOwner, ALapseSeenWhileThisProcessIsBehindEndsNoCallUntilItCaughtUp) {
+  using namespace std::chrono_literals;
+  using State = ReceiveState;
+  // Behind at the report and for 200 ms more, then current.
+  ScriptedLooks looks{{State::behind, State::behind, State::behind, State::behind, State::behind,
+                       State::current}};
+  ServiceTracker tracker;
+  tracker.set_receive_looker(looks.looker());
+  serve(tracker, "A", 1, 10);
+  const auto t0 = std::chrono::steady_clock::time_point{} + 1h;
+  tracker.owner_lapsed("A", t0);
+  auto now = t0;
+  std::vector<Outcome> outcomes;
+  std::optional<std::chrono::steady_clock::time_point> calls_ended;
+  while (!calls_ended && now < t0 + 10s) {
+    for (auto& outcome : tracker.confirm_lapses(now)) {
+      if (!outcome.end_calls_of.empty()) calls_ended = now;
+      outcomes.push_back(std::move(outcome));
+    }
+    now = tracker.next_lapse();
+  }
+  ASSERT_FALSE(outcomes.empty());
+  EXPECT_TRUE(outcomes[0].lost_service) << "its hands go offline all the same";
+  EXPECT_TRUE(outcomes[0].keep_calls);
+  ASSERT_TRUE(calls_ended) << "caught up, and the lapse still stands";
+  // The first current look at t0 + 5 looks; the calls end once it stayed
+  // current for the span.
+  const auto caught_up = t0 + 5 * LapseJudge::kLookAgain;
+  EXPECT_EQ(*calls_ended, caught_up + LapseJudge::kCaughtUpSpan);
+
+  // Overturned while behind: no call ends, whatever comes later.
+  ScriptedLooks behind{{State::behind}};
+  ServiceTracker stalled;
+  stalled.set_receive_looker(behind.looker());
+  serve(stalled, "A", 1, 10);
+  stalled.owner_lapsed("A", t0);
+  EXPECT_TRUE(stalled.confirm_lapses(t0).empty());
+  EXPECT_EQ(stalled.confirm_lapses(t0 + 3s).size(), 1U) << "lost, its calls kept";
+  EXPECT_EQ(stalled.next_lapse(), t0 + 3s + LapseJudge::kLookAgain) << "no limit while behind";
+  EXPECT_EQ(stalled.owner_alive("A", true).regained, "A");
+  EXPECT_TRUE(stalled.confirm_lapses(t0 + 1h).empty()) << "nothing ends";
+}
+
+TEST(TrackerOwner, ALapseWhoseReceiveQueuesCannotBeSeenEndsItsCallsOnlyAfterTheBlindConfirm) {
+  using namespace std::chrono_literals;
+  ServiceTracker tracker;  // no looker: the queues cannot be seen
+  serve(tracker, "A", 1, 10);
+  const auto t1 = std::chrono::steady_clock::time_point{} + 1h;
+  tracker.owner_lapsed("A", t1);
+  EXPECT_TRUE(tracker.confirm_lapses(t1).empty());
   auto lost = tracker.confirm_lapses(t1 + contract::kOwnerLapseConfirm);
   ASSERT_EQ(lost.size(), 1U);
   EXPECT_TRUE(lost[0].lost_service);
   EXPECT_TRUE(lost[0].keep_calls);
-  EXPECT_EQ(lost[0].lost, "A");
-  EXPECT_NE(lost[0].why.find("killed, frozen or cut off"), std::string::npos) << lost[0].why;
   EXPECT_FALSE(tracker.alive("svc"));
   EXPECT_EQ(tracker.next_lapse(), t1 + contract::kOwnerLapseCallConfirm);
   EXPECT_TRUE(tracker.confirm_lapses(t1 + contract::kOwnerLapseCallConfirm - 1ms).empty());
-  // Standing still: the calls end too.
   const auto calls = tracker.confirm_lapses(t1 + contract::kOwnerLapseCallConfirm);
   ASSERT_EQ(calls.size(), 1U);
   EXPECT_FALSE(calls[0].lost_service) << "already lost";

@@ -72,6 +72,20 @@ TEST(NetworkReach, EachTransportOfAProfileCounts) {
   EXPECT_TRUE(reaches_other_hosts(with_transports({udp({"0.0.0.0"})})));
 }
 
+TEST(NetworkReach, OnlyUdpTransportsLeaveQueuesTheKernelCanBeAskedAbout) {
+  using dh3::contract::receives_over_udp_only;
+  EXPECT_TRUE(receives_over_udp_only(dh3::contract::participant_qos("queues", {})));
+  EXPECT_FALSE(receives_over_udp_only(
+      dh3::contract::participant_qos("queues", {.interfaces = {}, .shared_memory = true})));
+  EXPECT_TRUE(receives_over_udp_only(
+      with_transports({udp({}), std::make_shared<rtps::UDPv6TransportDescriptor>()})));
+  EXPECT_FALSE(receives_over_udp_only(eprosima::fastdds::dds::DomainParticipantQos{}))
+      << "Fast DDS's built-in transports include shared memory";
+  EXPECT_FALSE(receives_over_udp_only(
+      with_transports({udp({}), std::make_shared<rtps::TCPv4TransportDescriptor>()})));
+  EXPECT_FALSE(receives_over_udp_only(with_transports({})));
+}
+
 /// The warnings make_participant_qos reports for `options`.
 std::vector<std::string> setup_warnings(const dh3::contract::ParticipantOptions& options) {
   dh3::contract::SetupReport report;

@@ -112,6 +112,26 @@ TEST(ParticipantSetup, SharedMemoryIsAddedOnlyWhenAskedFor) {
   EXPECT_THAT(transport_kinds(options), ElementsAre("udp", "shm"));
 }
 
+// The client's lapse judgement asks the kernel about UDP sockets only
+// (client/src/lapse_judge.hpp): the participant says whether that is all it
+// receives over, as asked before the send gate wrapped its transports.
+TEST(ParticipantSetup, AParticipantSaysWhetherItReceivesOverUdpAlone) {
+  const auto udp_alone = [](const ParticipantOptions& options) {
+    SetupReport report;
+    auto participant = Participant::create(options, report);
+    EXPECT_TRUE(participant.has_value()) << participant.error();
+    return participant.has_value() && (*participant)->receives_over_udp_only();
+  };
+  EXPECT_TRUE(udp_alone(on_test_domain("setup")));
+  ParticipantOptions shared = on_test_domain("setup");
+  shared.shared_memory = true;
+  EXPECT_FALSE(udp_alone(shared));
+  ParticipantOptions profile = on_test_domain("setup");
+  profile.xml_profile_file = DH3_UDP_ONLY_PROFILE;
+  profile.xml_profile = "dh3_udp_only";
+  EXPECT_TRUE(udp_alone(profile));
+}
+
 TEST(ParticipantSetup, UdpOnlyAndSharedMemoryTogetherAreRefused) {
   ParticipantOptions options = on_test_domain("setup");
   options.udp_only = true;

@@ -15,4 +15,11 @@ namespace dh3::contract {
 /// cannot judge all count as reachable.
 [[nodiscard]] bool reaches_other_hosts(const eprosima::fastdds::dds::DomainParticipantQos& qos);
 
+/// True if every transport is UDP (v4 or v6): then all the participant
+/// receives from other processes waits, until read, in UDP sockets whose
+/// queues the kernel can be asked about (the client's lapse judgement,
+/// client/src/lapse_judge.hpp). Fast DDS's built-in transports (they add
+/// shared memory), shared memory, TCP and unknown kinds are not.
+[[nodiscard]] bool receives_over_udp_only(const eprosima::fastdds::dds::DomainParticipantQos& qos);
+
 }  // namespace dh3::contract

@@ -38,11 +38,14 @@ inline constexpr std::chrono::milliseconds kOwnerAssertPeriod{100};
 /// it reads the assertions queued meanwhile. A death is then seen between
 /// lease - period + this and lease + this after the last assertion.
 inline constexpr std::chrono::milliseconds kOwnerLapseConfirm{150};
-/// How long after its report a lapse must stand before a client ends the
-/// calls in flight to that service SERVICE_LOST: 32 clients started together
-/// in one process on a loaded 2-core machine saw lapses that the service
-/// overturned 230-680 ms after Fast DDS reported them, and some for over 2 s
-/// (docs/failover.md); a call then still gets its reply.
+/// How long after its report a lapse must stand before a client that cannot
+/// see its own receive queues (a transport other than UDP) ends the calls in
+/// flight to that service SERVICE_LOST. One that can ends them with the
+/// service's loss if it has read all it received, or once it caught up
+/// (client/src/lapse_judge.hpp): 32 clients started together in one process
+/// on a loaded 2-core machine saw lapses that the service overturned
+/// 230-680 ms after Fast DDS reported them, and some for over 2 s, while
+/// their sockets held the assertions unread (docs/failover.md).
 inline constexpr std::chrono::milliseconds kOwnerLapseCallConfirm{5000};
 /// How long a service listens before it serves: the owner lease (a service
 /// killed just before has then been seen dead) and a second for discovery.

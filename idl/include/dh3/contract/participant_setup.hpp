@@ -68,6 +68,9 @@ class Participant {
   [[nodiscard]] bool access_control() const { return access_control_; }
   /// DDS Security comes from the XML profile rather than a security directory.
   [[nodiscard]] bool security_from_profile() const { return security_from_profile_; }
+  /// Every transport is UDP (network_reach.hpp, receives_over_udp_only), as
+  /// its QoS asked before the send gate wrapped them.
+  [[nodiscard]] bool receives_over_udp_only() const { return udp_only_; }
 
   [[nodiscard]] eprosima::fastdds::dds::DomainParticipant& participant() { return *participant_; }
   [[nodiscard]] const Topics& topics() const { return topics_; }
@@ -121,6 +124,7 @@ class Participant {
   std::optional<std::string> published_cell_;
   bool security_from_profile_ = false;
   bool access_control_ = false;
+  bool udp_only_ = false;
 };
 
 }  // namespace dh3::contract
