@@ -31,8 +31,8 @@ std::optional<LoggedFrame> parse_line(const std::string& line) {
     return std::nullopt;  // not a data frame
   }
   LoggedFrame frame;
-  frame.at = WallClock::time_point(std::chrono::seconds(seconds) +
-                                   std::chrono::microseconds(micros));
+  frame.at =
+      WallClock::time_point(std::chrono::seconds(seconds) + std::chrono::microseconds(micros));
   frame.can_id = static_cast<std::uint32_t>(std::stoul(text.substr(0, hash), nullptr, 16));
   for (std::size_t i = hash + 1; i + 1 < text.size(); i += 2) {
     frame.data.push_back(static_cast<std::uint8_t>(std::stoul(text.substr(i, 2), nullptr, 16)));
@@ -44,10 +44,10 @@ std::optional<LoggedFrame> parse_line(const std::string& line) {
 std::optional<WriteKey> write_key(const LoggedFrame& frame) {
   if (frame.data.size() != 8 || frame.data[2] != kWrite) return std::nullopt;
   const auto register_code = static_cast<std::uint16_t>(frame.data[0] << 8 | frame.data[1]);
-  const auto value = static_cast<std::int32_t>(
-      static_cast<std::uint32_t>(frame.data[4]) | static_cast<std::uint32_t>(frame.data[5]) << 8 |
-      static_cast<std::uint32_t>(frame.data[6]) << 16 |
-      static_cast<std::uint32_t>(frame.data[7]) << 24);
+  const auto value = static_cast<std::int32_t>(static_cast<std::uint32_t>(frame.data[4]) |
+                                               static_cast<std::uint32_t>(frame.data[5]) << 8 |
+                                               static_cast<std::uint32_t>(frame.data[6]) << 16 |
+                                               static_cast<std::uint32_t>(frame.data[7]) << 24);
   return WriteKey{frame.can_id, register_code, value};
 }
 
@@ -101,7 +101,8 @@ BusWriteAccount account_writes(const std::vector<LedgerCommand>& commands,
   }
   // Request and echo: a write sent n times shows as 2n frames (2n - 1 when
   // the last one was not echoed).
-  for (std::size_t i = 0; i < commands.size(); ++i) account.sends[i] = (account.frames_of[i].size() + 1) / 2;
+  for (std::size_t i = 0; i < commands.size(); ++i)
+    account.sends[i] = (account.frames_of[i].size() + 1) / 2;
   return account;
 }
 

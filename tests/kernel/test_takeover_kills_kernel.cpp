@@ -62,7 +62,8 @@ class CellMember {
   void start() {
     log_path_ = log_dir_ + "/" + label_ + "-" + std::to_string(++starts_) + ".log";
     process_ = std::make_unique<Process>(
-        "/bin/sh", std::vector<std::string>{"-c", "exec " + command_line_ + " >" + log_path_ + " 2>&1"},
+        "/bin/sh",
+        std::vector<std::string>{"-c", "exec " + command_line_ + " >" + log_path_ + " 2>&1"},
         Process::Stdin::dev_null);
   }
   [[nodiscard]] const std::string& label() const { return label_; }
@@ -117,8 +118,7 @@ class CommandingClient {
  public:
   CommandingClient(int index, const std::string& service, CommandLedger& ledger)
       : index_(index), ledger_(ledger), client_(options(index)) {
-    auto found =
-        client_.wait_for_hand(service + "/can/" + std::to_string(index + 1), kDeadline);
+    auto found = client_.wait_for_hand(service + "/can/" + std::to_string(index + 1), kDeadline);
     if (found) hand_.emplace(*found);
   }
   [[nodiscard]] bool found() const { return hand_.has_value(); }
@@ -145,7 +145,8 @@ class CommandingClient {
       // (101) commands of one register, so the bus tells the commands apart.
       const bool force = k % 2 == 0;
       const int n = k / 2;
-      const std::int32_t value = force ? 20 + (n * 29 + index_ * 7) % 81 : (n * 37 + index_ * 11) % 101;
+      const std::int32_t value =
+          force ? 20 + (n * 29 + index_ * 7) % 81 : (n * 37 + index_ * 11) % 101;
       const std::size_t command =
           ledger_.sent(index_, id, force ? reg::closing_force : reg::position, value);
       auto done = [this, command](const Reply& reply) {
@@ -194,8 +195,8 @@ struct Tally {
 
 /// Which owner's time a moment falls in: the number of kills before it.
 std::size_t era(WallClock::time_point at, const std::vector<Kill>& kills) {
-  return static_cast<std::size_t>(std::count_if(
-      kills.begin(), kills.end(), [at](const Kill& kill) { return kill.at < at; }));
+  return static_cast<std::size_t>(
+      std::count_if(kills.begin(), kills.end(), [at](const Kill& kill) { return kill.at < at; }));
 }
 
 /// The command, its answers and its frames, in milliseconds from its sending.
@@ -299,21 +300,21 @@ class TakeoverKillsKernel : public ::testing::Test {
     bus_log_ = dir_ + "/bus.log";
     candump_ = std::make_unique<Process>(
         "/bin/sh",
-        std::vector<std::string>{"-c", "exec stdbuf -oL candump -L " + vcan_.name() + " >" + bus_log_},
+        std::vector<std::string>{"-c",
+                                 "exec stdbuf -oL candump -L " + vcan_.name() + " >" + bus_log_},
         Process::Stdin::dev_null);
     sim_ = std::make_unique<SimProcess>(
         std::vector<std::string>{"--hands", "1-4", "--init-time-ms", "100", "--speed", "500",
                                  "--log-level", "warn"},
         vcan_.name());
     ASSERT_TRUE(sim_->serving()) << "dh3-sim --can " << vcan_.name() << " did not start";
-    config_ = std::make_unique<TempFile>("buses:\n  - name: can\n    spec: socketcan:" +
-                                         vcan_.name() +
-                                         "\n    bit_rate: 500000\n"
-                                         "    hands: [{id: 1}, {id: 2}, {id: 3}, {id: 4}]\n");
-    const std::string command_line = std::string(DH3_SERVICE_PATH) + " --config " +
-                                     config_->path() + " --domain " +
-                                     std::to_string(test_domain()) + " --name " + name_ +
-                                     " --role auto --log-level info";
+    config_ =
+        std::make_unique<TempFile>("buses:\n  - name: can\n    spec: socketcan:" + vcan_.name() +
+                                   "\n    bit_rate: 500000\n"
+                                   "    hands: [{id: 1}, {id: 2}, {id: 3}, {id: 4}]\n");
+    const std::string command_line =
+        std::string(DH3_SERVICE_PATH) + " --config " + config_->path() + " --domain " +
+        std::to_string(test_domain()) + " --name " + name_ + " --role auto --log-level info";
     for (const char* label : {"a", "b"}) {
       members_.push_back(std::make_unique<CellMember>(label, command_line, dir_));
     }
@@ -407,8 +408,9 @@ TEST_F(TakeoverKillsKernel, EveryCommandIsAnsweredOnceAndWrittenOnceAcrossKillsO
   const Tally t = tally(commands, frames, bus, kills_);
   const auto times = takeover_times(commands, kills_);
   for (std::size_t i = 0; i < kills_.size(); ++i) {
-    std::printf("kill %2zu of member %s: first command answered by the new owner %.0f ms later; %s\n",
-                i + 1, kills_[i].victim.c_str(), times[i], kills_[i].took_over.c_str());
+    std::printf(
+        "kill %2zu of member %s: first command answered by the new owner %.0f ms later; %s\n",
+        i + 1, kills_[i].victim.c_str(), times[i], kills_[i].took_over.c_str());
   }
   std::printf(
       "takeover_kills: %zu kills, %zu commands sent, %zu answered once (%zu OK, %zu "
@@ -420,8 +422,7 @@ TEST_F(TakeoverKillsKernel, EveryCommandIsAnsweredOnceAndWrittenOnceAcrossKillsO
       "by one owner; %zu OK but not on the bus, %zu written after their answer, %zu write "
       "frames nobody asked for; %zu frames on the bus\n",
       t.lost, t.answered_twice, t.sent_twice_across, t.sent_twice_by_one, t.ok_not_on_bus,
-      t.sent_after_answer,
-      bus.unasked.size(), bus.frames);
+      t.sent_after_answer, bus.unasked.size(), bus.frames);
   std::printf(
       "takeover on %s, SIGKILL of the active member, %zu kills: kill to the first command "
       "answered by the new owner p50 %.0f ms, p99 %.0f ms, max %.0f ms\n",
@@ -435,7 +436,8 @@ TEST_F(TakeoverKillsKernel, EveryCommandIsAnsweredOnceAndWrittenOnceAcrossKillsO
   EXPECT_GT(t.ok, 0U);
   EXPECT_EQ(t.lost, 0U) << "commands never answered";
   EXPECT_EQ(t.answered_twice, 0U);
-  EXPECT_EQ(t.sent_twice_across, 0U) << "commands written by the killed owner and again by the next";
+  EXPECT_EQ(t.sent_twice_across, 0U)
+      << "commands written by the killed owner and again by the next";
   EXPECT_EQ(t.sent_twice_by_one, 0U) << "commands one owner wrote twice";
   EXPECT_EQ(t.ok_not_on_bus, 0U) << "commands answered OK whose write is not on the bus";
   EXPECT_TRUE(bus.unasked.empty()) << "writes that no command asked for";
