@@ -62,7 +62,7 @@ std::vector<LoggedFrame> read_candump_log(const std::string& path) {
   return frames;
 }
 
-BusWriteAccount account_writes(const std::vector<LedgerCommand>& commands,
+BusWriteAccount account_writes(const std::vector<LoggedCommand>& commands,
                                const std::vector<LoggedFrame>& frames) {
   BusWriteAccount account;
   account.sends.assign(commands.size(), 0);

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "kernel/command_ledger.hpp"
+#include "kernel/command_log.hpp"
 
 namespace dh3::test {
 
@@ -29,7 +29,7 @@ struct LoggedFrame {
 std::vector<LoggedFrame> read_candump_log(const std::string& path);
 
 struct BusWriteAccount {
-  /// Per command (the ledger's order): how many times its write was sent.
+  /// Per command (the log's order): how many times its write was sent.
   std::vector<std::size_t> sends;
   /// Per command: its write frames (indexes into the recording's frames).
   std::vector<std::vector<std::size_t>> frames_of;
@@ -43,7 +43,7 @@ struct BusWriteAccount {
 
 /// Which command each write frame from the first command's sending on
 /// belongs to, and so how often each command was sent.
-BusWriteAccount account_writes(const std::vector<LedgerCommand>& commands,
+BusWriteAccount account_writes(const std::vector<LoggedCommand>& commands,
                                const std::vector<LoggedFrame>& frames);
 
 }  // namespace dh3::test

@@ -19,7 +19,7 @@ using WallClock = std::chrono::system_clock;
 
 /// One command: which hand, which register it writes with which value, when
 /// it was sent and each answer it got (exactly one, if all is well).
-struct LedgerCommand {
+struct LoggedCommand {
   struct Answer {
     Code code = Code::ok;
     std::string message;
@@ -33,7 +33,7 @@ struct LedgerCommand {
   std::vector<Answer> answers;
 };
 
-class CommandLedger {
+class CommandLog {
  public:
   /// Records a command about to be sent; its index for answer().
   std::size_t sent(int client, std::uint16_t can_id, std::uint16_t register_code,
@@ -43,11 +43,11 @@ class CommandLedger {
   /// How many answers command `index` has got so far.
   [[nodiscard]] std::size_t answers(std::size_t index) const;
   /// A copy of every command so far.
-  [[nodiscard]] std::vector<LedgerCommand> commands() const;
+  [[nodiscard]] std::vector<LoggedCommand> commands() const;
 
  private:
   mutable std::mutex mutex_;
-  std::vector<LedgerCommand> commands_;
+  std::vector<LoggedCommand> commands_;
 };
 
 }  // namespace dh3::test
