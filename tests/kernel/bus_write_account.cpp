@@ -53,13 +53,19 @@ std::optional<WriteKey> write_key(const LoggedFrame& frame) {
 
 }  // namespace
 
-std::vector<LoggedFrame> read_candump_log(const std::string& path) {
-  std::vector<LoggedFrame> frames;
+CandumpLog read_candump_log(const std::string& path) {
+  CandumpLog log;
   std::ifstream in(path);
   for (std::string line; std::getline(in, line);) {
-    if (auto frame = parse_line(line)) frames.push_back(std::move(*frame));
+    // "DROPCOUNT: dropped 3 CAN frames on 'vcan0' socket (total drops 3)"
+    unsigned dropped = 0;
+    if (std::sscanf(line.c_str(), "DROPCOUNT: dropped %u", &dropped) == 1) {
+      log.dropped += dropped;
+    } else if (auto frame = parse_line(line)) {
+      log.frames.push_back(std::move(*frame));
+    }
   }
-  return frames;
+  return log;
 }
 
 BusWriteAccount account_writes(const std::vector<LoggedCommand>& commands,

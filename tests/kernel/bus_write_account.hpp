@@ -25,8 +25,13 @@ struct LoggedFrame {
   std::string line;  ///< as candump wrote it
 };
 
-/// Every classic data frame of a `candump -L` file, in order.
-std::vector<LoggedFrame> read_candump_log(const std::string& path);
+struct CandumpLog {
+  std::vector<LoggedFrame> frames;  ///< every classic data frame, in order
+  std::size_t dropped = 0;          ///< frames candump -d says its socket dropped
+};
+
+/// A `candump -L -d` file.
+CandumpLog read_candump_log(const std::string& path);
 
 struct BusWriteAccount {
   /// Per command (the log's order): how many times its write was sent.
