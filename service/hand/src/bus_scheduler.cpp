@@ -402,6 +402,10 @@ class BusScheduler::Impl {
     line_.used(now);
     // The interval counts from when the frame left, which is after now.
     const TimePoint left = clock_.now();
+    // So does the wait for its reply: the loop thread, preempted between
+    // taking `now` and the write, once re-sent a position write whose echo
+    // was on its way (a loaded user-mode Linux, kernel.takeover_kills).
+    driver.frame_left(left);
     driver.hold_sends_until(left + options_.frame_spacing());
     id_zero_.frame_sent(id, left);
     // A frame to ID 0 reached every hand: each waits the interval after it.

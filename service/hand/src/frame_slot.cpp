@@ -27,6 +27,11 @@ std::optional<protocol::Message> FrameSlot::send_again(TimePoint now) {
   return again.message;
 }
 
+void FrameSlot::left_at(TimePoint left) {
+  if (in_flight_)
+    in_flight_->deadline = std::max(in_flight_->deadline, left + in_flight_->reply_timeout);
+}
+
 void FrameSlot::unsend() {
   if (!in_flight_) return;
   resend_ = *in_flight_;

@@ -40,6 +40,10 @@ class FrameSlot {
   /// The waiting re-send, put in flight at `now` with a fresh deadline, if
   /// there is one and clear_to_send(now).
   [[nodiscard]] std::optional<protocol::Message> send_again(TimePoint now);
+  /// The frame in flight left for the bus at `left`, later than the time it
+  /// was put in flight with: its reply is awaited for the reply timeout from
+  /// then, so a stall between the two (a loaded machine) does not shorten it.
+  void left_at(TimePoint left);
   /// The frame just put in flight was not sent (the bus would block): it is
   /// the next re-send, and the pacing is as before it.
   void unsend();

@@ -88,6 +88,9 @@ class HandDriver {
   /// The frame returned by next_frame() could not be sent (would_block): it
   /// is offered again on the next call.
   void unsend() { slot_.unsend(); }
+  /// The frame returned by next_frame() (next_group_frame()) left at `left`:
+  /// its reply timeout counts from then.
+  void frame_left(TimePoint left) { slot_.left_at(left); }
   /// Sends nothing before `until` (the scheduler's pacing across senders: a
   /// discovery probe it sent itself, a frame to ID 0 that this hand received).
   void hold_sends_until(TimePoint until) { slot_.hold_sends_until(until); }

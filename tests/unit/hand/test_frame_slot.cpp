@@ -43,6 +43,26 @@ TEST(FrameSlot, AFrameInFlightKeepsTheNextOneBackUntilAnsweredAndSpaced) {
   EXPECT_TRUE(slot.clear_to_send(clock.now()));
 }
 
+TEST(FrameSlot, TheReplyIsAwaitedFromWhenTheFrameLeftNotFromWhenItWasPutInFlight) {
+  FakeClock clock;
+  FrameSlot slot(kSpacing, kMaxRetries, clock.now());
+  slot.send(protocol::make_write(3, reg::kPosition, 22), Purpose::job, clock.now(), true,
+            kReplyTimeout);
+  // The sender was held up for 120 ms before the frame reached the bus.
+  clock.advance(120ms);
+  slot.left_at(clock.now());
+  clock.advance(kReplyTimeout - 1ms);
+  EXPECT_FALSE(slot.expire(clock.now()).has_value()) << "timed out before its reply could come";
+  ASSERT_TRUE(slot.take_answered(protocol::make_write(3, reg::kPosition, 22)).has_value());
+  EXPECT_FALSE(slot.has_resend());
+
+  // A frame that left at once keeps its deadline: left_at never shortens it.
+  slot.send(read_position(), Purpose::poll, clock.now(), true, kReplyTimeout);
+  slot.left_at(clock.now() - 10ms);
+  clock.advance(kReplyTimeout);
+  EXPECT_TRUE(slot.expire(clock.now()).has_value());
+}
+
 TEST(FrameSlot, AReplyMatchesOnItsRegisterOnly) {
   FakeClock clock;
   FrameSlot slot(kSpacing, kMaxRetries, clock.now());
