@@ -51,6 +51,22 @@ std::optional<int> parse_ros2_options(int argc, const char* const* argv, Ros2Opt
   app.add_option("--action", options.action,
                  "each hand's control_msgs/action/GripperCommand action, a pattern of {service}, "
                  "{bus} and {id} (default {service}_{bus}_{id}/gripper_cmd)");
+  app.add_option("--parallel-action", options.parallel_action,
+                 "each hand's control_msgs/action/ParallelGripperCommand action, a pattern "
+                 "(default {service}_{bus}_{id}/parallel_gripper_cmd)");
+  app.add_option("--initialize-service", options.initialize_service,
+                 "each hand's std_srvs/srv/Trigger service that initializes it, a pattern "
+                 "(default {service}_{bus}_{id}/initialize)");
+  app.add_option("--forces-service", options.forces_service,
+                 "each hand's rcl_interfaces/srv/SetParameters service for closing_force and "
+                 "opening_force, a pattern (default {service}_{bus}_{id}/set_forces)");
+  app.add_option("--node-name", options.node_name,
+                 "the node ros_discovery_info announces (default dh3_ros2)");
+  app.add_option("--ros-distro", options.ros_distro,
+                 "jazzy (default) or humble: the layout of ros_discovery_info (rmw's GID is 16 "
+                 "bytes in Jazzy, 24 in Humble)")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, RosDistro>{
+          {"jazzy", RosDistro::jazzy}, {"humble", RosDistro::humble}}));
   add_unit_options(app, options.units);
   ctl::add_log_level_option(app, options.log_level);
   ctl::add_client_options(app, options.client);
@@ -61,6 +77,12 @@ std::optional<int> parse_ros2_options(int argc, const char* const* argv, Ros2Opt
     return 2;
   }
   options.joint_states_dds = topic_on_dds(*topic);
+  if (auto node = resolve_name(options.ros_namespace, options.node_name);
+      !node || options.node_name.find('/') != std::string::npos) {
+    err << "dh3-ros2: --node-name: " << (node ? "a node name holds no '/'" : node.error())
+        << "\n";
+    return 2;
+  }
   options.client.participant_name = "dh3-ros2";
   return std::nullopt;
 }

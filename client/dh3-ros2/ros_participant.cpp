@@ -80,7 +80,12 @@ fdds::DataWriter* RosParticipant::writer(const std::string& topic_name, fdds::Ty
   if (on == nullptr) return nullptr;
   fdds::DataWriterQos writer_qos = publisher_->get_default_datawriter_qos();
   apply(writer_qos, qos);
-  return publisher_->create_datawriter(on, writer_qos, listener);
+  auto* writer = publisher_->create_datawriter(on, writer_qos, listener);
+  if (writer != nullptr) {
+    std::lock_guard lock(mutex_);
+    writers_.push_back(writer->guid());
+  }
+  return writer;
 }
 
 fdds::DataReader* RosParticipant::reader(const std::string& topic_name, fdds::TypeSupport type,
@@ -89,7 +94,26 @@ fdds::DataReader* RosParticipant::reader(const std::string& topic_name, fdds::Ty
   if (on == nullptr) return nullptr;
   fdds::DataReaderQos reader_qos = subscriber_->get_default_datareader_qos();
   apply(reader_qos, qos);
-  return subscriber_->create_datareader(on, reader_qos, listener);
+  auto* reader = subscriber_->create_datareader(on, reader_qos, listener);
+  if (reader != nullptr) {
+    std::lock_guard lock(mutex_);
+    readers_.push_back(reader->guid());
+  }
+  return reader;
+}
+
+eprosima::fastrtps::rtps::GUID_t RosParticipant::guid() const {
+  return participant_->guid();
+}
+
+std::vector<eprosima::fastrtps::rtps::GUID_t> RosParticipant::readers() const {
+  std::lock_guard lock(mutex_);
+  return readers_;
+}
+
+std::vector<eprosima::fastrtps::rtps::GUID_t> RosParticipant::writers() const {
+  std::lock_guard lock(mutex_);
+  return writers_;
 }
 
 }  // namespace dh3::ros2
