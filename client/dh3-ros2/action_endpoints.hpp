@@ -52,8 +52,7 @@ class ActionEndpoints {
   virtual void reply_goal(const RequestId& id, bool accepted,
                           const builtin_interfaces::msg::dds_::Time_& stamp) = 0;
   /// `status`: action_msgs/msg/GoalStatus; STATUS_UNKNOWN for an unknown goal.
-  virtual void reply_result(const RequestId& id, std::int8_t status,
-                            const GripperState& state) = 0;
+  virtual void reply_result(const RequestId& id, std::int8_t status, const GripperState& state) = 0;
   virtual void publish_feedback(const Uuid& goal, const GripperState& state) = 0;
 };
 

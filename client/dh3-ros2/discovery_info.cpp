@@ -16,8 +16,7 @@ template <typename Gid>
 Gid gid_of(const GUID_t& guid) {
   Gid gid;
   gid.data().fill(0);
-  std::copy(std::begin(guid.guidPrefix.value), std::end(guid.guidPrefix.value),
-            gid.data().begin());
+  std::copy(std::begin(guid.guidPrefix.value), std::end(guid.guidPrefix.value), gid.data().begin());
   std::copy(std::begin(guid.entityId.value), std::end(guid.entityId.value),
             gid.data().begin() + sizeof(guid.guidPrefix.value));
   return gid;

@@ -3,15 +3,14 @@
 // ParallelGripperCommand, by its ActionEndpoints), served as ROS 2's
 // rcl_action lays an action out on DDS: the services send_goal, cancel_goal
 // and get_result (RosServiceServer) and the topics feedback and status under
-// "<action>/_action/"; the typed ones are the endpoints'. A goal moves the fingers to an opening with at most a
-// force, holding the hand's lease meanwhile like any client: it ends
-// SUCCEEDED with reached_goal (arrived) or stalled (stopped on an object),
-// CANCELED after a cancel (the hand is stopped), ABORTED when the hand or the
-// service refuses (the reason is logged: the result has no text). A goal that
-// is NaN or out of range, or for a hand that is offline, not initialized or
+// "<action>/_action/"; the typed ones are the endpoints'. A goal moves the fingers to an opening
+// with at most a force, holding the hand's lease meanwhile like any client: it ends SUCCEEDED with
+// reached_goal (arrived) or stalled (stopped on an object), CANCELED after a cancel (the hand is
+// stopped), ABORTED when the hand or the service refuses (the reason is logged: the result has no
+// text). A goal that is NaN or out of range, or for a hand that is offline, not initialized or
 // unknown, is rejected and sends nothing to the hand. A new goal cancels the
-// one running, of this action or another of the hand's (HandTurn). Requests arrive on Fast DDS threads; each goal runs on a
-// thread of its own, joined by the destructor.
+// one running, of this action or another of the hand's (HandTurn). Requests arrive on Fast DDS
+// threads; each goal runs on a thread of its own, joined by the destructor.
 
 #include <atomic>
 #include <cstdint>

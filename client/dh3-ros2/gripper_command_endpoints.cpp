@@ -28,11 +28,11 @@ GripperCommandEndpoints::GripperCommandEndpoints(RosParticipant& participant,
                    handlers_.send_goal(request.goal_id().uuid(),
                                        GripperGoal{command.position(), command.max_effort()}, id);
                  }),
-      get_result_(participant, action + "/_action/get_result",
-                  [this](const gc::GripperCommand_GetResult_Request_& request,
-                         const RequestId& id) {
-                    handlers_.get_result(request.goal_id().uuid(), id);
-                  }) {}
+      get_result_(
+          participant, action + "/_action/get_result",
+          [this](const gc::GripperCommand_GetResult_Request_& request, const RequestId& id) {
+            handlers_.get_result(request.goal_id().uuid(), id);
+          }) {}
 
 bool GripperCommandEndpoints::ok() const {
   return feedback_ != nullptr && send_goal_.ok() && get_result_.ok();

@@ -145,8 +145,7 @@ void HandServices::on_initialize(const RequestId& id) {
   initialize_.reply(id, response);
 }
 
-void HandServices::on_set_forces(const srv::SetParameters_Request_& request,
-                                 const RequestId& id) {
+void HandServices::on_set_forces(const srv::SetParameters_Request_& request, const RequestId& id) {
   auto forces = forces_of(request, units_);
   Outcome outcome{false, "not set: another parameter of the request was refused"};
   if (forces.ok()) {

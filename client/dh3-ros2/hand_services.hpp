@@ -82,10 +82,9 @@ class HandServices {
   std::condition_variable wake_;
   std::deque<std::function<void()>> jobs_;
   bool stopping_ = false;
-  RosServiceServer<std_srvs::srv::dds_::Trigger_Request_,
-                   std_srvs::srv::dds_::Trigger_Request_PubSubType,
-                   std_srvs::srv::dds_::Trigger_Response_,
-                   std_srvs::srv::dds_::Trigger_Response_PubSubType>
+  RosServiceServer<
+      std_srvs::srv::dds_::Trigger_Request_, std_srvs::srv::dds_::Trigger_Request_PubSubType,
+      std_srvs::srv::dds_::Trigger_Response_, std_srvs::srv::dds_::Trigger_Response_PubSubType>
       initialize_;
   RosServiceServer<srv::SetParameters_Request_, srv::SetParameters_Request_PubSubType,
                    srv::SetParameters_Response_, srv::SetParameters_Response_PubSubType>

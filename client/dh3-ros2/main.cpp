@@ -64,9 +64,8 @@ int main(int argc, char** argv) {
   });
   // One line on stdout for people and for scripts that start it.
   std::cout << "dh3-ros2: publishing joint states on " << options.joint_states_dds
-            << " and per hand the actions " << options.action << " and "
-            << options.parallel_action << " (domain "
-            << options.client.domain << ")" << std::endl;
+            << " and per hand the actions " << options.action << " and " << options.parallel_action
+            << " (domain " << options.client.domain << ")" << std::endl;
 
   int signal_number = 0;
   sigwait(&signals, &signal_number);

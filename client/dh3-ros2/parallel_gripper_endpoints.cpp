@@ -13,21 +13,21 @@ ParallelGripperEndpoints::ParallelGripperEndpoints(RosParticipant& participant,
                                                    std::string finger_joint, Handlers handlers)
     : finger_joint_(std::move(finger_joint)),
       handlers_(std::move(handlers)),
-      feedback_(participant.writer("rt" + action + "/_action/feedback",
-                                   eprosima::fastdds::dds::TypeSupport(
-                                       new pgc::ParallelGripperCommand_FeedbackMessage_PubSubType()),
-                                   RosQos::standard)),
+      feedback_(
+          participant.writer("rt" + action + "/_action/feedback",
+                             eprosima::fastdds::dds::TypeSupport(
+                                 new pgc::ParallelGripperCommand_FeedbackMessage_PubSubType()),
+                             RosQos::standard)),
       send_goal_(participant, action + "/_action/send_goal",
                  [this](const pgc::ParallelGripperCommand_SendGoal_Request_& request,
                         const RequestId& id) {
                    handlers_.send_goal(request.goal_id().uuid(),
                                        goal_of(request.goal().command(), finger_joint_), id);
                  }),
-      get_result_(participant, action + "/_action/get_result",
-                  [this](const pgc::ParallelGripperCommand_GetResult_Request_& request,
-                         const RequestId& id) {
-                    handlers_.get_result(request.goal_id().uuid(), id);
-                  }) {}
+      get_result_(
+          participant, action + "/_action/get_result",
+          [this](const pgc::ParallelGripperCommand_GetResult_Request_& request,
+                 const RequestId& id) { handlers_.get_result(request.goal_id().uuid(), id); }) {}
 
 Result<GripperGoal, std::string> ParallelGripperEndpoints::goal_of(
     const sensor_msgs::msg::dds_::JointState_& command, const std::string& finger_joint) {

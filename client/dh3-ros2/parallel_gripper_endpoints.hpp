@@ -32,8 +32,7 @@ class ParallelGripperEndpoints : public ActionEndpoints {
       const sensor_msgs::msg::dds_::JointState_& command, const std::string& finger_joint);
 
  private:
-  [[nodiscard]] sensor_msgs::msg::dds_::JointState_ joint_state_of(
-      const GripperState& state) const;
+  [[nodiscard]] sensor_msgs::msg::dds_::JointState_ joint_state_of(const GripperState& state) const;
 
   std::string finger_joint_;
   Handlers handlers_;

@@ -13,8 +13,8 @@ namespace {
 void add_unit_options(CLI::App& app, JointUnits& units) {
   app.add_option("--units", units.raw_percent,
                  "si: meters, radians and newtons (default); percent: the hand's own percent")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, bool>{{"si", false},
-                                                                      {"percent", true}}));
+      ->transform(
+          CLI::CheckedTransformer(std::map<std::string, bool>{{"si", false}, {"percent", true}}));
   app.add_option("--opening-max", units.opening_max_m,
                  "the opening between the fingers at 100 %, in meters (default 0.095, from "
                  "DH's ROS 1 driver: check it against your hand)")
@@ -79,8 +79,7 @@ std::optional<int> parse_ros2_options(int argc, const char* const* argv, Ros2Opt
   options.joint_states_dds = topic_on_dds(*topic);
   if (auto node = resolve_name(options.ros_namespace, options.node_name);
       !node || options.node_name.find('/') != std::string::npos) {
-    err << "dh3-ros2: --node-name: " << (node ? "a node name holds no '/'" : node.error())
-        << "\n";
+    err << "dh3-ros2: --node-name: " << (node ? "a node name holds no '/'" : node.error()) << "\n";
     return 2;
   }
   options.client.participant_name = "dh3-ros2";

@@ -44,9 +44,9 @@ class RosParticipant {
   eprosima::fastdds::dds::DataWriter* writer(
       const std::string& topic, eprosima::fastdds::dds::TypeSupport type, RosQos qos,
       eprosima::fastdds::dds::DataWriterListener* listener = nullptr);
-  eprosima::fastdds::dds::DataReader* reader(
-      const std::string& topic, eprosima::fastdds::dds::TypeSupport type, RosQos qos,
-      eprosima::fastdds::dds::DataReaderListener* listener);
+  eprosima::fastdds::dds::DataReader* reader(const std::string& topic,
+                                             eprosima::fastdds::dds::TypeSupport type, RosQos qos,
+                                             eprosima::fastdds::dds::DataReaderListener* listener);
 
   /// The participant's GUID, and those of every reader and writer made so far
   /// (for ros_discovery_info).

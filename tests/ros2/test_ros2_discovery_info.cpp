@@ -52,8 +52,8 @@ class Ros2DiscoveryInfoTest : public ::testing::Test {
   void start_ros2(const std::string& distro) {
     ros2_ = std::make_unique<Process>(
         DH3_ROS2_PATH,
-        std::vector<std::string>{"--domain", std::to_string(test_domain()), "--ros-distro",
-                                 distro, "--namespace", "/cell", "--log-level", "warn"},
+        std::vector<std::string>{"--domain", std::to_string(test_domain()), "--ros-distro", distro,
+                                 "--namespace", "/cell", "--log-level", "warn"},
         Process::Stdin::dev_null);
     ASSERT_TRUE(ros2_->wait_for_line("dh3-ros2: publishing joint states", kClientDeadline));
   }
@@ -90,8 +90,7 @@ class Ros2DiscoveryInfoTest : public ::testing::Test {
         [](const Info& m) {
           return m.node_entities_info_seq().size() == 1 &&
                  m.node_entities_info_seq()[0].node_name() == "dh3_ros2" &&
-                 m.node_entities_info_seq()[0].reader_gid_seq().size() ==
-                     kHands * kReadersPerHand;
+                 m.node_entities_info_seq()[0].reader_gid_seq().size() == kHands * kReadersPerHand;
         },
         kClientDeadline);
     ASSERT_TRUE(info) << "no ros_discovery_info with dh3-ros2's node and every hand";
@@ -117,7 +116,7 @@ TEST_F(Ros2DiscoveryInfoTest, JazzyLayoutNamesTheNodeAndItsEndpoints) {
   const auto writer = joint_states_writer();
   ASSERT_TRUE(writer) << "no joint state";
   expect_node_of<rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_>(ros2::RosDistro::jazzy,
-                                                                       *writer);
+                                                                      *writer);
 }
 
 TEST_F(Ros2DiscoveryInfoTest, HumbleLayoutNamesTheNodeAndItsEndpoints) {
