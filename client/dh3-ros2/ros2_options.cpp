@@ -35,8 +35,9 @@ std::optional<int> parse_ros2_options(int argc, const char* const* argv, Ros2Opt
                                       std::ostream& out, std::ostream& err) {
   CLI::App app{
       "dh3-ros2: the DH-3 hands of a DDS domain as ROS 2 sees a gripper: sensor_msgs/JointState "
-      "on a joint_states topic and a control_msgs/action/GripperCommand action per hand, "
-      "without linking ROS 2 (docs/ros2.md)."};
+      "on a joint_states topic and per hand the control_msgs/action/GripperCommand and "
+      "ParallelGripperCommand actions and initialize and set_forces services, and a node in "
+      "ros_discovery_info, without linking ROS 2 (docs/ros2.md)."};
   app.name("dh3-ros2");
   app.set_version_flag("--version", kVersion);
   app.add_option("--namespace", options.ros_namespace,
