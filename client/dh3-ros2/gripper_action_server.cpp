@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "dh3/contract/dh3.h"
 #include "dh3/motion_end.hpp"
 
 namespace dh3::ros2 {
@@ -23,7 +24,8 @@ constexpr std::int8_t kErrorNone = 0;
 constexpr std::int8_t kErrorUnknownGoal = 2;
 constexpr std::int8_t kErrorGoalTerminated = 3;
 
-constexpr std::int32_t kMinForcePercent = 20;  // docs/protocol-notes.md reading 4
+// The contract's least force (docs/protocol-notes.md reading 4).
+constexpr std::int32_t kMinForcePercent = dh3::limits::FORCE_MIN;
 constexpr auto kLeaseTtl = std::chrono::seconds(30);
 constexpr auto kFeedbackPeriod = std::chrono::milliseconds(50);
 constexpr auto kMotionDeadline = std::chrono::seconds(30);

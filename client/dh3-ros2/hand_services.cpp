@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cmath>
 
+#include "dh3/contract/dh3.h"
+
 namespace dh3::ros2 {
 
 namespace {
@@ -12,7 +14,8 @@ namespace {
 // rcl_interfaces/msg/ParameterType.
 constexpr std::uint8_t kParameterInteger = 2;
 constexpr std::uint8_t kParameterDouble = 3;
-constexpr std::int32_t kMinForcePercent = 20;  // docs/protocol-notes.md reading 4
+// The contract's least force (docs/protocol-notes.md reading 4).
+constexpr std::int32_t kMinForcePercent = dh3::limits::FORCE_MIN;
 constexpr auto kLeaseTtl = std::chrono::seconds(30);
 // Requests waiting for the hand; more are refused at once.
 constexpr std::size_t kQueueCap = 16;
