@@ -63,10 +63,17 @@ GripperActionServer::GripperActionServer(RosParticipant& participant, Client& cl
       cancel_goal_(
           participant, action + "/_action/cancel_goal",
           [this](const auto& request, const RequestId& id) { on_cancel_goal(request, id); }) {
+  // A request may arrive as soon as the endpoints exist, before endpoints_
+  // is set: its handler waits for this lock.
+  std::lock_guard making(endpoints_made_);
   ActionEndpoints::Handlers handlers;
   handlers.send_goal = [this](const Uuid& goal_id, const Result<GripperGoal, std::string>& command,
-                              const RequestId& id) { on_send_goal(goal_id, command, id); };
+                              const RequestId& id) {
+    { std::lock_guard made(endpoints_made_); }
+    on_send_goal(goal_id, command, id);
+  };
   handlers.get_result = [this](const Uuid& goal_id, const RequestId& id) {
+    { std::lock_guard made(endpoints_made_); }
     on_get_result(goal_id, id);
   };
   endpoints_ = make_endpoints(std::move(handlers));

@@ -92,6 +92,7 @@ class GripperActionServer {
                    action_msgs::srv::dds_::CancelGoal_Response_,
                    action_msgs::srv::dds_::CancelGoal_Response_PubSubType>
       cancel_goal_;
+  std::mutex endpoints_made_;                   // held while the constructor makes endpoints_
   std::unique_ptr<ActionEndpoints> endpoints_;  // last: its handlers use the rest
 };
 
