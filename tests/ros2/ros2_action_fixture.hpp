@@ -154,6 +154,17 @@ class Ros2ActionFixture : public ::testing::Test {
     ASSERT_TRUE(made) << made.error();
     participant_ = std::move(made).value();
     ASSERT_TRUE(client_.wait_for_hand(hand_spec(3)));
+    ASSERT_TRUE(watcher_.wait_for_hand(hand_spec(3)));
+  }
+
+  /// Initializes the hand and waits until the status topic says so, as
+  /// dh3-ros2 learns it: a goal is rejected while dh3-ros2 sees the hand not
+  /// initialized, and the client that initialized it knows sooner (from the
+  /// reply).
+  bool initialize_hand(Hand hand) {
+    return hand.initialize() && watcher_.hand(hand.address())
+                                    .wait_until([](const HandStatus& s) { return s.initialized; })
+                                    .has_value();
   }
 
   ActionClient<GripperCommandTypes>& action(std::uint16_t id) {
@@ -179,6 +190,7 @@ class Ros2ActionFixture : public ::testing::Test {
                 {"--domain", std::to_string(test_domain()), "--log-level", "debug"},
                 Process::Stdin::dev_null};
   Client client_{client_options()};
+  Client watcher_{client_options()};  // sends nothing: its statuses are the topic's
   std::unique_ptr<ros2::RosParticipant> participant_;
   std::map<std::uint16_t, std::unique_ptr<ActionClient<GripperCommandTypes>>> actions_;
   std::map<std::uint16_t, std::unique_ptr<ActionClient<ParallelGripperTypes>>> parallel_actions_;

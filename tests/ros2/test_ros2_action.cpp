@@ -11,18 +11,20 @@
 namespace dh3::test {
 namespace {
 
+// Each test makes its action clients first, so that matching completes both
+// ways while it sets the hand up (test_ros2_hand_services.cpp says why).
 using Ros2ActionTest = Ros2ActionFixture;
 
 TEST_F(Ros2ActionTest, AGoalMovesTheHandWithFeedbackAndReachesIt) {
+  auto& gripper = action(2);
   auto hand = client_.hand(hand_address(2));
-  ASSERT_TRUE(hand.initialize());
+  ASSERT_TRUE(initialize_hand(hand));
   // A move is answered when the hand takes it: the goal must start from the
   // closed hand, far from its target, for feedback to come while it moves.
   ASSERT_TRUE(hand.move_to(0));
   ASSERT_TRUE(hand.wait_until([](const HandStatus& s) {
     return s.position == 0 && s.grip != GripState::moving;
   })) << "the hand did not close before the goal";
-  auto& gripper = action(2);
   ASSERT_TRUE(gripper.wait_for_server());
   ASSERT_EQ(gripper.send(goal_id(1), 0.095, 45.0), true);
   EXPECT_TRUE(wait_for_sample<ca::GripperCommand_FeedbackMessage_>(
@@ -60,8 +62,8 @@ TEST_F(Ros2ActionTest, AGoalMovesTheHandWithFeedbackAndReachesIt) {
 }
 
 TEST_F(Ros2ActionTest, ClosingOnAnObjectStalls) {
-  ASSERT_TRUE(client_.hand(hand_address(1)).initialize());
   auto& gripper = action(1);
+  ASSERT_TRUE(initialize_hand(client_.hand(hand_address(1))));
   ASSERT_TRUE(gripper.wait_for_server());
   ASSERT_EQ(gripper.send(goal_id(2), 0.0, 0.0), true);
   const auto result = gripper.result(goal_id(2));
@@ -74,13 +76,13 @@ TEST_F(Ros2ActionTest, ClosingOnAnObjectStalls) {
 }
 
 TEST_F(Ros2ActionTest, ACancelStopsTheHand) {
+  auto& gripper = action(3);
   auto hand = client_.hand(hand_address(3));
-  ASSERT_TRUE(hand.initialize());
+  ASSERT_TRUE(initialize_hand(hand));
   ASSERT_TRUE(hand.move_to(100));
   ASSERT_TRUE(hand.wait_until([](const HandStatus& s) {
     return s.position == 100 && s.grip != GripState::moving;
   })) << "the hand did not open before the goal";
-  auto& gripper = action(3);
   ASSERT_TRUE(gripper.wait_for_server());
   ASSERT_EQ(gripper.send(goal_id(3), 0.0, 0.0), true);
   const auto cancel = gripper.cancel(goal_id(3));
@@ -103,7 +105,7 @@ TEST_F(Ros2ActionTest, GoalsOutOfRangeOrForAHandNotReadyAreRejected) {
   ASSERT_TRUE(gripper.wait_for_server());
   EXPECT_EQ(gripper.send(goal_id(4), 0.05, 0.0), false);
   auto hand = client_.hand(hand_address(3));
-  ASSERT_TRUE(hand.initialize());
+  ASSERT_TRUE(initialize_hand(hand));
   const double nan = std::numeric_limits<double>::quiet_NaN();
   EXPECT_EQ(gripper.send(goal_id(5), nan, 0.0), false);
   EXPECT_EQ(gripper.send(goal_id(6), 0.2, 0.0), false);
@@ -119,13 +121,13 @@ std::string finger_joint(std::uint16_t id) {
 }
 
 TEST_F(Ros2ActionTest, AParallelGripperGoalMovesTheFingerJointWithFeedback) {
+  auto& gripper = parallel_action(2);
   auto hand = client_.hand(hand_address(2));
-  ASSERT_TRUE(hand.initialize());
+  ASSERT_TRUE(initialize_hand(hand));
   ASSERT_TRUE(hand.move_to(0));
   ASSERT_TRUE(hand.wait_until([](const HandStatus& s) {
     return s.position == 0 && s.grip != GripState::moving;
   })) << "the hand did not close before the goal";
-  auto& gripper = parallel_action(2);
   ASSERT_TRUE(gripper.wait_for_server());
   ca::ParallelGripperCommand_SendGoal_Request_ request;
   request.goal().command().name({finger_joint(2)});
@@ -153,8 +155,8 @@ TEST_F(Ros2ActionTest, AParallelGripperGoalMovesTheFingerJointWithFeedback) {
 }
 
 TEST_F(Ros2ActionTest, AParallelGripperGoalClosingOnAnObjectStalls) {
-  ASSERT_TRUE(client_.hand(hand_address(1)).initialize());
   auto& gripper = parallel_action(1);
+  ASSERT_TRUE(initialize_hand(client_.hand(hand_address(1))));
   ASSERT_TRUE(gripper.wait_for_server());
   ASSERT_EQ(gripper.send(goal_id(12), 0.0, 0.0), true);  // no effort: the hand's force
   const auto result = gripper.result(goal_id(12));
@@ -169,9 +171,9 @@ TEST_F(Ros2ActionTest, AParallelGripperGoalClosingOnAnObjectStalls) {
 }
 
 TEST_F(Ros2ActionTest, ParallelGripperGoalsNotForTheFingerJointAreRejected) {
-  auto hand = client_.hand(hand_address(3));
-  ASSERT_TRUE(hand.initialize());
   auto& gripper = parallel_action(3);
+  auto hand = client_.hand(hand_address(3));
+  ASSERT_TRUE(initialize_hand(hand));
   ASSERT_TRUE(gripper.wait_for_server());
   ca::ParallelGripperCommand_SendGoal_Request_ two;
   two.goal().command().position({0.02, 0.02});
@@ -188,14 +190,14 @@ TEST_F(Ros2ActionTest, ParallelGripperGoalsNotForTheFingerJointAreRejected) {
 }
 
 TEST_F(Ros2ActionTest, AGoalOfTheOtherActionPreemptsTheOneRunning) {
+  auto& gripper = action(3);
+  auto& parallel = parallel_action(3);
   auto hand = client_.hand(hand_address(3));
-  ASSERT_TRUE(hand.initialize());
+  ASSERT_TRUE(initialize_hand(hand));
   ASSERT_TRUE(hand.move_to(100));
   ASSERT_TRUE(hand.wait_until([](const HandStatus& s) {
     return s.position == 100 && s.grip != GripState::moving;
   })) << "the hand did not open before the goals";
-  auto& gripper = action(3);
-  auto& parallel = parallel_action(3);
   ASSERT_TRUE(gripper.wait_for_server());
   ASSERT_TRUE(parallel.wait_for_server());
   ASSERT_EQ(gripper.send(goal_id(18), 0.0, 0.0), true);
