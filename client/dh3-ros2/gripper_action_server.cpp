@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "dh3/contract/dh3.h"
 #include "dh3/motion_end.hpp"
 
 namespace dh3::ros2 {
@@ -23,7 +24,8 @@ constexpr std::int8_t kErrorNone = 0;
 constexpr std::int8_t kErrorUnknownGoal = 2;
 constexpr std::int8_t kErrorGoalTerminated = 3;
 
-constexpr std::int32_t kMinForcePercent = 20;  // docs/protocol-notes.md reading 4
+// The contract's least force (docs/protocol-notes.md reading 4).
+constexpr std::int32_t kMinForcePercent = dh3::limits::FORCE_MIN;
 constexpr auto kLeaseTtl = std::chrono::seconds(30);
 constexpr auto kFeedbackPeriod = std::chrono::milliseconds(50);
 constexpr auto kMotionDeadline = std::chrono::seconds(30);
@@ -47,106 +49,104 @@ builtin_interfaces::msg::dds_::Time_ now() {
 
 GripperActionServer::GripperActionServer(RosParticipant& participant, Client& client,
                                          HandAddress hand, const std::string& action,
-                                         JointUnits units)
+                                         JointUnits units, std::shared_ptr<HandTurn> turn,
+                                         const MakeEndpoints& make_endpoints)
     : client_(client),
       hand_(std::move(hand)),
       action_(action),
       units_(units),
-      feedback_(participant.writer(
-          "rt" + action + "/_action/feedback",
-          eprosima::fastdds::dds::TypeSupport(new gc::GripperCommand_FeedbackMessage_PubSubType()),
-          RosQos::standard)),
+      turn_(std::move(turn)),
       status_(participant.writer("rt" + action + "/_action/status",
                                  eprosima::fastdds::dds::TypeSupport(
                                      new action_msgs::msg::dds_::GoalStatusArray_PubSubType()),
                                  RosQos::action_status)),
-      send_goal_(participant, action + "/_action/send_goal",
-                 [this](const auto& request, const RequestId& id) { on_send_goal(request, id); }),
       cancel_goal_(
           participant, action + "/_action/cancel_goal",
-          [this](const auto& request, const RequestId& id) { on_cancel_goal(request, id); }),
-      get_result_(
-          participant, action + "/_action/get_result",
-          [this](const auto& request, const RequestId& id) { on_get_result(request, id); }) {}
+          [this](const auto& request, const RequestId& id) { on_cancel_goal(request, id); }) {
+  // A request may arrive as soon as the endpoints exist, before endpoints_
+  // is set: its handler waits for this lock.
+  std::lock_guard making(endpoints_made_);
+  ActionEndpoints::Handlers handlers;
+  handlers.send_goal = [this](const Uuid& goal_id, const Result<GripperGoal, std::string>& command,
+                              const RequestId& id) {
+    { std::lock_guard made(endpoints_made_); }
+    on_send_goal(goal_id, command, id);
+  };
+  handlers.get_result = [this](const Uuid& goal_id, const RequestId& id) {
+    { std::lock_guard made(endpoints_made_); }
+    on_get_result(goal_id, id);
+  };
+  endpoints_ = make_endpoints(std::move(handlers));
+}
 
 GripperActionServer::~GripperActionServer() {
   std::vector<std::thread> workers;
   {
     std::lock_guard lock(mutex_);
-    for (auto& [id, goal] : goals_) goal->cancel = true;
+    for (auto& [id, goal] : goals_) *goal->cancel = true;
     workers.swap(workers_);
   }
   for (auto& worker : workers) worker.join();
 }
 
 bool GripperActionServer::ok() const {
-  return feedback_ != nullptr && status_ != nullptr && send_goal_.ok() && cancel_goal_.ok() &&
-         get_result_.ok();
+  return status_ != nullptr && cancel_goal_.ok() && endpoints_ != nullptr && endpoints_->ok();
 }
 
 Result<GripperActionServer::Target, std::string> GripperActionServer::target_of(
-    const control_msgs::msg::dds_::GripperCommand_& command) {
+    const GripperGoal& command) {
   const auto status = client_.status(hand_);
   if (!status) return fail("no such hand");
   if (!status->online) return fail(std::string("the hand is offline"));
   if (!status->initialized) return fail(std::string("the hand is not initialized"));
   Target target;
-  const auto position = units_.opening_percent(command.position());
-  if (!position) return fail("position " + std::to_string(command.position()) + " out of range");
+  const auto position = units_.opening_percent(command.position);
+  if (!position) return fail("position " + std::to_string(command.position) + " out of range");
   target.position = *position;
-  if (command.max_effort() > 0.0 || std::isnan(command.max_effort())) {
-    const auto force = units_.force_percent(command.max_effort());
+  if (command.max_effort > 0.0 || std::isnan(command.max_effort)) {
+    const auto force = units_.force_percent(command.max_effort);
     if (!force || *force < kMinForcePercent) {
-      return fail("max_effort " + std::to_string(command.max_effort()) + " out of range");
+      return fail("max_effort " + std::to_string(command.max_effort) + " out of range");
     }
     target.force = force;
   }
   return target;
 }
 
-void GripperActionServer::on_send_goal(const gc::GripperCommand_SendGoal_Request_& request,
+void GripperActionServer::on_send_goal(const Uuid& goal_id,
+                                       const Result<GripperGoal, std::string>& command,
                                        const RequestId& id) {
-  gc::GripperCommand_SendGoal_Response_ response;
-  response.stamp(now());
-  auto target = target_of(request.goal().command());
+  const auto stamp = now();
+  Result<Target, std::string> target =
+      command ? target_of(*command) : Result<Target, std::string>(fail(command.error()));
   if (!target) {
     spdlog::info("dh3-ros2: {} rejects a goal: {}", action_, target.error());
-    response.accepted(false);
-    send_goal_.reply(id, response);
+    endpoints_->reply_goal(id, false, stamp);
     return;
   }
   auto goal = std::make_shared<Goal>();
-  goal->id = request.goal_id().uuid();
-  goal->stamp = response.stamp();
+  goal->id = goal_id;
+  goal->stamp = stamp;
   goal->status = kAccepted;
+  bool accepted = false;
   {
     std::lock_guard lock(mutex_);
-    if (goals_.count(goal->id) != 0) {
-      response.accepted(false);  // a goal id is used once
-    } else {
-      response.accepted(true);
+    accepted = goals_.count(goal->id) == 0;  // a goal id is used once
+    if (accepted) {
       goals_[goal->id] = goal;
       publish_status_locked();
     }
   }
-  send_goal_.reply(id, response);
-  if (!response.accepted()) return;
+  endpoints_->reply_goal(id, accepted, stamp);
+  if (!accepted) return;
   std::lock_guard lock(mutex_);
   workers_.emplace_back([this, goal, target = *target] { execute(goal, target); });
 }
 
 void GripperActionServer::execute(const std::shared_ptr<Goal>& goal, Target target) {
-  {
-    std::lock_guard lock(mutex_);
-    if (running_) running_->cancel = true;  // a new goal preempts the one running
-  }
   // One goal at a time holds the hand (and this client's lease on it).
-  std::lock_guard executing(executing_);
-  {
-    std::lock_guard lock(mutex_);
-    running_ = goal;
-  }
-  if (goal->cancel) {  // cancelled while it waited
+  const auto driving = turn_->take_for_goal(goal->cancel);
+  if (*goal->cancel) {  // cancelled while it waited
     finish(goal, kCanceled, state_of(client_.status(hand_)));
     return;
   }
@@ -159,8 +159,6 @@ void GripperActionServer::execute(const std::shared_ptr<Goal>& goal, Target targ
     hand.release_lease();
   }
   finish(goal, end, state_of(hand.status()));
-  std::lock_guard lock(mutex_);
-  if (running_ == goal) running_.reset();
 }
 
 std::int8_t GripperActionServer::move(Hand& hand, const std::shared_ptr<Goal>& goal,
@@ -173,7 +171,7 @@ std::int8_t GripperActionServer::move(Hand& hand, const std::shared_ptr<Goal>& g
   }
   {
     std::lock_guard lock(mutex_);
-    if (!goal->cancel) set_status(*goal, kExecuting);  // CANCELING stays
+    if (!*goal->cancel) set_status(*goal, kExecuting);  // CANCELING stays
   }
   // A move is answered when the hand took it; the motion's end is an event.
   // Any end of a finger motion, a drop or a fault ends the goal.
@@ -182,7 +180,7 @@ std::int8_t GripperActionServer::move(Hand& hand, const std::shared_ptr<Goal>& g
   MotionEnd end(rule);
   auto watching = hand.subscribe([&end](const HandEvent& event) { end.offer(event); });
   if (auto started = hand.move_to(target.position); !started) {
-    if (goal->cancel) return kCanceled;
+    if (*goal->cancel) return kCanceled;
     spdlog::warn("dh3-ros2: {} aborts a goal: {}: {}", action_, to_string(started.code),
                  started.message);
     return kAborted;
@@ -190,7 +188,7 @@ std::int8_t GripperActionServer::move(Hand& hand, const std::shared_ptr<Goal>& g
   const auto deadline = std::chrono::steady_clock::now() + kMotionDeadline;
   std::optional<HandEvent> ended;
   while (!(ended = end.wait(std::chrono::steady_clock::now() + kFeedbackPeriod))) {
-    if (goal->cancel) {
+    if (*goal->cancel) {
       hand.stop();
       return kCanceled;
     }
@@ -198,7 +196,7 @@ std::int8_t GripperActionServer::move(Hand& hand, const std::shared_ptr<Goal>& g
       spdlog::warn("dh3-ros2: {} aborts a goal: the motion did not end", action_);
       return kAborted;
     }
-    publish_feedback(*goal, state_of(hand.status()));
+    endpoints_->publish_feedback(goal->id, state_of(hand.status()));
   }
   if (ended->kind != EventKind::arrived && ended->kind != EventKind::grasped &&
       ended->kind != EventKind::missed) {
@@ -214,30 +212,19 @@ std::int8_t GripperActionServer::move(Hand& hand, const std::shared_ptr<Goal>& g
   return kSucceeded;
 }
 
-void GripperActionServer::publish_feedback(const Goal& goal,
-                                           const gc::GripperCommand_Result_& state) {
-  gc::GripperCommand_FeedbackMessage_ feedback;
-  feedback.goal_id().uuid(goal.id);
-  feedback.feedback().position(state.position());
-  feedback.feedback().effort(state.effort());
-  feedback.feedback().stalled(state.stalled());
-  feedback.feedback().reached_goal(state.reached_goal());
-  feedback_->write(&feedback);
-}
-
-gc::GripperCommand_Result_ GripperActionServer::state_of(
-    const std::optional<HandStatus>& status) const {
-  gc::GripperCommand_Result_ result;
-  if (!status || status->position < 0) return result;
-  result.position(units_.opening(status->position));
-  result.stalled(status->grip == GripState::grasped);
-  result.effort(result.stalled() ? units_.force(status->closing_force) : 0.0);
-  result.reached_goal(status->grip == GripState::arrived);
-  return result;
+GripperState GripperActionServer::state_of(const std::optional<HandStatus>& status) const {
+  GripperState state;
+  if (!status || status->position < 0) return state;
+  state.position = units_.opening(status->position);
+  state.stalled = status->grip == GripState::grasped;
+  state.effort = state.stalled ? units_.force(status->closing_force) : 0.0;
+  state.reached_goal = status->grip == GripState::arrived;
+  state.read_at_ns = status->read_at_ns;
+  return state;
 }
 
 void GripperActionServer::finish(const std::shared_ptr<Goal>& goal, std::int8_t status,
-                                 gc::GripperCommand_Result_ result) {
+                                 GripperState result) {
   std::vector<RequestId> waiting;
   {
     std::lock_guard lock(mutex_);
@@ -246,28 +233,25 @@ void GripperActionServer::finish(const std::shared_ptr<Goal>& goal, std::int8_t 
     waiting.swap(goal->waiting_for_result);
     forget_old_goals_locked();
   }
-  gc::GripperCommand_GetResult_Response_ response;
-  response.status(status);
-  response.result(result);
-  for (const auto& id : waiting) get_result_.reply(id, response);
+  for (const auto& id : waiting) endpoints_->reply_result(id, status, result);
 }
 
-void GripperActionServer::on_get_result(const gc::GripperCommand_GetResult_Request_& request,
-                                        const RequestId& id) {
-  gc::GripperCommand_GetResult_Response_ response;
+void GripperActionServer::on_get_result(const Uuid& goal_id, const RequestId& id) {
+  std::int8_t status = 0;  // an unknown goal: STATUS_UNKNOWN
+  GripperState result;
   {
     std::lock_guard lock(mutex_);
-    const auto found = goals_.find(request.goal_id().uuid());
+    const auto found = goals_.find(goal_id);
     if (found != goals_.end() && !terminal(found->second->status)) {
       found->second->waiting_for_result.push_back(id);  // answered when it ends
       return;
     }
     if (found != goals_.end()) {
-      response.status(found->second->status);
-      response.result(found->second->result);
-    }  // an unknown goal: STATUS_UNKNOWN
+      status = found->second->status;
+      result = found->second->result;
+    }
   }
-  get_result_.reply(id, response);
+  endpoints_->reply_result(id, status, result);
 }
 
 void GripperActionServer::on_cancel_goal(const action_msgs::srv::dds_::CancelGoal_Request_& request,
@@ -282,7 +266,7 @@ void GripperActionServer::on_cancel_goal(const action_msgs::srv::dds_::CancelGoa
       if (!every && goal_id != wanted) continue;
       known = true;
       if (terminal(goal->status)) continue;
-      goal->cancel = true;
+      *goal->cancel = true;
       set_status(*goal, kCanceling);
       action_msgs::msg::dds_::GoalInfo_ info;
       info.goal_id().uuid(goal_id);

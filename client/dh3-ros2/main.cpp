@@ -9,6 +9,7 @@
 
 #include "dh3/base/stop_signals.hpp"
 #include "dh3/client.hpp"
+#include "discovery_info.hpp"
 #include "hand_actions.hpp"
 #include "joint_state_publisher.hpp"
 #include "ros2_options.hpp"
@@ -29,6 +30,13 @@ int main(int argc, char** argv) {
     std::cerr << "dh3-ros2: " << participant.error() << "\n";
     return 1;
   }
+  // First, so that its own writer is the one it leaves out.
+  auto discovery = dh3::ros2::DiscoveryInfoPublisher::create(
+      **participant, options.ros_distro, options.ros_namespace, options.node_name);
+  if (!discovery) {
+    std::cerr << "dh3-ros2: " << discovery.error() << "\n";
+    return 1;
+  }
   auto joint_states = dh3::ros2::JointStatePublisher::create(
       **participant, options.joint_states_dds, options.joint_names, options.units);
   if (!joint_states) {
@@ -40,8 +48,10 @@ int main(int argc, char** argv) {
     std::cerr << "dh3-ros2: " << client.error() << "\n";
     return 1;
   }
-  dh3::ros2::HandActions actions(**participant, client, options.ros_namespace, options.action,
-                                 options.units);
+  (*discovery)->publish();
+  dh3::ros2::HandActions actions(**participant, client, options, [&discovery] {
+    if (!(*discovery)->publish()) spdlog::warn("dh3-ros2: ros_discovery_info was not written");
+  });
   auto statuses = client.subscribe_status([&](const dh3::HandStatus& status) {
     actions.on_status(status);
     if (!joint_states->on_status(status)) {
@@ -50,8 +60,8 @@ int main(int argc, char** argv) {
   });
   // One line on stdout for people and for scripts that start it.
   std::cout << "dh3-ros2: publishing joint states on " << options.joint_states_dds
-            << " and an action per hand, " << options.action << " (domain "
-            << options.client.domain << ")" << std::endl;
+            << " and per hand the actions " << options.action << " and " << options.parallel_action
+            << " (domain " << options.client.domain << ")" << std::endl;
 
   int signal_number = 0;
   sigwait(&signals, &signal_number);

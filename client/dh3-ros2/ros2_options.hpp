@@ -8,6 +8,7 @@
 
 #include "dh3/client.hpp"
 #include "dh3/contract/participant_options.hpp"
+#include "discovery_info.hpp"
 #include "joint_state_message.hpp"
 #include "joint_units.hpp"
 
@@ -24,6 +25,16 @@ struct Ros2Options {
   /// Each hand's GripperCommand action, a ROS name pattern of {service},
   /// {bus} and {id}, resolved in the namespace.
   std::string action = "{service}_{bus}_{id}/gripper_cmd";
+  /// Each hand's ParallelGripperCommand action, a pattern as `action`.
+  std::string parallel_action = "{service}_{bus}_{id}/parallel_gripper_cmd";
+  /// Each hand's std_srvs/srv/Trigger service that initializes it.
+  std::string initialize_service = "{service}_{bus}_{id}/initialize";
+  /// Each hand's rcl_interfaces/srv/SetParameters service for its forces.
+  std::string forces_service = "{service}_{bus}_{id}/set_forces";
+  /// The node ros_discovery_info announces, in `ros_namespace`, and the
+  /// layout of its message (rmw's GID: 24 bytes in Humble, 16 in Jazzy).
+  std::string node_name = "dh3_ros2";
+  RosDistro ros_distro = RosDistro::jazzy;
   JointUnits units;
   std::string log_level = "info";
 };

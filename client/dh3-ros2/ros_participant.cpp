@@ -80,16 +80,40 @@ fdds::DataWriter* RosParticipant::writer(const std::string& topic_name, fdds::Ty
                                          RosQos qos, fdds::DataWriterListener* listener) {
   auto* on = topic(topic_name, type);
   if (on == nullptr) return nullptr;
-  return publisher_->create_datawriter(
+  auto* writer = publisher_->create_datawriter(
       on, with_profile(publisher_->get_default_datawriter_qos(), qos), listener);
+  if (writer != nullptr) {
+    std::lock_guard lock(mutex_);
+    writers_.push_back(writer->guid());
+  }
+  return writer;
 }
 
 fdds::DataReader* RosParticipant::reader(const std::string& topic_name, fdds::TypeSupport type,
                                          RosQos qos, fdds::DataReaderListener* listener) {
   auto* on = topic(topic_name, type);
   if (on == nullptr) return nullptr;
-  return subscriber_->create_datareader(
+  auto* reader = subscriber_->create_datareader(
       on, with_profile(subscriber_->get_default_datareader_qos(), qos), listener);
+  if (reader != nullptr) {
+    std::lock_guard lock(mutex_);
+    readers_.push_back(reader->guid());
+  }
+  return reader;
+}
+
+eprosima::fastrtps::rtps::GUID_t RosParticipant::guid() const {
+  return participant_->guid();
+}
+
+std::vector<eprosima::fastrtps::rtps::GUID_t> RosParticipant::readers() const {
+  std::lock_guard lock(mutex_);
+  return readers_;
+}
+
+std::vector<eprosima::fastrtps::rtps::GUID_t> RosParticipant::writers() const {
+  std::lock_guard lock(mutex_);
+  return writers_;
 }
 
 }  // namespace dh3::ros2

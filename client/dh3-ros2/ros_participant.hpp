@@ -15,6 +15,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "dh3/base/result.hpp"
 #include "dh3/contract/participant_options.hpp"
@@ -43,19 +44,27 @@ class RosParticipant {
   eprosima::fastdds::dds::DataWriter* writer(
       const std::string& topic, eprosima::fastdds::dds::TypeSupport type, RosQos qos,
       eprosima::fastdds::dds::DataWriterListener* listener = nullptr);
-  eprosima::fastdds::dds::DataReader* reader(
-      const std::string& topic, eprosima::fastdds::dds::TypeSupport type, RosQos qos,
-      eprosima::fastdds::dds::DataReaderListener* listener);
+  eprosima::fastdds::dds::DataReader* reader(const std::string& topic,
+                                             eprosima::fastdds::dds::TypeSupport type, RosQos qos,
+                                             eprosima::fastdds::dds::DataReaderListener* listener);
+
+  /// The participant's GUID, and those of every reader and writer made so far
+  /// (for ros_discovery_info).
+  [[nodiscard]] eprosima::fastrtps::rtps::GUID_t guid() const;
+  [[nodiscard]] std::vector<eprosima::fastrtps::rtps::GUID_t> readers() const;
+  [[nodiscard]] std::vector<eprosima::fastrtps::rtps::GUID_t> writers() const;
 
  private:
   explicit RosParticipant(eprosima::fastdds::dds::DomainParticipant* participant);
   eprosima::fastdds::dds::Topic* topic(const std::string& name,
                                        eprosima::fastdds::dds::TypeSupport type);
 
-  std::mutex mutex_;  // topics and type registration
+  mutable std::mutex mutex_;  // topics, type registration, readers_, writers_
   eprosima::fastdds::dds::DomainParticipant* participant_;
   eprosima::fastdds::dds::Publisher* publisher_ = nullptr;
   eprosima::fastdds::dds::Subscriber* subscriber_ = nullptr;
+  std::vector<eprosima::fastrtps::rtps::GUID_t> readers_;
+  std::vector<eprosima::fastrtps::rtps::GUID_t> writers_;
 };
 
 }  // namespace dh3::ros2

@@ -4,8 +4,10 @@
 
 #include <cmath>
 
+#include "hand_services.hpp"
 #include "joint_state_message.hpp"
 #include "joint_units.hpp"
+#include "parallel_gripper_endpoints.hpp"
 #include "ros_names.hpp"
 
 namespace dh3::ros2 {
@@ -79,6 +81,53 @@ TEST(Ros2JointState, UnreadValuesAreNaNAndEffortFollowsTheGrip) {
   status.grip = GripState::grasped;
   status.closing_force = 20;
   EXPECT_DOUBLE_EQ(joint_state_of(status, JointNames{}, JointUnits{}).effort()[0], 18.0);
+}
+
+rcl_interfaces::msg::dds_::Parameter_ force_parameter(const std::string& name, double newtons) {
+  rcl_interfaces::msg::dds_::Parameter_ parameter;
+  parameter.name(name);
+  parameter.value().type(3);  // PARAMETER_DOUBLE
+  parameter.value().double_value(newtons);
+  return parameter;
+}
+
+TEST(Ros2Forces, ParametersInNewtonsBecomePercentOrSayWhyNot) {
+  rcl_interfaces::srv::dds_::SetParameters_Request_ request;
+  request.parameters(
+      {force_parameter("closing_force", 45.0), force_parameter("opening_force", 90.0)});
+  const auto both = forces_of(request, JointUnits{});
+  EXPECT_TRUE(both.ok());
+  EXPECT_EQ(both.closing, 50);
+  EXPECT_EQ(both.opening, 100);
+  request.parameters({force_parameter("closing_force", 45.0), force_parameter("closing", 45.0),
+                      force_parameter("opening_force", 17.0)});
+  const auto refused = forces_of(request, JointUnits{});
+  EXPECT_FALSE(refused.ok());
+  ASSERT_EQ(refused.refused.size(), 3U);
+  EXPECT_EQ(refused.refused[0], "");
+  EXPECT_NE(refused.refused[1].find("no parameter closing"), std::string::npos);
+  EXPECT_NE(refused.refused[2].find("out of range"), std::string::npos);  // below 20 %
+  request.parameters({});
+  EXPECT_FALSE(forces_of(request, JointUnits{}).ok()) << "nothing to set is no request";
+}
+
+TEST(Ros2ParallelGripper, AGoalIsTheFingerJointsOnePositionAndEffort) {
+  sensor_msgs::msg::dds_::JointState_ command;
+  command.position({0.02});
+  auto goal = ParallelGripperEndpoints::goal_of(command, "f");
+  ASSERT_TRUE(goal);
+  EXPECT_DOUBLE_EQ(goal->position, 0.02);
+  EXPECT_DOUBLE_EQ(goal->max_effort, 0.0);
+  command.name({"f"});
+  command.effort({30.0});
+  goal = ParallelGripperEndpoints::goal_of(command, "f");
+  ASSERT_TRUE(goal);
+  EXPECT_DOUBLE_EQ(goal->max_effort, 30.0);
+  command.name({"g"});
+  EXPECT_FALSE(ParallelGripperEndpoints::goal_of(command, "f"));
+  command.name({});
+  command.position({0.02, 0.02});
+  EXPECT_FALSE(ParallelGripperEndpoints::goal_of(command, "f"));
 }
 
 }  // namespace

@@ -45,16 +45,27 @@ pids+=($!)
 export CYCLONEDDS_URI='<CycloneDDS><Domain><General><Interfaces><NetworkInterface name="lo"/></Interfaces></General></Domain></CycloneDDS>'
 "$peer_bin" "$domain" wire_bus0_1_finger_joint 60 >/dev/null 2>&1 9>&- ||
   { echo "FAIL: the peer saw no joint state"; cat "$work/ros2.log"; exit 1; }
-action=wire_bus0_1/gripper_cmd/_action
-expected="rq/$action/cancel_goalRequest action_msgs::srv::dds_::CancelGoal_Request_
-rq/$action/get_resultRequest control_msgs::action::dds_::GripperCommand_GetResult_Request_
-rq/$action/send_goalRequest control_msgs::action::dds_::GripperCommand_SendGoal_Request_
+hand=wire_bus0_1
+# An action's three services and two topics: action_names NAME TYPE.
+action_names() {
+  local action=$hand/$1/_action type=control_msgs::action::dds_::$2
+  echo "rq/$action/cancel_goalRequest action_msgs::srv::dds_::CancelGoal_Request_
+rq/$action/get_resultRequest ${type}_GetResult_Request_
+rq/$action/send_goalRequest ${type}_SendGoal_Request_
 rr/$action/cancel_goalReply action_msgs::srv::dds_::CancelGoal_Response_
-rr/$action/get_resultReply control_msgs::action::dds_::GripperCommand_GetResult_Response_
-rr/$action/send_goalReply control_msgs::action::dds_::GripperCommand_SendGoal_Response_
-rt/joint_states sensor_msgs::msg::dds_::JointState_
-rt/$action/feedback control_msgs::action::dds_::GripperCommand_FeedbackMessage_
+rr/$action/get_resultReply ${type}_GetResult_Response_
+rr/$action/send_goalReply ${type}_SendGoal_Response_
+rt/$action/feedback ${type}_FeedbackMessage_
 rt/$action/status action_msgs::msg::dds_::GoalStatusArray_"
+}
+expected="$(action_names gripper_cmd GripperCommand)
+$(action_names parallel_gripper_cmd ParallelGripperCommand)
+rq/$hand/initializeRequest std_srvs::srv::dds_::Trigger_Request_
+rr/$hand/initializeReply std_srvs::srv::dds_::Trigger_Response_
+rq/$hand/set_forcesRequest rcl_interfaces::srv::dds_::SetParameters_Request_
+rr/$hand/set_forcesReply rcl_interfaces::srv::dds_::SetParameters_Response_
+rt/joint_states sensor_msgs::msg::dds_::JointState_
+ros_discovery_info rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_"
 # "topic type" lines from tshark's fields, where a packet that announces several
 # endpoints lists their topics, then their types, each joined by commas.
 pairs() {
@@ -65,7 +76,7 @@ pairs() {
 # expected one is there or 30 s passed.
 for ((i = 0; i < 60; i++)); do
   tshark -r "$work/capture.pcap" -Y rtps -T fields -e rtps.param.topicName -e rtps.param.typeName \
-    2>/dev/null | pairs | grep -E '^r[tqr]/' | sort -u >"$work/names.txt" || true
+    2>/dev/null | pairs | grep -E '^(r[tqr]/|ros_discovery_info )' | sort -u >"$work/names.txt" || true
   missing=$(comm -23 <(sort <<<"$expected") "$work/names.txt")
   [[ -z $missing ]] && break
   sleep 0.5
