@@ -97,7 +97,12 @@ TEST_F(ServiceFramesTest, StopAtRestReadsWhereTheHandIsAndMovesNothing) {
   ASSERT_EQ(client_->call(hand_, msg::MOVE, 60)->code(), msg::OK);
   ASSERT_EQ(client_->call(hand_, msg::ROTATE, 67)->code(), msg::OK);
   ASSERT_TRUE(client_->wait_status(
-      hand_, [](const auto& s) { return s.position() == 60 && s.rotation() == 67; }));
+      hand_, [](const auto& s) {
+        // At rest, not only there: the position is also read during a motion,
+        // and a stop during one writes that place back.
+        return s.position() == 60 && s.rotation() == 67 && s.grip() == msg::GRIP_ARRIVED &&
+               s.rotation_state() == msg::ROTATION_ARRIVED;
+      }));
   // A stop reads where the fingers and the rotation are; at rest there is no
   // motion to hold, so nothing is written (a stop during a motion writes that
   // place back: BusSchedulerCommands' stop tests).

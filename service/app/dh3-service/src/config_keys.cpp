@@ -145,8 +145,8 @@ std::vector<ConfigKey> declare_root_and_dds() {
               "identities)",
        .field = of_config(&ServiceConfig::allow_admin), .option = "--allow-admin"},
       {.path = "client_rate_limit", .type = integer, .max = 1000000,
-       .doc = "requests a second each client may send, in bursts of as many; more are answered "
-              "BUSY; 0: no limit",
+       .doc = "requests a second each client may send, in bursts of as many (a group request is "
+              "one); more are answered BUSY; 0: no limit",
        .field = of_config(&ServiceConfig::client_rate_limit)},
       {.path = "metrics",
        .doc = "serve Prometheus /metrics on HOST:PORT (port 0: any free port); absent: off",
