@@ -167,6 +167,17 @@ class Ros2ActionFixture : public ::testing::Test {
                                     .has_value();
   }
 
+  /// Initializes the hand and closes it, for a goal that opens it: a move is
+  /// answered when the hand takes it, so the goal must start from the closed
+  /// hand, far from its target, for feedback to come while it moves.
+  bool close_for_goal(Hand hand) {
+    return initialize_hand(hand) && hand.move_to(0) &&
+           hand.wait_until([](const HandStatus& s) {
+                 return s.position == 0 && s.grip != GripState::moving;
+               })
+               .has_value();
+  }
+
   ActionClient<GripperCommandTypes>& action(std::uint16_t id) {
     auto& slot = actions_[id];
     if (!slot) {

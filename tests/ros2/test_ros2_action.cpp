@@ -18,13 +18,7 @@ using Ros2ActionTest = Ros2ActionFixture;
 TEST_F(Ros2ActionTest, AGoalMovesTheHandWithFeedbackAndReachesIt) {
   auto& gripper = action(2);
   auto hand = client_.hand(hand_address(2));
-  ASSERT_TRUE(initialize_hand(hand));
-  // A move is answered when the hand takes it: the goal must start from the
-  // closed hand, far from its target, for feedback to come while it moves.
-  ASSERT_TRUE(hand.move_to(0));
-  ASSERT_TRUE(hand.wait_until([](const HandStatus& s) {
-    return s.position == 0 && s.grip != GripState::moving;
-  })) << "the hand did not close before the goal";
+  ASSERT_TRUE(close_for_goal(hand)) << "the hand did not close before the goal";
   ASSERT_TRUE(gripper.wait_for_server());
   ASSERT_EQ(gripper.send(goal_id(1), 0.095, 45.0), true);
   EXPECT_TRUE(wait_for_sample<ca::GripperCommand_FeedbackMessage_>(
@@ -123,11 +117,7 @@ std::string finger_joint(std::uint16_t id) {
 TEST_F(Ros2ActionTest, AParallelGripperGoalMovesTheFingerJointWithFeedback) {
   auto& gripper = parallel_action(2);
   auto hand = client_.hand(hand_address(2));
-  ASSERT_TRUE(initialize_hand(hand));
-  ASSERT_TRUE(hand.move_to(0));
-  ASSERT_TRUE(hand.wait_until([](const HandStatus& s) {
-    return s.position == 0 && s.grip != GripState::moving;
-  })) << "the hand did not close before the goal";
+  ASSERT_TRUE(close_for_goal(hand)) << "the hand did not close before the goal";
   ASSERT_TRUE(gripper.wait_for_server());
   ca::ParallelGripperCommand_SendGoal_Request_ request;
   request.goal().command().name({finger_joint(2)});
