@@ -157,6 +157,11 @@ Result<BusSpec, std::string> parse_bus_spec(std::string_view text) {
       text, "unknown bus type '" + std::string(scheme) + "' (" + std::string(kExpectedAny) + ")"));
 }
 
+bool is_simulated(std::string_view text) {
+  const auto spec = parse_bus_spec(text);
+  return spec && spec->kind == BusKind::sim;
+}
+
 std::string to_string(const BusSpec& spec) {
   switch (spec.kind) {
     case BusKind::sim: {

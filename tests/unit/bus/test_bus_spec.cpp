@@ -50,6 +50,15 @@ TEST(BusSpec, BadSimIdsAreRejectedWithTheReason) {
   EXPECT_THAT(parse_error("sim:1-3,2"), HasSubstr("hand id 2 is listed twice"));
 }
 
+TEST(BusSpec, OnlySimSpecsAreSimulatedInProcess) {
+  EXPECT_TRUE(is_simulated("sim"));
+  EXPECT_TRUE(is_simulated("sim:1-4,7"));
+  EXPECT_FALSE(is_simulated("socketcan:can0"));
+  EXPECT_FALSE(is_simulated("tcp:box:9000"));
+  EXPECT_FALSE(is_simulated("serial:/dev/ttyUSB0"));
+  EXPECT_FALSE(is_simulated("sim:0"));  // a bad spec names no bus at all
+}
+
 TEST(BusSpec, SocketCanNamesAnInterface) {
   const BusSpec spec = parse_ok("socketcan:can0");
   EXPECT_EQ(spec.kind, BusKind::socketcan);

@@ -67,11 +67,8 @@ std::vector<std::uint8_t> simulated_ids(const BusSettings& bus) {
 std::vector<hand::HandConfig> expected_hands(const BusSettings& bus) {
   std::vector<hand::HandConfig> hands;
   for (const auto& hand : bus.hands) hands.push_back({hand.id, hand.name});
-  if (hands.empty()) {
-    auto spec = bus::parse_bus_spec(bus.spec);
-    if (spec && spec->kind == bus::BusKind::sim) {
-      for (const std::uint8_t id : simulated_ids(bus)) hands.push_back({id, {}});
-    }
+  if (hands.empty() && bus::is_simulated(bus.spec)) {
+    for (const std::uint8_t id : simulated_ids(bus)) hands.push_back({id, {}});
   }
   return hands;
 }

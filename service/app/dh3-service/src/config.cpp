@@ -31,11 +31,6 @@ std::string participant_key(std::string_view field) {
   return "dds." + std::string(field);
 }
 
-bool is_sim_bus(const BusSettings& bus) {
-  const auto parsed = bus::parse_bus_spec(bus.spec);
-  return parsed && parsed->kind == bus::BusKind::sim;
-}
-
 /// The file's keys, read by walking the keys' table: each key's type, range
 /// and rule come from its declaration; what is checked here is what spans
 /// several keys.
@@ -190,7 +185,7 @@ class FileParser {
 
   void check_simulator_keys(const YAML::Node& node, const std::string& where,
                             const BusSettings& bus) const {
-    if (!is_sim_bus(bus)) {
+    if (!bus::is_simulated(bus.spec)) {
       if (auto n = node["sim"]) fail_at(n, where + ".sim", "only a sim bus has simulator settings");
       for (std::size_t i = 0; i < bus.hands.size(); ++i) {
         for (const char* field : {"object", "rotation_obstacle"}) {
@@ -402,7 +397,7 @@ Result<ServiceConfig, ConfigError> apply_command_line(ServiceConfig config,
   }
   if (config.role != kRoleActive) {
     for (const BusSettings& bus : config.buses) {
-      if (!is_sim_bus(bus)) continue;
+      if (!bus::is_simulated(bus.spec)) continue;
       return fail(ConfigError{
           "role: " + config.role + ": bus '" + bus.name + "' (" + bus.spec +
           ") is simulated inside this process: a standby must watch the hands its active "

@@ -271,8 +271,7 @@ constexpr dh3::Duration kStartWatchLongest = std::chrono::seconds(2);
 dh3::Result<std::vector<dh3::dds::BusSetup>, std::string> watch_buses_first(
     std::vector<dh3::dds::BusSetup> buses) {
   const bool shared = std::any_of(buses.begin(), buses.end(), [](const auto& setup) {
-    const auto spec = dh3::bus::parse_bus_spec(setup.bus->spec());
-    return !spec || spec->kind != dh3::bus::BusKind::sim;
+    return !dh3::bus::is_simulated(setup.bus->spec());
   });
   if (!shared) return buses;
   const dh3::Clock& clock = dh3::SystemClock::instance();

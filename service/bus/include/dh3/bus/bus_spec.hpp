@@ -47,6 +47,10 @@ struct BusSpec {
 /// "bad bus spec 'tcp:box': missing port (expected tcp:HOST:PORT)".
 [[nodiscard]] Result<BusSpec, std::string> parse_bus_spec(std::string_view text);
 
+/// True if `text` names a bus simulated inside this process ("sim", "sim:1,2"),
+/// which no other process can reach; false for every other kind and for a bad spec.
+[[nodiscard]] bool is_simulated(std::string_view text);
+
 /// The canonical text of a spec ("sim:1,2", "tcp:[::1]:9000", "serial:/dev/ttyS0@9600").
 [[nodiscard]] std::string to_string(const BusSpec& spec);
 
