@@ -16,13 +16,8 @@ domain=${4:-219}
 service="$build/service/app/dh3-service/dh3-service"
 dh3ctl="$build/client/dh3ctl"
 work=$(mktemp -d)
-pids=()
-cleanup() {
-  for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  rm -rf "$work"
-}
-trap cleanup EXIT
+# shellcheck source=../support/processes.sh
+source "$(dirname "$0")/../support/processes.sh"
 
 # CPU seconds (user + system) a process used so far.
 cpu_seconds() {

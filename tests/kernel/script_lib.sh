@@ -13,15 +13,8 @@ kernel_script_setup() {
   ctl_bin=$build/client/dh3ctl
   work=$(mktemp -d "/tmp/dh3-$1.XXXXXX")
   domain=$((100 + RANDOM % 100))
-  pids=()
-  trap kernel_script_cleanup EXIT
-}
-
-kernel_script_cleanup() {
-  for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  if declare -F extra_cleanup >/dev/null; then extra_cleanup; fi
-  rm -rf "$work"
+  # shellcheck source=../support/processes.sh
+  source "$(dirname "${BASH_SOURCE[0]}")/../support/processes.sh"
 }
 
 fail() {

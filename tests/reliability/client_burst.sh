@@ -21,14 +21,8 @@ work=$(mktemp -d /tmp/dh3-burst.XXXXXX)
 # A domain of this run's own: other tests run beside it.
 domain=$((100 + (RANDOM + $$) % 100))
 prefix=burst$$
-pids=()
-
-cleanup() {
-  for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  rm -rf "$work"
-}
-trap cleanup EXIT
+# shellcheck source=../support/processes.sh
+source "$(dirname "$0")/../support/processes.sh"
 fail() {
   echo "FAIL: $*"
   for f in "$work"/service*.log; do

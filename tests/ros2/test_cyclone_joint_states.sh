@@ -5,12 +5,8 @@
 set -euo pipefail
 service_bin=$1 ros2_bin=$2 reader_bin=$3
 work=$(mktemp -d /tmp/dh3-ros2-cyclone-XXXXXX)
-pids=()
-cleanup() {
-  for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null || true; wait "$pid" 2>/dev/null || true; done
-  rm -rf "$work"
-}
-trap cleanup EXIT
+# shellcheck source=../support/processes.sh
+source "$(dirname "$0")/../support/processes.sh"
 
 # A domain of its own, locked as tests/support/test_domain.hpp does.
 domain=
