@@ -73,16 +73,14 @@ case $mode in
 esac
 
 echo "== $sanitize: configure and build in $build"
-# -O1 -g1: what the sanitizers' own manuals ask for (fast enough to run, line
-# tables for the reports' stacks), and half the compile time of -O2 -g, which
-# under ASan + UBSan made this the longest phase of the test command (a heavy
-# file of the DDS layer: 66 s at -O2 -g, 35 s at -O1 -g1). Warnings are the
-# Release build's to fail on (tests/run-all.sh, -O3, every file): GCC's flow
-# warnings differ by optimization level, and one seen only at -O1 says nothing
-# the users' build would.
+# -O1 -g1: fast enough to run, line tables for the reports' stacks, and half
+# the compile time of -O2 -g, which under ASan + UBSan made this the longest
+# phase of the test command. Warnings are the Release build's to fail on
+# (tests/run-all.sh: -O3, every file): GCC's flow warnings differ by
+# optimization level, and one seen only at -O1 says nothing of the users' build.
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
-  -DDH3_WERROR=OFF -DDH3_SANITIZE="$sanitize" -DDH3_BUILD_PYTHON=OFF >/dev/null
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DDH3_WERROR=OFF -DDH3_SANITIZE="$sanitize" \
+  -DDH3_BUILD_PYTHON=OFF >/dev/null
 if [[ -n ${programs_of_labels:-} ]]; then
   # "<program> <label>,<label>..." per line: the programs with a label selected.
   while read -r program labels; do
