@@ -11,7 +11,7 @@ deploy/install-deps.sh
 cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 cmake --build "$build" -j "${JOBS:-2}" --target bench_bus_efficiency bench_round_trip \
   bench_status_fanout bench_footprint bench_event_latency bench_cell bench_group_skew \
-  dh3-service dh3ctl
+  dh3-service dh3ctl dh3-web dh3_python
 mkdir -p "$out"
 bench="$build/tests/bench"
 # 1 and 2: round trip vs raw Fast DDS (shm and UDP), five runs and their median
@@ -41,4 +41,11 @@ echo
 # Death detection's cost at rest: the owner liveliness to 1, 4 and 16 clients
 # on loopback, captured by tshark (~1.5 min).
 for clients in 1 4 16; do tests/bench/liveliness-cost.sh "$build" "$clients" 20; done
+echo
+# Death detection by client kind: the Python module, dh3ctl events and
+# dh3-web's stream, SIGKILL and SIGSTOP of the service, 20 each (~2 min).
+for sig in KILL STOP; do
+  /usr/bin/python3 tests/bench/death-by-client.py --build "$build" --kills 20 --signal "$sig" \
+    --json "$out/death_by_client_$sig.json"
+done
 echo "JSON written to $out/"
