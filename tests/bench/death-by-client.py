@@ -15,20 +15,18 @@ import json
 import os
 import random
 import signal
-import socket
 import subprocess
 import sys
-import tempfile
 import threading
 import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, "..", "support"))
-from test_domain import pick_domain  # noqa: E402
+for folder in ("support", "scale", "web"):
+    sys.path.insert(0, os.path.join(HERE, "..", folder))
+from plantlib import given_binaries, percentile  # noqa: E402
 
 #: Longer than any detection: a kind silent this long after the kill missed it.
 GIVE_UP_S = 10.0
-SERVICE = f"death{os.getpid()}"
 CONFIG = "buses:\n  - name: bus0\n    spec: sim\n    hands: [{id: 1}, {id: 2}]\n"
 
 
@@ -57,84 +55,49 @@ class LineWatcher:
         self.process.wait()
 
 
-def free_port():
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return probe.getsockname()[1]
-
-
-def one_kill(build, domain, sig, dh3):
+def one_kill(sig, dh3, webtest):
     """The milliseconds from the signal to each kind's OFFLINE (None: missed)."""
-    config = tempfile.NamedTemporaryFile("w", suffix=".yaml", delete=False)
-    config.write(CONFIG)
-    config.close()
-    service = subprocess.Popen(
-        [os.path.join(build, "service/app/dh3-service/dh3-service"), "--config", config.name,
-         "--domain", str(domain), "--name", SERVICE, "--log-level", "warn"],
-        stdin=subprocess.DEVNULL)
-    watchers = {}
-    web = None
-    client = dh3.Client(domain=domain, default_timeout=GIVE_UP_S)
-    try:
-        hand = client.wait_for_hand(f"{SERVICE}/bus0/1", timeout=GIVE_UP_S)
-        if not hand.wait_until(lambda s: s.online, timeout=GIVE_UP_S):
-            raise RuntimeError("the hand never came online")
-        python_seen = []
+    address = webtest.hand(1)
+    with webtest.service_and_web(config_text=CONFIG) as cell, \
+            dh3.Client(domain=webtest.DOMAIN, default_timeout=GIVE_UP_S) as client:
+        watchers = {
+            "dh3ctl events": LineWatcher(
+                [os.environ["DH3CTL"], "-d", str(webtest.DOMAIN), "--json", "events", address],
+                "watching events", '"kind":"OFFLINE"'),
+            "dh3-web stream": LineWatcher(["curl", "-sN", cell.url.rstrip("/") + "/api/stream"],
+                                          f'"hand":"{address}"', '"kind":"OFFLINE"'),
+        }
+        try:
+            hand = client.wait_for_hand(address, timeout=GIVE_UP_S)
+            if not hand.wait_until(lambda s: s.online, timeout=GIVE_UP_S):
+                raise RuntimeError("the hand never came online")
+            python_seen = []
 
-        def on_event(event):
-            if event.kind == dh3.EventKind.OFFLINE and not python_seen:
-                python_seen.append(time.monotonic_ns())
+            def on_event(event):
+                if event.kind == dh3.EventKind.OFFLINE and not python_seen:
+                    python_seen.append(time.monotonic_ns())
 
-        subscription = hand.subscribe(on_event)
-        port = free_port()
-        watchers["dh3ctl events"] = LineWatcher(
-            [os.path.join(build, "client/dh3ctl"), "-d", str(domain), "--json", "events",
-             f"{SERVICE}/bus0/1"], "watching events", '"kind":"OFFLINE"')
-        web = LineWatcher(
-            [os.path.join(build, "client/dh3-web"), "-d", str(domain), "--listen",
-             f"127.0.0.1:{port}", "--log-level", "warn"], "never", "never")
-        stream = None
-        deadline = time.monotonic() + GIVE_UP_S
-        while stream is None and time.monotonic() < deadline:
-            try:
-                stream = LineWatcher(["curl", "-sN", f"http://127.0.0.1:{port}/api/stream"],
-                                     f'"hand":"{SERVICE}/bus0/1"', '"kind":"OFFLINE"')
-                if not stream.ready.wait(timeout=2):
-                    stream.stop()
-                    stream = None
-            except OSError:
-                stream = None
-        if stream is None:
-            raise RuntimeError("dh3-web's stream never showed the hand")
-        watchers["dh3-web stream"] = stream
-        if not watchers["dh3ctl events"].ready.wait(timeout=GIVE_UP_S):
-            raise RuntimeError("dh3ctl events never found the service")
-        # At a random phase of the service's assertions (every 100 ms).
-        time.sleep(0.5 + random.random() * 0.3)
-        killed_ns = time.monotonic_ns()
-        service.send_signal(sig)
-        end = time.monotonic() + GIVE_UP_S
-        while time.monotonic() < end and (
-                not python_seen or any(w.seen_ns is None for w in watchers.values())):
-            time.sleep(0.01)  # polling what the watcher threads recorded
-        seen = {"Python module": python_seen[0] if python_seen else None}
-        seen.update({kind: w.seen_ns for kind, w in watchers.items()})
-        subscription.unsubscribe()
-        return {kind: None if ns is None else (ns - killed_ns) / 1e6 for kind, ns in seen.items()}
-    finally:
-        for watcher in watchers.values():
-            watcher.stop()
-        if web is not None:
-            web.stop()
-        client.close()
-        service.kill()
-        service.wait()
-        os.remove(config.name)
-
-
-def percentile(values, p):
-    ordered = sorted(values)
-    return ordered[min(len(ordered) - 1, int(p * (len(ordered) - 1) + 0.5))]
+            subscription = hand.subscribe(on_event)
+            for kind, watcher in watchers.items():
+                if not watcher.ready.wait(timeout=GIVE_UP_S):
+                    raise RuntimeError(f"{kind} never showed the hand's service")
+            # At a random phase of the service's assertions (every 100 ms).
+            time.sleep(0.5 + random.random() * 0.3)
+            killed_ns = time.monotonic_ns()
+            cell.service.send_signal(sig)
+            end = time.monotonic() + GIVE_UP_S
+            while time.monotonic() < end and (
+                    not python_seen or any(w.seen_ns is None for w in watchers.values())):
+                time.sleep(0.01)  # polling what the watcher threads recorded
+            subscription.unsubscribe()
+            seen = {"Python module": python_seen[0] if python_seen else None}
+            seen.update({kind: w.seen_ns for kind, w in watchers.items()})
+            return {kind: None if ns is None else (ns - killed_ns) / 1e6
+                    for kind, ns in seen.items()}
+        finally:
+            for watcher in watchers.values():
+                watcher.stop()
+            cell.service.kill()  # a frozen one too: it would not take the SIGTERM
 
 
 def main():
@@ -145,14 +108,20 @@ def main():
     parser.add_argument("--json", help="write the figures to this file")
     args = parser.parse_args()
     build = os.path.abspath(args.build)
-    sys.path.insert(0, os.path.join(build, "client/python"))
-    import dh3  # noqa: PLC0415 (built in the build tree named by --build)
+    programs = given_binaries(os.path.join(build, "service/app/dh3-service/dh3-service"),
+                              os.path.join(build, "client/dh3ctl"),
+                              os.path.join(build, "client/python"))
+    os.environ["DH3_SERVICE"] = programs["dh3-service"]
+    os.environ["DH3CTL"] = programs["dh3ctl"]
+    os.environ["DH3_WEB"] = os.path.join(build, "client/dh3-web")
+    sys.path.insert(0, programs["pythonpath"])
+    import dh3  # noqa: PLC0415 (from the build tree named by --build)
+    import webtest  # noqa: PLC0415 (reads the programs' paths from the environment)
 
-    domain = pick_domain()
     sig = signal.SIGKILL if args.signal == "KILL" else signal.SIGSTOP
     times = {}
     for _ in range(args.kills):
-        for kind, ms in one_kill(build, domain, sig, dh3).items():
+        for kind, ms in one_kill(sig, dh3, webtest).items():
             times.setdefault(kind, []).append(ms)
     print(f"death detection, SIG{args.signal} of dh3-service, {args.kills} kills, "
           f"signal to the hand OFFLINE at the client:")
