@@ -6,9 +6,11 @@
 #include <gtest/gtest.h>
 #include <sys/socket.h>
 #include <sys/time.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cstring>
+#include <ctime>
 
 namespace dh3::sim {
 namespace {
@@ -38,6 +40,37 @@ TEST(ReceiveTimestamp, ReadsNanosecondAndMicrosecondStamps) {
   EXPECT_EQ(receive_timestamp(message), std::nullopt);
   message.msg_controllen = 0;
   EXPECT_EQ(receive_timestamp(message), std::nullopt);
+}
+
+Duration wall_clock_now() {
+  timespec now{};
+  ::clock_gettime(CLOCK_REALTIME, &now);
+  return std::chrono::seconds(now.tv_sec) + std::chrono::nanoseconds(now.tv_nsec);
+}
+
+TEST(ReceiveTimestamp, AnUnstampedReadArrivedWhenItWasReadByTheStampsClock) {
+  int pair[2];
+  ASSERT_EQ(::socketpair(AF_UNIX, SOCK_DGRAM, 0, pair), 0);  // never asked to stamp
+  const unsigned char sent = 7;
+  ASSERT_EQ(::send(pair[1], &sent, 1, 0), 1);
+  unsigned char buffer[4];
+  const Duration before = wall_clock_now();
+  const StampedRead read = read_stamped(pair[0], buffer, 0);
+  const Duration arrival = arrival_time(read);
+  const Duration after = wall_clock_now();
+  ::close(pair[0]);
+  ::close(pair[1]);
+  ASSERT_EQ(read.got, 1);
+  EXPECT_EQ(read.stamp, std::nullopt);
+  EXPECT_GE(arrival, before);
+  EXPECT_LE(arrival, after);
+}
+
+TEST(ReceiveTimestamp, AStampedReadArrivedAtItsStamp) {
+  StampedRead read;
+  read.got = 1;
+  read.stamp = std::chrono::seconds(1700000000) + 5ns;
+  EXPECT_EQ(arrival_time(read), std::chrono::seconds(1700000000) + 5ns);
 }
 
 }  // namespace

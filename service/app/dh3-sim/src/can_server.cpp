@@ -82,7 +82,7 @@ void CanServer::read_frames() {
     }
     note_working();
     handle_frame(data, read.truncated ? sizeof data + 1 : static_cast<std::size_t>(read.got),
-                 read.stamp);
+                 options_.kernel_timestamps ? std::optional(arrival_time(read)) : std::nullopt);
   }
 }
 

@@ -53,4 +53,11 @@ StampedRead read_stamped(int fd, std::span<unsigned char> buffer, int flags) {
   return read;
 }
 
+Duration arrival_time(const StampedRead& read) {
+  if (read.stamp) return *read.stamp;
+  timespec now{};
+  ::clock_gettime(CLOCK_REALTIME, &now);
+  return std::chrono::seconds(now.tv_sec) + std::chrono::nanoseconds(now.tv_nsec);
+}
+
 }  // namespace dh3::sim

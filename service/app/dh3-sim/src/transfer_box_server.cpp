@@ -197,11 +197,10 @@ void TransferBoxServer::read_client(Client& client) {
                     client.decoder.bytes_skipped() - skipped_before);
     }
     // One time for every frame of the read: the kernel stamps the newest
-    // segment, and TCP tells no more. Without a stamp (turned off, or a
-    // kernel that gives none) the time of reading.
-    const Duration read_at = options_.kernel_timestamps && read.stamp
-                                 ? *read.stamp
-                                 : host_.clock().now().time_since_epoch();
+    // segment, and TCP tells no more. With stamps turned off, the time of
+    // reading by the host's clock.
+    const Duration read_at = options_.kernel_timestamps ? arrival_time(read)
+                                                        : host_.clock().now().time_since_epoch();
     for (const protocol::Message& request : decoded_) {
       if (options_.shared) share_request(client, request);
       host_.receive(request, client.id, read_at);
