@@ -48,9 +48,13 @@ status=0
 # Runs ctest on the Release build with the arguments given; ctest lists skipped
 # tests without their reason, so this prints the reason each gave (GoogleTest's
 # "Skipped" message, or a script's "SKIP:" line).
+source tests/support/failure-summary.sh
+failures=$(mktemp)
+trap 'rm -f "$failures"' EXIT
 run_ctest() {
   ctest --test-dir "$build" --output-on-failure -j "$jobs" "$@" || status=$?
   local log="$build/Testing/Temporary/LastTest.log"
+  failed_tests_in "$log" "failed in $build" >>"$failures"
   if [[ -f $log ]] && grep -q -E ': Skipped$|^SKIP: ' "$log"; then
     echo "Skipped tests and their reasons:"
     awk '/: Skipped$/ { getline reason; print "  " reason } /^SKIP: / { print "  " $0 }' "$log" | sort -u
@@ -78,6 +82,8 @@ test_names() {
 if [[ ${SANITIZERS:-1} != 0 ]]; then
   for mode in address thread; do
     JOBS=$jobs tests/sanitize/run-sanitized.sh "$mode" "$@" || status=1
+    failed_tests_in "${SANITIZE_BUILD_DIR:-build-${mode:0:1}san}/Testing/Temporary/LastTest.log" "failed under $mode sanitizer" >>"$failures"
+    sanitizer_reports_in "build-$mode-reports" >>"$failures"
     end_phase "$mode sanitizer"
   done
   # Every test ran in one of the two builds: one the sanitized build did not
@@ -93,6 +99,10 @@ if [[ ${SANITIZERS:-1} != 0 ]]; then
   fi
 else
   echo "SANITIZERS=0: the sanitizer runs were skipped"
+fi
+if [[ -s $failures ]]; then
+  echo "== what failed (the details are above)"
+  cat "$failures"
 fi
 print_phases
 exit "$status"
