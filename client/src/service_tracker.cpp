@@ -18,6 +18,15 @@ bool ServiceTracker::note_participant(const std::string& prefix, const std::stri
   return true;
 }
 
+bool ServiceTracker::participant_found(const std::string& prefix, const std::string& service,
+                                       Outcome& out, std::chrono::steady_clock::time_point now) {
+  announced_[prefix] = service;
+  if (const auto it = participants_.find(prefix); it != participants_.end()) {
+    it->second.alive = true;
+  }
+  return note_participant(prefix, service, out, now);
+}
+
 void ServiceTracker::set_endpoints(bool can_command, bool has_owner_reader,
                                    std::chrono::steady_clock::time_point now) {
   can_command_ = can_command;
@@ -353,6 +362,28 @@ bool ServiceTracker::any_alive() const {
 bool ServiceTracker::participant_gone(const std::string& prefix) const {
   const auto it = participants_.find(prefix);
   return it != participants_.end() && !it->second.alive;
+}
+
+std::string ServiceTracker::sightings(const std::string& service) const {
+  std::string seen;
+  for (const auto& [prefix, announced] : announced_) {
+    if (announced != service) continue;
+    std::string why;
+    if (participant_gone(prefix)) {
+      why = "it left the domain or stopped asserting it lives";
+    } else if (believed(prefix, service)) {
+      why = "believed";
+    } else if (const auto owner = owners_.owner(service)) {
+      why = "not believed: the owner is " + owner->describe();
+    } else if (owners_.lapsed(prefix)) {
+      why = "not believed: its owner liveliness lapsed";
+    } else {
+      why = "not believed: a standby or outranked claimant";
+    }
+    seen += (seen.empty() ? "" : "; ") + describe(prefix) + ": " + why;
+  }
+  if (seen.empty()) return "discovery found no participant announcing it";
+  return "discovery found " + seen;
 }
 
 ServiceInfo ServiceTracker::info_of(const std::string& name, const ServiceState& state) const {

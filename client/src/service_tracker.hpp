@@ -86,6 +86,14 @@ class ServiceTracker {
   bool note_participant(
       const std::string& prefix, const std::string& service, Outcome& out,
       std::chrono::steady_clock::time_point now = std::chrono::steady_clock::now());
+  /// Discovery found participant `prefix`, which announces `service`. One
+  /// that had left is back: Fast DDS drops a live participant whose
+  /// announcements did not reach this process for a lease (a starved process,
+  /// a cut cable) and finds it again at its next announcement, under the same
+  /// prefix. False if an owner claim says another participant serves the name.
+  bool participant_found(
+      const std::string& prefix, const std::string& service, Outcome& out,
+      std::chrono::steady_clock::time_point now = std::chrono::steady_clock::now());
   /// The participant left the domain; its service is lost if it was current,
   /// and another live participant of that name takes over.
   Outcome participant_left(const std::string& prefix);
@@ -135,6 +143,10 @@ class ServiceTracker {
   [[nodiscard]] bool alive(const std::string& service) const;
   [[nodiscard]] bool any_alive() const;
   [[nodiscard]] bool participant_gone(const std::string& prefix) const;
+  /// What discovery showed of `service` while it is not alive here, in words
+  /// for a NO_SERVICE message: each participant announcing it and why it is
+  /// not believed, or that none was discovered.
+  [[nodiscard]] std::string sightings(const std::string& service) const;
 
   /// Every service known, with `ready` filled in.
   [[nodiscard]] std::vector<ServiceInfo> services() const;
@@ -183,7 +195,9 @@ class ServiceTracker {
 
   bool can_command_ = true;
   bool owner_reader_ = false;
-  std::map<std::string, Participant> participants_;  ///< service participants, by prefix
+  std::map<std::string, Participant> participants_;
+  /// Every participant discovery found, and the service it announces.
+  std::map<std::string, std::string> announced_;  ///< service participants, by prefix
   std::map<std::string, ServiceState, std::less<>> services_;
   contract::OwnerTable owners_;
   /// A lapse reported and not yet final.

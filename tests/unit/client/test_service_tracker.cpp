@@ -141,5 +141,39 @@ TEST(ServiceTracker, AliveAndAnyAliveFollowTheIncarnations) {
   EXPECT_EQ(tracker.services().size(), 1U);  // still known, not alive
 }
 
+TEST(ServiceTracker, AParticipantDiscoveryDroppedAndFoundAgainServesOnceItMatchesAgain) {
+  ServiceTracker tracker;
+  Outcome ignored;
+  ASSERT_TRUE(tracker.participant_found("A", "svc", ignored));
+  match_commands(tracker, "A");
+  ASSERT_TRUE(tracker.ready("svc"));
+  tracker.participant_left("A");  // its lease ran out in a process that starved
+  Outcome late;
+  EXPECT_FALSE(tracker.note_participant("A", "svc", late)) << "a late status of the gone one";
+
+  Outcome found;
+  ASSERT_TRUE(tracker.participant_found("A", "svc", found));
+  EXPECT_EQ(found.service, "svc");
+  EXPECT_TRUE(found.may_dispatch);
+  EXPECT_FALSE(tracker.participant_gone("A"));
+  EXPECT_TRUE(tracker.alive("svc"));
+  EXPECT_EQ(tracker.incarnation("svc"), "A");
+  EXPECT_FALSE(tracker.ready("svc")) << "its endpoints left with it";
+  match_commands(tracker, "A");
+  EXPECT_TRUE(tracker.ready("svc"));
+}
+
+TEST(ServiceTracker, SightingsSayWhatDiscoveryShowedOfAServiceThatIsNotAlive) {
+  ServiceTracker tracker;
+  EXPECT_EQ(tracker.sightings("svc"), "discovery found no participant announcing it");
+  Outcome ignored;
+  tracker.participant_found("A", "svc", ignored);
+  tracker.participant_found("B", "other", ignored);
+  EXPECT_EQ(tracker.sightings("svc"), "discovery found participant A: believed");
+  tracker.participant_left("A");
+  EXPECT_EQ(tracker.sightings("svc"),
+            "discovery found participant A: it left the domain or stopped asserting it lives");
+}
+
 }  // namespace
 }  // namespace dh3::detail
