@@ -24,6 +24,8 @@ import time
 import urllib.request
 
 sys.path.insert(0, os.path.dirname(__file__))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "scale"))
+from plantlib import percentile  # noqa: E402
 from webtest import (DEADLINE, TOKEN, api, hand, headless_chromium, page_files,  # noqa: E402
                      service_and_web)
 from selenium.webdriver.support.ui import WebDriverWait  # noqa: E402
@@ -72,11 +74,6 @@ def wait_until_arrived(url: str, address: str, target: int) -> None:
     raise TimeoutError(f"{address} did not arrive at {target}")
 
 
-def percentile(values, p):
-    ordered = sorted(values)
-    return ordered[min(len(ordered) - 1, int(round(p / 100 * (len(ordered) - 1))))]
-
-
 def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--moves", type=int, default=40)
@@ -118,7 +115,7 @@ def main():
                 latencies.append(latency)
             previous = position
         print(f"change to page: {len(latencies)} changes of {address} over {args.moves} moves; "
-              f"p50 {percentile(latencies, 50):.1f} ms, p99 {percentile(latencies, 99):.1f} ms, "
+              f"p50 {percentile(latencies, 0.5):.1f} ms, p99 {percentile(latencies, 0.99):.1f} ms, "
               f"max {max(latencies):.1f} ms")
 
 
