@@ -407,12 +407,12 @@ void ClientCore::on_owner(const std::string& prefix, const msg::ServiceOwner& cl
   run(out);
 }
 
-void ClientCore::on_owner_alive(const std::string& prefix, bool alive) {
+void ClientCore::on_owner_liveliness(const std::string& prefix, int change) {
   Actions out;
   {
     std::lock_guard lock(mutex_);
     if (closed_) return;
-    if (alive) {
+    if (tracker_.owner_liveliness_changed(prefix, change)) {
       apply_locked(tracker_.owner_alive(prefix, true), out);
     } else {
       tracker_.owner_lapsed(prefix, Clock::now());  // the io thread confirms it if it stands

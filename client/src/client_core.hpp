@@ -156,7 +156,8 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   void on_event(const std::string& prefix, const msg::HandEvent& event);
   /// A service's owner claim (dh3/contract/ownership.hpp), and its writer's liveliness.
   void on_owner(const std::string& prefix, const msg::ServiceOwner& claim);
-  void on_owner_alive(const std::string& prefix, bool alive);
+  /// `change`: the LivelinessChangedStatus's alive_count_change (not 0).
+  void on_owner_liveliness(const std::string& prefix, int change);
   /// A reply written by `prefix`: taken only from the service the call went to.
   void on_reply(const std::string& prefix, const msg::CommandReply& reply);
   void on_group_reply(const msg::GroupReply& reply);

@@ -95,8 +95,8 @@ class ClientEndpoints {
                                const fdds::LivelinessChangedStatus& status) override {
       const OnDdsListener on_listener;
       if (status.alive_count_change == 0) return;
-      core_.on_owner_alive(contract::client_id_for(status.last_publication_handle),
-                           status.alive_count_change > 0);
+      core_.on_owner_liveliness(contract::client_id_for(status.last_publication_handle),
+                                status.alive_count_change);
     }
     void on_subscription_matched(fdds::DataReader* reader,
                                  const fdds::SubscriptionMatchedStatus& status) override {

@@ -105,6 +105,13 @@ class ServiceTracker {
   /// its claim: a service killed before its first assertion reached us.
   void take_claim(const contract::OwnerClaim& claim, Outcome& out,
                   std::chrono::steady_clock::time_point now = std::chrono::steady_clock::now());
+  /// Fast DDS changed the liveliness of the owner writer of `prefix` by
+  /// `change`: whether it is alive now, by the sum of the changes, whatever
+  /// order they came in (contract::OwnerTable::liveliness_changed). The caller
+  /// then calls owner_alive() or owner_lapsed().
+  bool owner_liveliness_changed(const std::string& prefix, int change) {
+    return owners_.liveliness_changed(prefix, change);
+  }
   /// The owner writer of `prefix` asserted its liveliness (true) or missed its
   /// lease (false), taken as final at once.
   Outcome owner_alive(const std::string& prefix, bool alive);

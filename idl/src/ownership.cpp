@@ -45,6 +45,12 @@ void OwnerTable::set_alive(const std::string& participant, bool alive) {
   entries_[participant].liveliness = alive ? Liveliness::alive : Liveliness::lapsed;
 }
 
+bool OwnerTable::liveliness_changed(const std::string& participant, int change) {
+  Entry& entry = entries_[participant];
+  entry.liveliness_sum += change;
+  return entry.liveliness_sum > 0;
+}
+
 void OwnerTable::forget(const std::string& participant) {
   entries_.erase(participant);
 }

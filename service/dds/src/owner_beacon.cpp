@@ -219,8 +219,10 @@ void OwnerBeacon::Listener::on_liveliness_changed(fdds::DataReader* /*reader*/,
   const std::string from = contract::client_id_for(status.last_publication_handle);
   {
     std::lock_guard lock(beacon_.mutex_);
-    if (status.alive_count_change > 0) beacon_.table_.set_alive(from, true);
-    if (status.alive_count_change < 0) beacon_.table_.set_alive(from, false);
+    if (status.alive_count_change != 0) {
+      beacon_.table_.set_alive(from,
+                               beacon_.table_.liveliness_changed(from, status.alive_count_change));
+    }
   }
   beacon_.wake_.notify_all();
 }

@@ -53,6 +53,24 @@ TEST(OwnerTable, LivelinessMayComeBeforeTheClaim) {
   EXPECT_EQ(table.owner("cell")->participant, "a");
 }
 
+TEST(OwnerTable, LivelinessChangesSayTheWritersStateInWhateverOrderTheyCame) {
+  OwnerTable table;
+  EXPECT_TRUE(table.liveliness_changed("a", +1)) << "first assertion";
+  // A lapse and the assertion that ended it, reported the wrong way round.
+  EXPECT_TRUE(table.liveliness_changed("a", +1));
+  EXPECT_TRUE(table.liveliness_changed("a", -1)) << "the late lapse: it asserted since";
+  EXPECT_FALSE(table.liveliness_changed("a", -1)) << "a lapse in order";
+  // It asserts, lapses at once and asserts again; the first assertion is
+  // reported after the lapse.
+  EXPECT_FALSE(table.liveliness_changed("a", -1));
+  EXPECT_FALSE(table.liveliness_changed("a", +1)) << "the assertion before that lapse";
+  EXPECT_TRUE(table.liveliness_changed("a", +1));
+  EXPECT_FALSE(table.liveliness_changed("b", -1)) << "each writer its own sum";
+  EXPECT_TRUE(table.liveliness_changed("a", 0));
+  table.forget("a");
+  EXPECT_TRUE(table.liveliness_changed("a", +1)) << "found again after it left: a new sum";
+}
+
 TEST(OwnerTable, AStandbyNeverOwns) {
   OwnerTable table;
   table.claim(claim("s", 5, 10, /*standby=*/true));

@@ -101,6 +101,16 @@ class OwnerTable {
   /// The writer of `participant` asserted its liveliness (true) or missed its
   /// lease (false). May come before or after the claim sample.
   void set_alive(const std::string& participant, bool alive);
+  /// Fast DDS changed the liveliness of the writer of `participant` by
+  /// `change` (LivelinessChangedStatus::alive_count_change); returns whether
+  /// it is alive now, for the caller to act on (set_alive() at once, or once
+  /// a lapse is confirmed). Fast DDS 2.9
+  /// reports a lapse from its event thread and the next assertion from a
+  /// receive thread, each after releasing its lock, so the two may arrive
+  /// in either order: taken by sign, an assertion that overtook its lapse
+  /// would leave a live owner lapsed for good. A writer's changes alternate
+  /// (+1, -1, +1, ...), so their sum says its state in any order: 1 alive.
+  bool liveliness_changed(const std::string& participant, int change);
   /// The participant left the domain or its writer was deleted.
   void forget(const std::string& participant);
   /// `participant` announced itself in discovery as a service of `service`
@@ -133,6 +143,7 @@ class OwnerTable {
     OwnerClaim claim;
     bool has_claim = false;
     Liveliness liveliness = Liveliness::unknown;
+    int liveliness_sum = 0;  ///< of the changes Fast DDS reported, in whatever order
     /// The service it announced itself as in discovery, if it did.
     std::optional<std::string> announced_service;
   };
