@@ -15,6 +15,8 @@
 #include <optional>
 #include <utility>
 
+#include "dh3/bus/receive_timestamp.hpp"
+
 namespace dh3::bus {
 namespace {
 
@@ -25,20 +27,6 @@ constexpr int kMaxFramesPerReceive = 256;
 constexpr Duration kErrorLogInterval = std::chrono::seconds(10);
 
 std::size_t index_of(ErrorFrameKind kind) { return static_cast<std::size_t>(kind); }
-
-/// The kernel's receive timestamp among a datagram's control messages.
-std::optional<WallTime> kernel_timestamp(msghdr& message) {
-  for (cmsghdr* c = CMSG_FIRSTHDR(&message); c != nullptr; c = CMSG_NXTHDR(&message, c)) {
-    if (c->cmsg_level == SOL_SOCKET && c->cmsg_type == SCM_TIMESTAMPNS &&
-        c->cmsg_len >= CMSG_LEN(sizeof(timespec))) {
-      timespec stamp{};
-      std::memcpy(&stamp, CMSG_DATA(c), sizeof stamp);
-      return WallTime(std::chrono::duration_cast<WallTime::duration>(
-          std::chrono::seconds(stamp.tv_sec) + std::chrono::nanoseconds(stamp.tv_nsec)));
-    }
-  }
-  return std::nullopt;
-}
 
 std::string link_error_text(int error) {
   if (error == ENETDOWN) return "interface is down (" + errno_text(error) + ")";
@@ -122,11 +110,10 @@ void SocketCanBus::try_open(TimePoint now) {
   }
   fd_ = std::move(opened.value());
   if (options_.receive_timestamps) {
-    const int on = 1;
-    if (::setsockopt(fd_.get(), SOL_SOCKET, SO_TIMESTAMPNS, &on, sizeof on) != 0) {
+    if (const auto refused = enable_receive_timestamps(fd_.get())) {
       spdlog::warn("{}: no kernel receive timestamps ({}); frames are recorded at the time of "
                    "reading",
-                   spec_, errno_text(errno));
+                   spec_, errno_text(*refused));
     }
   }
   kernel_drops_seen_ = 0;
@@ -303,7 +290,9 @@ void SocketCanBus::read_available(std::vector<CanFrame>& out, TimePoint now) {
     out.push_back(frame);
     ++frames_received_;
     if (options_.receive_timestamps) {
-      receive_times_.push_back(kernel_timestamp(message).value_or(std::chrono::system_clock::now()));
+      const std::optional<Duration> stamp = receive_timestamp(message);
+      receive_times_.push_back(stamp ? WallTime(std::chrono::duration_cast<WallTime::duration>(*stamp))
+                                     : std::chrono::system_clock::now());
     }
   }
 }

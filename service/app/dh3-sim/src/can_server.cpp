@@ -9,7 +9,7 @@
 #include <ctime>
 
 #include "dh3/protocol/codec.hpp"
-#include "dh3/sim_server/receive_timestamp.hpp"
+#include "dh3/bus/receive_timestamp.hpp"
 
 namespace dh3::sim {
 
@@ -41,7 +41,7 @@ Result<void, std::string> CanServer::open_fd() {
   fd_ = std::move(opened.value());
   set_nonblocking(fd_.get());
   if (options_.kernel_timestamps) {
-    if (const auto refused = enable_receive_timestamps(fd_.get())) {
+    if (const auto refused = bus::enable_receive_timestamps(fd_.get())) {
       spdlog::warn(
           "dh3-sim: {}: no kernel receive timestamps ({}); the interval check uses "
           "the time of reading",
@@ -68,7 +68,7 @@ void CanServer::read_frames() {
   for (int round = 0; round < kMaxFramesPerRound && fd_.valid(); ++round) {
     // Room for a CAN FD frame too, so a longer datagram is seen as such.
     alignas(can_frame) unsigned char data[sizeof(canfd_frame)];
-    const StampedRead read = read_stamped(fd_.get(), data, MSG_DONTWAIT);
+    const bus::StampedRead read = bus::read_stamped(fd_.get(), data, MSG_DONTWAIT);
     if (read.got < 0) {
       if (read.error == EINTR) continue;
       if (read.error == EAGAIN || read.error == EWOULDBLOCK) return;
@@ -82,7 +82,7 @@ void CanServer::read_frames() {
     }
     note_working();
     handle_frame(data, read.truncated ? sizeof data + 1 : static_cast<std::size_t>(read.got),
-                 options_.kernel_timestamps ? std::optional(arrival_time(read)) : std::nullopt);
+                 options_.kernel_timestamps ? std::optional(bus::arrival_time(read)) : std::nullopt);
   }
 }
 

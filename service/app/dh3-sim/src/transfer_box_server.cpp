@@ -15,7 +15,7 @@
 #include <optional>
 
 #include "dh3/protocol/codec.hpp"
-#include "dh3/sim_server/receive_timestamp.hpp"
+#include "dh3/bus/receive_timestamp.hpp"
 
 namespace dh3::sim {
 
@@ -73,7 +73,7 @@ Result<void, ServerError> TransferBoxServer::listen() {
   // client's first frames may arrive before accept(), and unstamped they would
   // be timed by another clock than the frames after them.
   if (options_.kernel_timestamps) {
-    if (const auto refused = enable_receive_timestamps(listen_fd_.get())) {
+    if (const auto refused = bus::enable_receive_timestamps(listen_fd_.get())) {
       spdlog::warn("dh3-sim: no kernel receive timestamps ({}); the interval check uses "
                    "the time of reading", errno_text(*refused));
     }
@@ -177,7 +177,7 @@ void TransferBoxServer::accept_clients() {
 void TransferBoxServer::read_client(Client& client) {
   std::uint8_t buffer[kReadChunk];
   for (;;) {
-    const StampedRead read = read_stamped(client.fd.get(), buffer, 0);
+    const bus::StampedRead read = bus::read_stamped(client.fd.get(), buffer, 0);
     if (read.got == 0) {
       close_client(client, "closed by the client");
       return;
@@ -199,7 +199,7 @@ void TransferBoxServer::read_client(Client& client) {
     // One time for every frame of the read: the kernel stamps the newest
     // segment, and TCP tells no more. With stamps turned off, the time of
     // reading by the host's clock.
-    const Duration read_at = options_.kernel_timestamps ? arrival_time(read)
+    const Duration read_at = options_.kernel_timestamps ? bus::arrival_time(read)
                                                         : host_.clock().now().time_since_epoch();
     for (const protocol::Message& request : decoded_) {
       if (options_.shared) share_request(client, request);

@@ -79,7 +79,7 @@ struct SimHostOptions {
   /// (see IntervalWatch); zero: not checked.
   Duration min_interval = Duration::zero();
   /// Time frames for the interval check by the kernel's receive timestamp
-  /// (see receive_timestamp.hpp), not by when the loop read them. Tests that
+  /// (see dh3/bus/receive_timestamp.hpp), not by when the loop read them. Tests that
   /// drive the check with a FakeClock turn it off.
   bool kernel_timestamps = true;
   /// Serve the hands of this recording (ReplayHands) instead of `hands`; the

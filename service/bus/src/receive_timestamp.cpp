@@ -1,4 +1,4 @@
-#include "dh3/sim_server/receive_timestamp.hpp"
+#include "dh3/bus/receive_timestamp.hpp"
 
 #include <sys/time.h>
 
@@ -6,7 +6,7 @@
 #include <cerrno>
 #include <ctime>
 
-namespace dh3::sim {
+namespace dh3::bus {
 
 std::optional<int> enable_receive_timestamps(int fd) {
   const int on = 1;
@@ -60,4 +60,4 @@ Duration arrival_time(const StampedRead& read) {
   return std::chrono::seconds(now.tv_sec) + std::chrono::nanoseconds(now.tv_nsec);
 }
 
-}  // namespace dh3::sim
+}  // namespace dh3::bus

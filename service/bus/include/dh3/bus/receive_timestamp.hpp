@@ -1,9 +1,10 @@
 #pragma once
-// The kernel's receive time of what a recvmsg() read, for dh3-sim's interval
-// check: the time of reading includes however long the server's loop was not
-// scheduled, which made frames the service spaced correctly look too close.
-// CAN sockets stamp each frame; TCP stamps the newest segment of
-// a read, which for frames one interval apart is the frame itself.
+// The kernel's receive time of what a recvmsg() read: for the socketcan bus's
+// flight recorder, and for dh3-sim's interval check, where the time of reading
+// includes however long the server's loop was not scheduled, which made frames
+// the service spaced correctly look too close. CAN sockets stamp each frame;
+// TCP stamps the newest segment of a read, which for frames one interval apart
+// is the frame itself.
 //
 // Threading: pure functions.
 
@@ -16,7 +17,7 @@
 
 #include "dh3/base/clock.hpp"
 
-namespace dh3::sim {
+namespace dh3::bus {
 
 /// Asks the kernel to stamp what `fd` receives (SO_TIMESTAMPNS); the OS's
 /// errno if it refuses.
@@ -46,4 +47,4 @@ struct StampedRead {
 /// trip apart would look years apart.
 [[nodiscard]] Duration arrival_time(const StampedRead& read);
 
-}  // namespace dh3::sim
+}  // namespace dh3::bus

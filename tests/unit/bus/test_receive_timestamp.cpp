@@ -1,7 +1,8 @@
 // receive_timestamp: the kernel's stamp from a recvmsg() control buffer, as
-// dh3-sim's interval check takes it from CAN and TCP sockets.
+// the socketcan bus and dh3-sim's interval check take it from CAN and TCP
+// sockets.
 
-#include "dh3/sim_server/receive_timestamp.hpp"
+#include "dh3/bus/receive_timestamp.hpp"
 
 #include <gtest/gtest.h>
 #include <sys/socket.h>
@@ -12,7 +13,7 @@
 #include <cstring>
 #include <ctime>
 
-namespace dh3::sim {
+namespace dh3::bus {
 namespace {
 
 using namespace std::chrono_literals;
@@ -74,4 +75,4 @@ TEST(ReceiveTimestamp, AStampedReadArrivedAtItsStamp) {
 }
 
 }  // namespace
-}  // namespace dh3::sim
+}  // namespace dh3::bus
