@@ -262,11 +262,9 @@ void ClientCore::io_loop() {
       std::vector<PendingCalls::Completion> singles;
       std::vector<PendingCalls::Completion> groups;
       for (auto& call : expiry.expired) {
-        const bool alive = tracker_.alive(call.hand.service);
-        Reply reply = PendingCalls::expired_reply(call, alive, options_.domain);
-        if (reply.code == Code::no_service && !alive && !call.group) {
-          reply.message += "; " + tracker_.sightings(call.hand.service);
-        }
+        Reply reply =
+            PendingCalls::expired_reply(call, tracker_.alive(call.hand.service), options_.domain,
+                                        tracker_.sightings(call.hand.service));
         (call.group ? groups : singles).emplace_back(std::move(call.done), std::move(reply));
       }
       lock.unlock();
@@ -575,8 +573,8 @@ Found<ServiceInfo> ClientCore::wait_for_service(std::string_view name, Timeout t
   });
   if (found) return *found;
   if (closed_) return {Code::not_connected, closed_message()};
-  return {Code::no_service, detail::no_service_found(name, options_.domain, effective(timeout)) +
-                                "; " + tracker_.sightings(std::string(name))};
+  return {Code::no_service, detail::no_service_found(name, options_.domain, effective(timeout),
+                                                     tracker_.sightings(std::string(name)))};
 }
 
 bool ClientCore::wait_for_statuses(Timeout timeout) {
@@ -633,17 +631,13 @@ Found<HandAddress> ClientCore::wait_for_hand(const HandSpec& spec, Timeout timeo
   if (answer) return std::move(*answer);
   if (closed_) return {Code::not_connected, closed_message()};
   if (spec.service ? !tracker_.alive(*spec.service) : !tracker_.any_alive()) {
-    std::string message =
-        detail::no_service_found(spec.service.value_or(""), options_.domain, effective(timeout));
-    if (spec.service) message += "; " + tracker_.sightings(*spec.service);
-    return {Code::no_service, std::move(message)};
+    return {Code::no_service,
+            detail::no_service_found(spec.service.value_or(""), options_.domain, effective(timeout),
+                                     tracker_.sightings_if_named(spec.service))};
   }
-  const std::string within = " within " + describe_duration(effective(timeout));
   auto resolved = resolve_hand(spec, cache_.known_hands(tracker_.infos()));
   if (!resolved) return resolved;
-  return {Code::unknown_hand, "service '" + resolved->service + "' has no hand " + resolved->bus +
-                                  "/" + std::to_string(resolved->can_id) + " (no status for it" +
-                                  within + ")"};
+  return {Code::unknown_hand, detail::no_status_for(*resolved, effective(timeout))};
 }
 
 std::optional<HandStatus> ClientCore::wait_status(

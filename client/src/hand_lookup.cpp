@@ -49,12 +49,18 @@ std::optional<std::string> hand_ruled_out(const HandSpec& spec,
   return "no hand matches '" + spec.text + "'" + listed;
 }
 
-std::string no_service_found(std::string_view name, int domain,
-                             std::chrono::milliseconds waited) {
+std::string no_status_for(const HandAddress& hand, std::chrono::milliseconds waited) {
+  return "service '" + hand.service + "' has no hand " + hand.bus + "/" +
+         std::to_string(hand.can_id) + " (no status for it within " + describe_duration(waited) +
+         ")";
+}
+
+std::string no_service_found(std::string_view name, int domain, std::chrono::milliseconds waited,
+                             const std::string& seen) {
   const std::string which =
       name.empty() ? "no dh3 service" : "no service '" + std::string(name) + "'";
   return which + " found on DDS domain " + std::to_string(domain) + " within " +
-         describe_duration(waited);
+         describe_duration(waited) + (seen.empty() ? "" : "; " + seen);
 }
 
 }  // namespace dh3::detail

@@ -23,9 +23,15 @@ namespace dh3::detail {
 [[nodiscard]] std::optional<std::string> hand_ruled_out(const HandSpec& spec,
                                                         const std::vector<ServiceInfo>& infos);
 
+/// Why a wait found the hand's service but no status of `hand`:
+/// "service 'S' has no hand BUS/ID (no status for it within T)".
+[[nodiscard]] std::string no_status_for(const HandAddress& hand, std::chrono::milliseconds waited);
+
 /// Why a wait found no service: "no service 'NAME' found on DDS domain D
-/// within T", or "no dh3 service ..." for an empty `name`.
+/// within T", or "no dh3 service ..." for an empty `name`; then "; " and
+/// `seen` if that is not empty (what discovery showed of it).
 [[nodiscard]] std::string no_service_found(std::string_view name, int domain,
-                                           std::chrono::milliseconds waited);
+                                           std::chrono::milliseconds waited,
+                                           const std::string& seen = {});
 
 }  // namespace dh3::detail

@@ -107,15 +107,17 @@ PendingCalls::Expiry PendingCalls::expire(Clock::time_point now) {
   return out;
 }
 
-Reply PendingCalls::expired_reply(const Call& call, bool service_alive, int domain) {
+Reply PendingCalls::expired_reply(const Call& call, bool service_alive, int domain,
+                                  const std::string& seen) {
   const auto& service = call.hand.service;
+  const std::string and_seen = seen.empty() ? "" : "; " + seen;
   if (call.group) {
     if (!call.sent_to.empty()) {
       return make_reply(Code::no_reply, "no group reply within " + describe_duration(call.timeout));
     }
     return make_reply(Code::no_service, "service '" + service +
                                             "' with group commands not found in " +
-                                            describe_duration(call.timeout));
+                                            describe_duration(call.timeout) + and_seen);
   }
   const std::string what = call.what();
   const std::string within = " within " + describe_duration(call.timeout);
@@ -127,11 +129,11 @@ Reply PendingCalls::expired_reply(const Call& call, bool service_alive, int doma
     return make_reply(Code::no_service, "service '" + service +
                                             "' was found but did not become ready to take "
                                             "requests" +
-                                            within + " (" + what + " not sent)");
+                                            within + " (" + what + " not sent)" + and_seen);
   }
   return make_reply(Code::no_service, "no service '" + service + "' found on DDS domain " +
                                           std::to_string(domain) + within + " (" + what +
-                                          " not sent)");
+                                          " not sent)" + and_seen);
 }
 
 void PendingCalls::tell_acknowledgment(std::vector<Completion>& expired,

@@ -102,7 +102,10 @@ class PendingCalls {
   [[nodiscard]] int writes_in_flight() const { return writes_in_flight_; }
 
   /// Why a call ended at its deadline. `service_alive`: its service was found.
-  [[nodiscard]] static Reply expired_reply(const Call& call, bool service_alive, int domain);
+  /// `seen`, if not empty, ends a NO_SERVICE message: what discovery showed
+  /// of the service (ServiceTracker::sightings).
+  [[nodiscard]] static Reply expired_reply(const Call& call, bool service_alive, int domain,
+                                           const std::string& seen = {});
   /// Says in each NO_REPLY among `expired` (single calls) whether the
   /// services' request readers acknowledged every request written, so a
   /// caller knows whether the service may have run it. `acknowledged` asks

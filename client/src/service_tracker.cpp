@@ -364,6 +364,22 @@ bool ServiceTracker::participant_gone(const std::string& prefix) const {
   return it != participants_.end() && !it->second.alive;
 }
 
+std::string ServiceTracker::unmatched(const std::string& prefix) const {
+  std::string missing;
+  const auto lacks = [&](const std::multiset<std::string>& matched, const char* endpoint) {
+    if (matched.count(prefix) == 0)
+      missing += (missing.empty() ? "" : ", ") + std::string(endpoint);
+  };
+  if (can_command_) {
+    lacks(request_readers_, "request reader");
+    lacks(reply_writers_, "reply writer");
+    lacks(group_request_readers_, "group request reader");
+    lacks(group_reply_writers_, "group reply writer");
+  }
+  lacks(event_writers_, "event writer");
+  return missing;
+}
+
 std::string ServiceTracker::sightings(const std::string& service) const {
   std::string seen;
   for (const auto& [prefix, announced] : announced_) {
@@ -373,6 +389,8 @@ std::string ServiceTracker::sightings(const std::string& service) const {
       why = "it left the domain or stopped asserting it lives";
     } else if (believed(prefix, service)) {
       why = "believed";
+      const std::string missing = unmatched(prefix);
+      if (!missing.empty()) why += ", its " + missing + " not matched with this client";
     } else if (const auto owner = owners_.owner(service)) {
       why = "not believed: the owner is " + owner->describe();
     } else if (owners_.lapsed(prefix)) {

@@ -154,6 +154,10 @@ class ServiceTracker {
   /// for a NO_SERVICE message: each participant announcing it and why it is
   /// not believed, or that none was discovered.
   [[nodiscard]] std::string sightings(const std::string& service) const;
+  /// The same, and nothing for no name (a wait for any service).
+  [[nodiscard]] std::string sightings_if_named(const std::optional<std::string>& service) const {
+    return service ? sightings(*service) : std::string();
+  }
 
   /// Every service known, with `ready` filled in.
   [[nodiscard]] std::vector<ServiceInfo> services() const;
@@ -193,6 +197,8 @@ class ServiceTracker {
   /// current, a current participant that is no longer the owner is lost.
   void follow_owner(const std::string& service, Outcome& out);
   void lose(const std::string& service, const std::string& why, Outcome& out);
+  /// The endpoints of `prefix` this client needs that have not matched, in words.
+  [[nodiscard]] std::string unmatched(const std::string& prefix) const;
   /// Its request, reply and event endpoints (the event writer only, read-only) matched ours.
   [[nodiscard]] bool endpoints_matched(const std::string& prefix) const;
   /// Starts `prefix`'s wait for its owner's liveliness once its other endpoints matched.

@@ -169,7 +169,13 @@ TEST(ServiceTracker, SightingsSayWhatDiscoveryShowedOfAServiceThatIsNotAlive) {
   Outcome ignored;
   tracker.participant_found("A", "svc", ignored);
   tracker.participant_found("B", "other", ignored);
-  EXPECT_EQ(tracker.sightings("svc"), "discovery found participant A: believed");
+  EXPECT_EQ(tracker.sightings("svc"),
+            "discovery found participant A: believed, its request reader, reply writer, group "
+            "request reader, group reply writer, event writer not matched with this client");
+  match_commands(tracker, "A");
+  EXPECT_EQ(tracker.sightings("svc"),
+            "discovery found participant A: believed, its group request reader, group reply "
+            "writer not matched with this client");
   tracker.participant_left("A");
   EXPECT_EQ(tracker.sightings("svc"),
             "discovery found participant A: it left the domain or stopped asserting it lives");
