@@ -45,16 +45,18 @@ cmake --build "$build" -j "$jobs"
 tests/ros2/install-npm.sh "$build/ros2-npm"
 end_phase "build"
 status=0
+# What failed, gathered from each ctest run's console output for the end of the log.
+source tests/support/failure-summary.sh
+failures=$(mktemp)
+console=$(mktemp)
+trap 'rm -f "$failures" "$console"' EXIT
 # Runs ctest on the Release build with the arguments given; ctest lists skipped
 # tests without their reason, so this prints the reason each gave (GoogleTest's
 # "Skipped" message, or a script's "SKIP:" line).
-source tests/support/failure-summary.sh
-failures=$(mktemp)
-trap 'rm -f "$failures"' EXIT
 run_ctest() {
-  ctest --test-dir "$build" --output-on-failure -j "$jobs" "$@" || status=$?
+  ctest --test-dir "$build" --output-on-failure -j "$jobs" "$@" | tee "$console" || status=$?
+  failed_tests_in "$console" "failed in $build" >>"$failures"
   local log="$build/Testing/Temporary/LastTest.log"
-  failed_tests_in "$log" "failed in $build" >>"$failures"
   if [[ -f $log ]] && grep -q -E ': Skipped$|^SKIP: ' "$log"; then
     echo "Skipped tests and their reasons:"
     awk '/: Skipped$/ { getline reason; print "  " reason } /^SKIP: / { print "  " $0 }' "$log" | sort -u
@@ -81,8 +83,8 @@ test_names() {
 }
 if [[ ${SANITIZERS:-1} != 0 ]]; then
   for mode in address thread; do
-    JOBS=$jobs tests/sanitize/run-sanitized.sh "$mode" "$@" || status=1
-    failed_tests_in "${SANITIZE_BUILD_DIR:-build-${mode:0:1}san}/Testing/Temporary/LastTest.log" "failed under $mode sanitizer" >>"$failures"
+    JOBS=$jobs tests/sanitize/run-sanitized.sh "$mode" "$@" | tee "$console" || status=1
+    failed_tests_in "$console" "failed under $mode sanitizer" >>"$failures"
     sanitizer_reports_in "build-$mode-reports" >>"$failures"
     end_phase "$mode sanitizer"
   done

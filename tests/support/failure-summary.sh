@@ -1,15 +1,17 @@
 # Sourced by tests/run-all.sh: what failed, in a few lines per failure, for the
 # end of a long log, where whoever reads only its tail looks.
 
-# Prints each failed test of the ctest log $1 (Testing/Temporary/LastTest.log)
-# under the heading $2, with the first lines that say why: GoogleTest's
-# failure lines, a script's FAIL or error lines, or the last lines of output.
+# Prints each failed test in the ctest console output $1 (run with
+# --output-on-failure) under the heading $2, with the first lines of its output
+# that say why: GoogleTest's failure lines, a script's FAIL or error lines, or
+# else its last lines. Not ctest's LastTest.log: a test that runs `ctest -N` in
+# the same tree (docs.examples) rewrites that file while the run goes on.
 failed_tests_in() {
-  local log=$1 heading=$2
-  [[ -f $log ]] || return 0
+  local console=$1 heading=$2
+  [[ -f $console ]] || return 0
   awk -v heading="$heading" '
     function flush(   i, shown) {
-      if (!failed) return
+      if (name == "") return
       if (!printed_heading) { print "-- " heading; printed_heading = 1 }
       print "   " name
       shown = 0
@@ -19,14 +21,21 @@ failed_tests_in() {
         }
       }
       for (i = (n > 4 ? n - 3 : 1); shown == 0 && i <= n; ++i) print "     " substr(lines[i], 1, 200)
+      name = ""
     }
-    / Test: / { flush(); name = $0; sub(/^[0-9]+\/[0-9]+ Test: /, "", name); n = 0; failed = 0; output = 1; next }
-    /^<end of output>/ { output = 0; next }
-    /^Test Failed/ { failed = 1; next }
-    /^Test Passed|^Test time = / { next }
-    output { lines[++n] = $0 }
+    /^ *[0-9]+\/[0-9]+ Test +#[0-9]+: / || /^ *Start +[0-9]+: / || /^[0-9]+% tests passed/ {
+      flush()
+      if ($0 ~ /\*\*\*(Failed|Timeout|Exception)|\(Failed\)|\*\*\*Not Run/) {
+        name = $0
+        sub(/^ *[0-9]+\/[0-9]+ Test +#[0-9]+: /, "", name)
+        sub(/ \.+ *\*\*\*.*/, "", name)
+        n = 0
+      }
+      next
+    }
+    name != "" { lines[++n] = $0 }
     END { flush() }
-  ' "$log"
+  ' "$console"
 }
 
 # Prints the kind, the first frames and the summary line of each sanitizer
