@@ -19,7 +19,9 @@ failures=0
 fail() { echo "FAILED: $*"; failures=$((failures + 1)); }
 ok() { echo "ok: $*"; }
 
-domain=$((10 + $$ % 200))
+# A domain of its own (sets $domain): other tests run beside it.
+# shellcheck source=../support/test_domain.sh
+source "$(dirname "$0")/../support/test_domain.sh"
 # The image's configuration, kept on loopback (it says every interface), its
 # metrics on a free port (its fixed one may be taken by a parallel test).
 "$service_bin" --config "$src/deploy/config/dh3-sim.yaml" --domain "$domain" \

@@ -122,7 +122,9 @@ done
 
 # The service under the unit's address families, and under those minus
 # AF_NETLINK (the reason the unit has it).
-domain=$((10 + $$ % 200))
+# A domain of its own (sets $domain): other tests run beside it.
+# shellcheck source=../support/test_domain.sh
+source "$(dirname "$0")/../support/test_domain.sh"
 serve() {  # serve FAMILIES: start dh3-service restricted to them and the unit's system calls
   "$restrict" "$1" --deny-syscalls "$denied" -- "$service_bin" --name unit --domain "$domain" --bus sim:1 \
     --interface 127.0.0.1 --log-level info >"$work/service.log" 2>&1 &

@@ -18,8 +18,9 @@ clients=${3:-32}
 services=${4:-1}
 busy=${5:-2}
 work=$(mktemp -d /tmp/dh3-burst.XXXXXX)
-# A domain of this run's own: other tests run beside it.
-domain=$((100 + (RANDOM + $$) % 100))
+# A domain of its own (sets $domain): other tests run beside it.
+# shellcheck source=../support/test_domain.sh
+source "$(dirname "$0")/../support/test_domain.sh"
 prefix=burst$$
 # shellcheck source=../support/processes.sh
 source "$(dirname "$0")/../support/processes.sh"

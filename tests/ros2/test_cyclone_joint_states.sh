@@ -8,15 +8,9 @@ work=$(mktemp -d /tmp/dh3-ros2-cyclone-XXXXXX)
 # shellcheck source=../support/processes.sh
 source "$(dirname "$0")/../support/processes.sh"
 
-# A domain of its own, locked as tests/support/test_domain.hpp does.
-domain=
-for ((i = 0; i < 200; i++)); do
-  candidate=$((10 + ($$ + i) % 200))
-  exec 9>"/tmp/dh3-test-domain-$candidate.lock"
-  if flock -n 9; then domain=$candidate; break; fi
-  exec 9>&-
-done
-[[ -n $domain ]] || { echo "no free DDS domain"; exit 1; }
+# A domain of its own (sets $domain).
+# shellcheck source=../support/test_domain.sh
+source "$(dirname "$0")/../support/test_domain.sh"
 
 "$service_bin" --domain "$domain" --name rosvendor --bus sim:1 >"$work/service.log" 2>&1 9>&- &
 pids+=($!)

@@ -18,15 +18,9 @@ cleanup() {
 }
 trap cleanup EXIT
 
-# A domain of its own, locked as tests/support/test_domain.hpp does.
-domain=
-for ((i = 0; i < 200; i++)); do
-  candidate=$((10 + ($$ + i) % 200))
-  exec 9>"/tmp/dh3-test-domain-$candidate.lock"
-  if flock -n 9; then domain=$candidate; break; fi
-  exec 9>&-
-done
-[[ -n $domain ]] || { echo "no free DDS domain"; exit 1; }
+# A domain of its own (sets $domain).
+# shellcheck source=../support/test_domain.sh
+source "$(dirname "$0")/../support/test_domain.sh"
 # RTPS's ports of the domain: 7400 + 250 * domain and the 250 after.
 base=$((7400 + 250 * domain))
 tshark -i lo -f "udp portrange $base-$((base + 249))" -w "$work/capture.pcap" \
