@@ -8,8 +8,8 @@
 #include <cerrno>
 #include <ctime>
 
-#include "dh3/protocol/codec.hpp"
 #include "dh3/bus/receive_timestamp.hpp"
+#include "dh3/protocol/codec.hpp"
 
 namespace dh3::sim {
 
@@ -81,8 +81,9 @@ void CanServer::read_frames() {
       return;
     }
     note_working();
-    handle_frame(data, read.truncated ? sizeof data + 1 : static_cast<std::size_t>(read.got),
-                 options_.kernel_timestamps ? std::optional(bus::arrival_time(read)) : std::nullopt);
+    handle_frame(
+        data, read.truncated ? sizeof data + 1 : static_cast<std::size_t>(read.got),
+        options_.kernel_timestamps ? std::optional(bus::arrival_time(read)) : std::nullopt);
   }
 }
 

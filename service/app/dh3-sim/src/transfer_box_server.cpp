@@ -14,8 +14,8 @@
 #include <ctime>
 #include <optional>
 
-#include "dh3/protocol/codec.hpp"
 #include "dh3/bus/receive_timestamp.hpp"
+#include "dh3/protocol/codec.hpp"
 
 namespace dh3::sim {
 
