@@ -428,7 +428,7 @@ void ClientCore::on_status(const std::string& prefix, const msg::HandStatus& sam
     std::lock_guard lock(mutex_);
     if (closed_) return;
     ServiceTracker::Outcome outcome;
-    const bool known = tracker_.note_participant(prefix, sample.service(), outcome);
+    const bool known = tracker_.note_status(prefix, sample.service(), outcome);
     apply_locked(outcome, out);
     if (known) {
       take_status_locked(prefix, sample);

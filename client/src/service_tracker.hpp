@@ -109,9 +109,16 @@ class ServiceTracker {
   /// `change`: whether it is alive now, by the sum of the changes, whatever
   /// order they came in (contract::OwnerTable::liveliness_changed). The caller
   /// then calls owner_alive() or owner_lapsed().
-  bool owner_liveliness_changed(const std::string& prefix, int change) {
-    return owners_.liveliness_changed(prefix, change);
-  }
+  bool owner_liveliness_changed(const std::string& prefix, int change);
+  /// A hand status `prefix` published for `service`: as note_participant(),
+  /// and proof of life for an owner whose liveliness Fast DDS never reported.
+  /// Fast DDS 2.9 can drop a reader's first liveliness report of a writer
+  /// (seen: a dh3ctl whose owner claim came, its first report never, under
+  /// load in user-mode Linux), and reports nothing more while the writer
+  /// keeps asserting; the lapse take_claim() then assumed stands for good,
+  /// while the owner's statuses keep coming. One that arrives once that lapse
+  /// is believed comes from a live owner: a dead one sent its last before.
+  bool note_status(const std::string& prefix, const std::string& service, Outcome& out);
   /// The owner writer of `prefix` asserted its liveliness (true) or missed its
   /// lease (false), taken as final at once.
   Outcome owner_alive(const std::string& prefix, bool alive);
@@ -209,6 +216,8 @@ class ServiceTracker {
   bool can_command_ = true;
   bool owner_reader_ = false;
   std::map<std::string, Participant> participants_;
+  /// The participants whose owner liveliness Fast DDS reported at least once.
+  std::set<std::string> liveliness_reported_;
   /// Every participant discovery found, and the service it announces.
   std::map<std::string, std::string> announced_;  ///< service participants, by prefix
   std::map<std::string, ServiceState, std::less<>> services_;

@@ -47,7 +47,7 @@ void OwnerTable::set_alive(const std::string& participant, bool alive) {
 
 bool OwnerTable::liveliness_changed(const std::string& participant, int change) {
   Entry& entry = entries_[participant];
-  entry.liveliness_sum += change;
+  entry.liveliness_sum = std::max(0, entry.liveliness_sum + change);
   return entry.liveliness_sum > 0;
 }
 

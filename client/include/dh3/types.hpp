@@ -31,7 +31,9 @@ enum class Code : std::uint8_t {
   cancelled,         ///< superseded by a newer motion command, a stop, or shutdown
   failed,            ///< the hand answered, but the command did not succeed
 
-  no_service,     ///< the hand's service was not found on the domain before the deadline
+  /// The hand's service was not found on the domain, or not ready for this
+  /// client, before the deadline; the message says what discovery showed.
+  no_service,
   no_reply,       ///< the request went out but no reply came before the deadline
   service_lost,   ///< the service left the domain (or restarted) while the call was pending
   not_connected,  ///< the client has no DDS participant (set-up failed, or the client is gone)

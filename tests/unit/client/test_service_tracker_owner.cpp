@@ -88,6 +88,44 @@ struct ScriptedLooks {
   }
 };
 
+TEST(TrackerOwner, AStatusAfterTheAssumedLapseOfAnOwnerFastDdsNeverReportedIsItsProofOfLife) {
+  using namespace std::chrono_literals;
+  ScriptedLooks current{{ReceiveState::current}};
+  ServiceTracker tracker;
+  tracker.set_receive_looker(current.looker());
+  Outcome ignored;
+  tracker.note_participant("A", "svc", ignored);
+  const auto t0 = std::chrono::steady_clock::time_point{} + 1h;
+  tracker.take_claim(claim("A", 1, 10), ignored, t0);  // its liveliness report never comes
+  tracker.confirm_lapses(t0 + contract::kOwnerLease);
+  tracker.confirm_lapses(t0 + contract::kOwnerLease + contract::kOwnerLapseConfirm);
+  ASSERT_FALSE(tracker.alive("svc")) << "a claim that never asserted is lost";
+  Outcome status;
+  EXPECT_TRUE(tracker.note_status("A", "svc", status));
+  EXPECT_EQ(status.regained, "A");
+  EXPECT_TRUE(tracker.alive("svc"));
+  // Fast DDS's next report of it is a lapse, then its return.
+  EXPECT_FALSE(tracker.owner_liveliness_changed("A", -1));
+  EXPECT_TRUE(tracker.owner_liveliness_changed("A", +1));
+
+  // One whose liveliness Fast DDS reported and then lapsed stays lost: what it
+  // still sends is no proof (it is frozen, or cut off and back).
+  ServiceTracker reported;
+  reported.set_receive_looker(current.looker());
+  reported.note_participant("B", "svc", ignored);
+  reported.take_claim(claim("B", 1, 10), ignored, t0);
+  ASSERT_TRUE(reported.owner_liveliness_changed("B", +1));
+  reported.owner_alive("B", true);
+  ASSERT_FALSE(reported.owner_liveliness_changed("B", -1));
+  reported.owner_lapsed("B", t0 + 1s);
+  reported.confirm_lapses(t0 + 1s);
+  reported.confirm_lapses(t0 + 1s + contract::kOwnerLapseConfirm);
+  ASSERT_FALSE(reported.alive("svc"));
+  Outcome late;
+  EXPECT_FALSE(reported.note_status("B", "svc", late));
+  EXPECT_FALSE(reported.alive("svc"));
+}
+
 TEST(TrackerOwner, ALapseThatStandsLosesTheServiceAndItsCallsAtOnceIfThisProcessIsCurrent) {
   using namespace std::chrono_literals;
   ScriptedLooks looks{{ReceiveState::current}};

@@ -60,15 +60,17 @@ TEST(OwnerTable, LivelinessChangesSayTheWritersStateInWhateverOrderTheyCame) {
   EXPECT_TRUE(table.liveliness_changed("a", +1));
   EXPECT_TRUE(table.liveliness_changed("a", -1)) << "the late lapse: it asserted since";
   EXPECT_FALSE(table.liveliness_changed("a", -1)) << "a lapse in order";
-  // It asserts, lapses at once and asserts again; the first assertion is
-  // reported after the lapse.
-  EXPECT_FALSE(table.liveliness_changed("a", -1));
-  EXPECT_FALSE(table.liveliness_changed("a", +1)) << "the assertion before that lapse";
-  EXPECT_TRUE(table.liveliness_changed("a", +1));
+  // Its first assertion was never reported: the lapse after it brings the
+  // sum to no less than 0, and the next assertion says alive.
+  EXPECT_FALSE(table.liveliness_changed("c", -1));
+  EXPECT_TRUE(table.liveliness_changed("c", +1));
   EXPECT_FALSE(table.liveliness_changed("b", -1)) << "each writer its own sum";
-  EXPECT_TRUE(table.liveliness_changed("a", 0));
+  EXPECT_FALSE(table.liveliness_changed("a", 0)) << "no change: still lapsed";
+  table.liveliness_changed("a", +1);
+  table.liveliness_changed("a", +1);  // a report the wrong way round, never undone
   table.forget("a");
   EXPECT_TRUE(table.liveliness_changed("a", +1)) << "found again after it left: a new sum";
+  EXPECT_FALSE(table.liveliness_changed("a", -1));
 }
 
 TEST(OwnerTable, AStandbyNeverOwns) {

@@ -110,6 +110,9 @@ class OwnerTable {
   /// in either order: taken by sign, an assertion that overtook its lapse
   /// would leave a live owner lapsed for good. A writer's changes alternate
   /// (+1, -1, +1, ...), so their sum says its state in any order: 1 alive.
+  /// Never below 0: Fast DDS may also drop a report (see the client's
+  /// ServiceTracker::note_status), and a lapse after a dropped first
+  /// assertion must not leave the next assertion at 0.
   bool liveliness_changed(const std::string& participant, int change);
   /// The participant left the domain or its writer was deleted.
   void forget(const std::string& participant);
