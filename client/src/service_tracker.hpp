@@ -157,9 +157,9 @@ class ServiceTracker {
   [[nodiscard]] bool alive(const std::string& service) const;
   [[nodiscard]] bool any_alive() const;
   [[nodiscard]] bool participant_gone(const std::string& prefix) const;
-  /// What discovery showed of `service` while it is not alive here, in words
-  /// for a NO_SERVICE message: each participant announcing it and why it is
-  /// not believed, or that none was discovered.
+  /// What discovery showed of `service`, in words for a NO_SERVICE message:
+  /// each participant announcing it, and why it is not believed or which of
+  /// its endpoints have not matched this client; or that none was found.
   [[nodiscard]] std::string sightings(const std::string& service) const;
   /// The same, and nothing for no name (a wait for any service).
   [[nodiscard]] std::string sightings_if_named(const std::optional<std::string>& service) const {
