@@ -3,6 +3,7 @@
 #include <sys/time.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cerrno>
 #include <ctime>
 
@@ -53,11 +54,10 @@ StampedRead read_stamped(int fd, std::span<unsigned char> buffer, int flags) {
   return read;
 }
 
-Duration arrival_time(const StampedRead& read) {
-  if (read.stamp) return *read.stamp;
-  timespec now{};
-  ::clock_gettime(CLOCK_REALTIME, &now);
-  return std::chrono::seconds(now.tv_sec) + std::chrono::nanoseconds(now.tv_nsec);
+Duration arrival_time(const std::optional<Duration>& stamp) {
+  if (stamp) return *stamp;
+  return std::chrono::duration_cast<Duration>(
+      std::chrono::system_clock::now().time_since_epoch());  // CLOCK_REALTIME
 }
 
 }  // namespace dh3::bus

@@ -290,9 +290,8 @@ void SocketCanBus::read_available(std::vector<CanFrame>& out, TimePoint now) {
     out.push_back(frame);
     ++frames_received_;
     if (options_.receive_timestamps) {
-      const std::optional<Duration> stamp = receive_timestamp(message);
-      receive_times_.push_back(stamp ? WallTime(std::chrono::duration_cast<WallTime::duration>(*stamp))
-                                     : std::chrono::system_clock::now());
+      receive_times_.push_back(WallTime(std::chrono::duration_cast<WallTime::duration>(
+          arrival_time(receive_timestamp(message)))));
     }
   }
 }

@@ -57,7 +57,7 @@ TEST(ReceiveTimestamp, AnUnstampedReadArrivedWhenItWasReadByTheStampsClock) {
   unsigned char buffer[4];
   const Duration before = wall_clock_now();
   const StampedRead read = read_stamped(pair[0], buffer, 0);
-  const Duration arrival = arrival_time(read);
+  const Duration arrival = arrival_time(read.stamp);
   const Duration after = wall_clock_now();
   ::close(pair[0]);
   ::close(pair[1]);
@@ -71,7 +71,7 @@ TEST(ReceiveTimestamp, AStampedReadArrivedAtItsStamp) {
   StampedRead read;
   read.got = 1;
   read.stamp = std::chrono::seconds(1700000000) + 5ns;
-  EXPECT_EQ(arrival_time(read), std::chrono::seconds(1700000000) + 5ns);
+  EXPECT_EQ(arrival_time(read.stamp), std::chrono::seconds(1700000000) + 5ns);
 }
 
 }  // namespace

@@ -83,7 +83,7 @@ void CanServer::read_frames() {
     note_working();
     handle_frame(
         data, read.truncated ? sizeof data + 1 : static_cast<std::size_t>(read.got),
-        options_.kernel_timestamps ? std::optional(bus::arrival_time(read)) : std::nullopt);
+        options_.kernel_timestamps ? std::optional(bus::arrival_time(read.stamp)) : std::nullopt);
   }
 }
 

@@ -199,7 +199,7 @@ void TransferBoxServer::read_client(Client& client) {
     // One time for every frame of the read: the kernel stamps the newest
     // segment, and TCP tells no more. With stamps turned off, the time of
     // reading by the host's clock.
-    const Duration read_at = options_.kernel_timestamps ? bus::arrival_time(read)
+    const Duration read_at = options_.kernel_timestamps ? bus::arrival_time(read.stamp)
                                                         : host_.clock().now().time_since_epoch();
     for (const protocol::Message& request : decoded_) {
       if (options_.shared) share_request(client, request);

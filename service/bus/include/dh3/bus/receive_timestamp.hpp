@@ -39,12 +39,11 @@ struct StampedRead {
 /// One recvmsg() on `fd` into `buffer`, with room for the kernel's stamp.
 [[nodiscard]] StampedRead read_stamped(int fd, std::span<unsigned char> buffer, int flags);
 
-/// When what `read` got reached the socket, as time since the epoch of
-/// CLOCK_REALTIME: its stamp, or the time of this call if the kernel left it
-/// unstamped. Linux switches stamping on by deferred work when the first
+/// When a read reached the socket, as time since the epoch of CLOCK_REALTIME:
+/// its `stamp`, or the time of this call if the kernel left it unstamped. Linux switches stamping on by deferred work when the first
 /// socket asks for it, so the frames of the next moments may carry none;
 /// timed by another clock than the stamps beside them, two frames a round
 /// trip apart would look years apart.
-[[nodiscard]] Duration arrival_time(const StampedRead& read);
+[[nodiscard]] Duration arrival_time(const std::optional<Duration>& stamp);
 
 }  // namespace dh3::bus
