@@ -27,15 +27,10 @@ bool ServiceTracker::participant_found(const std::string& prefix, const std::str
   return note_participant(prefix, service, out, now);
 }
 
-bool ServiceTracker::owner_liveliness_changed(const std::string& prefix, int change) {
-  liveliness_reported_.insert(prefix);
-  return owners_.liveliness_changed(prefix, change);
-}
-
 bool ServiceTracker::note_status(const std::string& prefix, const std::string& service,
                                  Outcome& out) {
-  if (owners_.lapsed(prefix) && owners_.claim_of(prefix) && !liveliness_reported_.count(prefix)) {
-    owner_liveliness_changed(prefix, +1);  // the report Fast DDS dropped
+  if (owners_.lapsed(prefix) && owners_.claim_of(prefix) && !owners_.liveliness_reported(prefix)) {
+    owners_.liveliness_changed(prefix, +1);  // the report Fast DDS dropped
     out = owner_alive(prefix, true);
   }
   return note_participant(prefix, service, out);
@@ -236,7 +231,6 @@ void ServiceTracker::follow_owner(const std::string& service, Outcome& out) {
 ServiceTracker::Outcome ServiceTracker::participant_left(const std::string& prefix) {
   Outcome out;
   owners_.forget(prefix);
-  liveliness_reported_.erase(prefix);
   lapses_.erase(prefix);
   request_readers_.erase(prefix);
   reply_writers_.erase(prefix);

@@ -109,7 +109,9 @@ class ServiceTracker {
   /// `change`: whether it is alive now, by the sum of the changes, whatever
   /// order they came in (contract::OwnerTable::liveliness_changed). The caller
   /// then calls owner_alive() or owner_lapsed().
-  bool owner_liveliness_changed(const std::string& prefix, int change);
+  bool owner_liveliness_changed(const std::string& prefix, int change) {
+    return owners_.liveliness_changed(prefix, change);
+  }
   /// A hand status `prefix` published for `service`: as note_participant(),
   /// and proof of life for an owner whose liveliness Fast DDS never reported.
   /// Fast DDS 2.9 can drop a reader's first liveliness report of a writer
@@ -216,8 +218,6 @@ class ServiceTracker {
   bool can_command_ = true;
   bool owner_reader_ = false;
   std::map<std::string, Participant> participants_;
-  /// The participants whose owner liveliness Fast DDS reported at least once.
-  std::set<std::string> liveliness_reported_;
   /// Every participant discovery found, and the service it announces.
   std::map<std::string, std::string> announced_;  ///< service participants, by prefix
   std::map<std::string, ServiceState, std::less<>> services_;

@@ -47,6 +47,7 @@ void OwnerTable::set_alive(const std::string& participant, bool alive) {
 
 bool OwnerTable::liveliness_changed(const std::string& participant, int change) {
   Entry& entry = entries_[participant];
+  entry.liveliness_reported = true;
   entry.liveliness_sum = std::max(0, entry.liveliness_sum + change);
   return entry.liveliness_sum > 0;
 }
@@ -75,6 +76,11 @@ std::optional<OwnerClaim> OwnerTable::claim_of(const std::string& participant) c
 bool OwnerTable::alive(const std::string& participant) const {
   const auto it = entries_.find(participant);
   return it != entries_.end() && it->second.liveliness == Liveliness::alive;
+}
+
+bool OwnerTable::liveliness_reported(const std::string& participant) const {
+  const auto it = entries_.find(participant);
+  return it != entries_.end() && it->second.liveliness_reported;
 }
 
 bool OwnerTable::lapsed(const std::string& participant) const {

@@ -126,6 +126,9 @@ class OwnerTable {
   [[nodiscard]] std::optional<OwnerClaim> claim_of(const std::string& participant) const;
   /// Its liveliness was seen asserted and has not lapsed since.
   [[nodiscard]] bool alive(const std::string& participant) const;
+  /// Fast DDS reported a change of its writer's liveliness at least once
+  /// (liveliness_changed), since it was last forgotten.
+  [[nodiscard]] bool liveliness_reported(const std::string& participant) const;
   /// Its liveliness was seen and then lapsed (killed, frozen or cut off).
   [[nodiscard]] bool lapsed(const std::string& participant) const;
   /// The owner of `service`: the highest-ranking active claim that has not
@@ -147,6 +150,7 @@ class OwnerTable {
     bool has_claim = false;
     Liveliness liveliness = Liveliness::unknown;
     int liveliness_sum = 0;  ///< of the changes Fast DDS reported, in whatever order
+    bool liveliness_reported = false;
     /// The service it announced itself as in discovery, if it did.
     std::optional<std::string> announced_service;
   };
