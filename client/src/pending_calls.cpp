@@ -7,6 +7,7 @@
 
 #include "conversions.hpp"
 #include "dh3/contract/admin_commands.hpp"
+#include "hand_lookup.hpp"
 
 namespace dh3::detail {
 
@@ -131,9 +132,8 @@ Reply PendingCalls::expired_reply(const Call& call, bool service_alive, int doma
                                             "requests" +
                                             within + " (" + what + " not sent)" + and_seen);
   }
-  return make_reply(Code::no_service, "no service '" + service + "' found on DDS domain " +
-                                          std::to_string(domain) + within + " (" + what +
-                                          " not sent)" + and_seen);
+  return make_reply(Code::no_service, no_service_found(service, domain, call.timeout) + " (" +
+                                          what + " not sent)" + and_seen);
 }
 
 void PendingCalls::tell_acknowledgment(std::vector<Completion>& expired,
