@@ -44,6 +44,8 @@ Result<void, std::string> Service::Impl::init(std::vector<BusSetup> setups,
   const bool taking_over = standby.participant != nullptr;
   if (taking_over) {
     owner_ = std::move(standby.beacon);
+    if (standby.endpoints) endpoints_ = *standby.endpoints;
+    drains_ = std::move(standby.drains);
     // The clients it knew already are shown by their id until they change.
     participant_.adopt(std::move(standby.participant));
   } else {
@@ -121,50 +123,30 @@ Result<void, std::string> Service::Impl::claim_name(bool standby) {
 }
 
 std::string Service::Impl::cannot_create(const std::string& what) const {
-  std::string message = "cannot create " + what;
-  const auto& participant = options_.participant;
-  if (!participant.security_dir.empty()) {
-    return message + ": the DDS Security permissions of identity '" +
-           participant.security_identity + "' in '" + participant.security_dir +
-           "' must allow it (Fast DDS logs what it refused)";
-  }
-  if (participant_->security_from_profile()) {
-    return message + ": the DDS Security permissions the XML profile names must allow it";
-  }
-  return message + " (Fast DDS logs why)";
+  return dds::cannot_create(what, options_.participant, *participant_);
 }
 
 Result<void, std::string> Service::Impl::create_writers() {
-  const contract::Topics& topics = participant_->topics();
-  const auto writer = [this](fdds::DataWriter*& out, fdds::Topic* topic, TopicRole role,
-                             fdds::DataWriterListener* listener =
-                                 nullptr) -> Result<void, std::string> {
-    out = participant_->publisher().create_datawriter(
-        topic, contract::writer_qos(role), listener,
-        listener ? fdds::StatusMask::publication_matched() : fdds::StatusMask::none());
-    if (out == nullptr) return fail(cannot_create("the writer of " + topic->get_name()));
-    return {};
-  };
-  fdds::DataWriter* info_writer = nullptr;
-  auto created = writer(status_writer_, topics.status, TopicRole::hand_status);
-  if (created) created = writer(event_writer_, topics.event, TopicRole::hand_event);
-  if (created) created = writer(info_writer, topics.info, TopicRole::service_info);
-  if (created) {
-    created = writer(reply_writer_, topics.reply, TopicRole::reply, replies_.reply_listener());
+  const WriterListeners listeners{replies_.reply_listener(), replies_.group_reply_listener()};
+  if (endpoints_.has_writers()) {
+    endpoints_.listen(listeners);
+  } else if (auto created = endpoints_.create_writers(*participant_, listeners); !created) {
+    return fail(cannot_create(created.error()));
   }
-  statuses_.set_writers(status_writer_, event_writer_, info_writer);
-  replies_.set_reply_writer(reply_writer_);
-  if (created) create_lease_writer();
-  return created;
+  statuses_.set_writers(endpoints_.status, endpoints_.event, endpoints_.info);
+  replies_.set_reply_writer(endpoints_.reply);
+  replies_.set_group_reply_writer(endpoints_.group_reply);
+  create_lease_writer();
+  return {};
 }
 
 void Service::Impl::create_lease_writer() {
   fdds::Topic* topic = participant_->topics().lease;
-  fdds::DataWriter* writer =
-      topic == nullptr ? nullptr
-                       : participant_->publisher().create_datawriter(
-                             topic, contract::writer_qos(TopicRole::hand_lease), nullptr,
-                             fdds::StatusMask::none());
+  fdds::DataWriter* writer = topic == nullptr
+                                 ? nullptr
+                                 : participant_->publisher().create_datawriter(
+                                       topic, contract::writer_qos(TopicRole::hand_lease), nullptr,
+                                       fdds::StatusMask::none());
   if (writer == nullptr) {
     spdlog::warn("a standby will not know the leases: {}",
                  cannot_create(std::string("the writer of ") + dh3::topics::HAND_LEASE));
@@ -172,51 +154,23 @@ void Service::Impl::create_lease_writer() {
   lease_share_.set_writer(writer);
 }
 
-Result<void, std::string> Service::Impl::create_request_reader() {
-  // KEEP_ALL on our side (history is not part of matching): a burst of
-  // requests from many clients is held back by reliable flow control instead of
-  // overwriting requests not yet taken, which would then never be answered.
-  auto request_qos = contract::reader_qos(TopicRole::request);
-  request_qos.history().kind = fdds::KEEP_ALL_HISTORY_QOS;
-  fdds::Topic* topic = participant_->topics().request;
-  request_reader_ = participant_->subscriber().create_datareader(
-      topic, request_qos, &request_listener_,
-      fdds::StatusMask::data_available() << fdds::StatusMask::subscription_matched());
-  if (request_reader_ == nullptr) {
-    // Without it the service would run and never answer a request.
-    return fail(cannot_create("the reader of " + topic->get_name()));
+Result<void, std::string> Service::Impl::create_readers() {
+  const ReaderListeners listeners{&request_listener_, &admin_request_listener_,
+                                  &group_request_listener_};
+  if (drains_) {
+    serve_kept();
+  } else if (auto created = endpoints_.create_readers(*participant_, listeners); !created) {
+    return fail(cannot_create(created.error()));
   }
-  return {};
-}
-
-void Service::Impl::create_admin_request_reader() {
-  auto qos = contract::reader_qos(TopicRole::request);
-  qos.history().kind = fdds::KEEP_ALL_HISTORY_QOS;
-  admin_request_reader_ = participant_->subscriber().create_datareader(
-      participant_->topics().admin_request, qos, &admin_request_listener_,
-      fdds::StatusMask::data_available() << fdds::StatusMask::subscription_matched());
-  if (admin_request_reader_ == nullptr && options_.allow_admin) {
+  if (endpoints_.admin_request == nullptr && options_.allow_admin) {
     spdlog::warn("administrative commands are refused: {}",
                  cannot_create("the reader of " + std::string(dh3::topics::ADMIN_REQUEST)));
   }
-}
-
-void Service::Impl::create_group_endpoints() {
-  group_reply_writer_ = participant_->publisher().create_datawriter(
-      participant_->topics().group_reply, contract::writer_qos(TopicRole::reply),
-      replies_.group_reply_listener(), fdds::StatusMask::publication_matched());
-  replies_.set_group_reply_writer(group_reply_writer_);
-  auto qos = contract::reader_qos(TopicRole::request);
-  qos.history().kind = fdds::KEEP_ALL_HISTORY_QOS;
-  if (group_reply_writer_ != nullptr) {
-    group_request_reader_ = participant_->subscriber().create_datareader(
-        participant_->topics().group_request, qos, &group_request_listener_,
-        fdds::StatusMask::data_available());
-  }
-  if (group_request_reader_ == nullptr) {
+  if (endpoints_.group_request == nullptr) {
     spdlog::warn("group commands are off: {}",
                  cannot_create("the group request reader and reply writer"));
   }
+  return {};
 }
 
 Result<void, std::string> Service::Impl::start() {
@@ -232,9 +186,7 @@ Result<void, std::string> Service::Impl::start() {
   // knows which topic may carry administrative commands.
   requests_.set_access_control(participant_->access_control());
   requests_.set_rate(&rate_);
-  if (auto created = create_request_reader(); !created) return created;
-  create_admin_request_reader();
-  create_group_endpoints();
+  if (auto created = create_readers(); !created) return created;
   spdlog::info("service '{}' on DDS domain {}: {} bus(es), admin commands {}", options_.name,
                options_.participant.domain, schedulers_.size(),
                options_.allow_admin ? "allowed" : "refused");
@@ -260,7 +212,7 @@ void Service::Impl::stop() {
   // Subscribers get the offline samples and last replies before we leave.
   const auto deadline = SteadyClock::now() + options_.shutdown_ack_timeout;
   for (fdds::DataWriter* writer :
-       {status_writer_, reply_writer_, event_writer_, group_reply_writer_}) {
+       {endpoints_.status, endpoints_.reply, endpoints_.event, endpoints_.group_reply}) {
     if (writer == nullptr) continue;  // group commands off (see create_group_endpoints)
     const auto left = std::chrono::duration_cast<std::chrono::nanoseconds>(
         std::max(deadline - SteadyClock::now(), Duration::zero()));
@@ -278,17 +230,11 @@ void Service::Impl::stop() {
 void Service::Impl::destroy_dds() {
   if (!participant_.joined()) return;
   owner_->stop();
-  if (request_reader_ != nullptr) request_reader_->set_listener(nullptr);
-  if (admin_request_reader_ != nullptr) admin_request_reader_->set_listener(nullptr);
-  if (group_request_reader_ != nullptr) group_request_reader_->set_listener(nullptr);
-  admin_request_reader_ = nullptr;
-  group_request_reader_ = nullptr;
-  group_reply_writer_ = nullptr;
+  endpoints_.listen(ReaderListeners{});
   replies_.detach();
   statuses_.detach();
   lease_share_.set_writer(nullptr);
-  status_writer_ = event_writer_ = reply_writer_ = nullptr;
-  request_reader_ = nullptr;
+  endpoints_ = {};
   participant_.leave();
 }
 
@@ -300,11 +246,9 @@ void Service::Impl::on_requests(fdds::DataReader& reader, RequestTopic topic) {
   // In batches, each served one client at a time (round_robin.hpp): a flood
   // taken ahead of another client's request does not make it wait.
   std::vector<Caller> callers;
-  std::vector<std::string> caller_ids;
   for (;;) {
     intake_.clear();
     callers.clear();
-    caller_ids.clear();
     fdds::SampleInfo info;
     while (intake_.size() < kIntakeBatch) {
       msg::CommandRequest& request = intake_.emplace_back();
@@ -317,15 +261,44 @@ void Service::Impl::on_requests(fdds::DataReader& reader, RequestTopic topic) {
         intake_.pop_back();
         continue;
       }
-      if (options_.test_seam_tracer)
-        options_.test_seam_tracer(TracePoint::request_taken, request.request_seq());
       callers.push_back(caller_of(info));
-      caller_ids.push_back(callers.back().id);
     }
     if (intake_.empty()) return;
-    for (const std::size_t i : round_robin_order(caller_ids)) {
-      requests_.handle(intake_[i], callers[i], stopping_, topic);
+    serve_intake(callers, topic);
+  }
+}
+
+void Service::Impl::serve_intake(std::vector<Caller>& callers, RequestTopic topic) {
+  std::vector<std::string> caller_ids;
+  for (std::size_t i = 0; i < intake_.size(); ++i) {
+    if (options_.test_seam_tracer)
+      options_.test_seam_tracer(TracePoint::request_taken, intake_[i].request_seq());
+    caller_ids.push_back(callers[i].id);
+  }
+  for (const std::size_t i : round_robin_order(caller_ids)) {
+    requests_.handle(intake_[i], callers[i], stopping_, topic);
+  }
+}
+
+void Service::Impl::serve_kept() {
+  // Held while the drains switch: a request that comes after waits in the
+  // listener for these to be served.
+  std::lock_guard lock(dispatch_mutex_);
+  const auto serve = [this](auto& drain, fdds::DataReaderListener& listener, RequestTopic topic) {
+    std::vector<Caller> callers;
+    intake_.clear();
+    for (auto& kept : drain.forward_to(&listener)) {
+      if (!kept.info.valid_data || !owner_->owns()) continue;
+      intake_.push_back(std::move(kept.request));
+      callers.push_back(caller_of(kept.info));
     }
+    if (!intake_.empty()) serve_intake(callers, topic);
+  };
+  serve(drains_->commands, request_listener_, RequestTopic::commands);
+  serve(drains_->admin, admin_request_listener_, RequestTopic::admin);
+  for (auto& kept : drains_->groups.forward_to(&group_request_listener_)) {
+    if (kept.info.valid_data && owner_->owns())
+      groups_.handle(kept.request, caller_of(kept.info), stopping_);
   }
 }
 

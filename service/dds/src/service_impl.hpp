@@ -17,7 +17,9 @@
 // dispatch_mutex_ (an answer given at once) and under a bus's status mutex
 // (statuses, events, info), which the request and participant listener
 // callbacks also take: as before the parts were split out, and no writer's
-// own listener (ReplyChannel's matches) takes either.
+// own listener (ReplyChannel's matches) takes either. After a takeover each
+// request drain's mutex is taken under dispatch_mutex_ once (serve_kept) and
+// by Fast DDS's threads under nothing of ours: it is a leaf too.
 
 #include <spdlog/spdlog.h>
 
@@ -34,8 +36,8 @@
 
 #include "conversions.hpp"
 #include "dh3/contract/dh3PubSubTypes.h"
-#include "dh3/contract/participant.hpp"
 #include "dh3/contract/listened_participant.hpp"
+#include "dh3/contract/participant.hpp"
 #include "dh3/contract/participant_setup.hpp"
 #include "dh3/contract/qos.hpp"
 #include "dh3/dds/service.hpp"
@@ -48,7 +50,9 @@
 #include "owner_beacon.hpp"
 #include "participant_names.hpp"
 #include "reply_channel.hpp"
+#include "request_drain.hpp"
 #include "request_handler.hpp"
+#include "service_endpoints.hpp"
 #include "status_publisher.hpp"
 
 namespace dh3::dds {
@@ -61,8 +65,8 @@ class Service::Impl {
   Impl(const Impl&) = delete;
   Impl& operator=(const Impl&) = delete;
 
-  /// `standby`: the participant and owner beacon to serve on (a takeover);
-  /// empty: made here.
+  /// `standby`: the participant, owner beacon, endpoints and request drains
+  /// to serve on (a takeover); empty: made here.
   Result<void, std::string> init(std::vector<BusSetup> setups,
                                  StandbyPresence::Handover standby = {});
   Result<void, std::string> start();
@@ -127,6 +131,12 @@ class Service::Impl {
 
   // Requests (DDS listener threads), under dispatch_mutex_.
   void on_requests(fdds::DataReader& reader, RequestTopic topic);
+  /// Serves intake_ (taken from `topic` by `callers`), one client at a time.
+  void serve_intake(std::vector<Caller>& callers, RequestTopic topic);
+  /// What a standby's drains kept since its claim turned active, served
+  /// before anything that comes after; from then on they forward to the
+  /// listeners here.
+  void serve_kept();
   void on_group_requests(fdds::DataReader& reader);
   /// Who wrote a request sample: its participant, never the request's client_id.
   [[nodiscard]] Caller caller_of(const fdds::SampleInfo& info) const;
@@ -141,19 +151,18 @@ class Service::Impl {
   /// The owner endpoints, then the claim on the name (owner_beacon.hpp); a
   /// standby's beacon claims at once.
   Result<void, std::string> claim_name(bool standby);
+  /// The writers, or those a standby made given their listeners.
   Result<void, std::string> create_writers();
   /// The lease writer, for the standby; without it (DDS Security
   /// permissions that predate it) the service serves, and says so.
   void create_lease_writer();
   /// The leases of the primary a standby took over from, by bus name.
   void load_leases(const std::vector<HandedLease>& handed);
-  Result<void, std::string> create_request_reader();
-  /// The admin request reader; a service whose DDS Security permissions
-  /// predate it refuses administrative commands (and says so).
-  void create_admin_request_reader();
-  /// The group endpoints; a service whose DDS Security permissions predate
-  /// them runs without group commands (and says so).
-  void create_group_endpoints();
+  /// The request readers, or those a standby made given their listeners
+  /// and the requests they kept served. A service whose DDS Security
+  /// permissions predate the admin or group endpoints refuses those
+  /// commands (and says so).
+  Result<void, std::string> create_readers();
   [[nodiscard]] std::string cannot_create(const std::string& what) const;
   void destroy_dds();
 
@@ -181,16 +190,13 @@ class Service::Impl {
   /// The participant, its topics, publisher and subscriber (not joined until
   /// init() has made them); the writers and readers below are made on them and
   /// deleted with them, before the listeners above.
+  /// A standby's, after its takeover: the request readers' listeners, which
+  /// forward to those above. Before participant_: it outlives the readers.
+  std::unique_ptr<RequestDrains> drains_;
   contract::ListenedParticipant participant_{peer_callbacks()};
   /// Real time, whatever clock_ is: it waits on DDS discovery and liveliness.
   std::unique_ptr<OwnerBeacon> owner_ = std::make_unique<OwnerBeacon>(SystemClock::instance());
-  fdds::DataWriter* status_writer_ = nullptr;
-  fdds::DataWriter* event_writer_ = nullptr;
-  fdds::DataWriter* reply_writer_ = nullptr;
-  fdds::DataWriter* group_reply_writer_ = nullptr;
-  fdds::DataReader* request_reader_ = nullptr;
-  fdds::DataReader* admin_request_reader_ = nullptr;
-  fdds::DataReader* group_request_reader_ = nullptr;
+  ServiceEndpoints endpoints_;
 
   std::mutex dispatch_mutex_;
   bool stopping_ = false;  ///< under dispatch_mutex_

@@ -6,12 +6,14 @@
 #include <spdlog/spdlog.h>
 
 #include "conversions.hpp"
-#include "lease_follower.hpp"
 #include "dh3/contract/participant.hpp"
 #include "dh3/contract/participant_setup.hpp"
 #include "dh3/contract/peer_discovery_listener.hpp"
+#include "lease_follower.hpp"
 #include "owner_beacon.hpp"
 #include "primary_watch.hpp"
+#include "request_drain.hpp"
+#include "service_endpoints.hpp"
 
 namespace dh3::dds {
 
@@ -48,6 +50,7 @@ class StandbyPresence::Impl {
     if (auto created = beacon_->create(*handover_.participant); !created) {
       return fail("cannot create " + created.error());
     }
+    if (auto endpoints = make_endpoints(options); !endpoints) return endpoints;
     if (auto follower = LeaseFollower::create(*handover_.participant, options.name); follower) {
       leases_ = std::move(follower).value();
     } else {
@@ -80,10 +83,29 @@ class StandbyPresence::Impl {
   Handover hand_over() {
     if (leases_ && !primary_.empty()) handover_.leases = leases_->held_by_writer(primary_);
     leases_.reset();
+    // Before the claim turns active: what arrives from now on is the new owner's.
+    if (handover_.drains) handover_.drains->hold();
     return std::move(handover_);
   }
 
  private:
+  /// The service's endpoints, made now so that every client matches them
+  /// before a takeover; a standby whose permissions refuse them fails here,
+  /// at its start, rather than at the takeover.
+  Result<void, std::string> make_endpoints(const ServiceOptions& options) {
+    auto& participant = *handover_.participant;
+    handover_.drains = std::make_unique<RequestDrains>();
+    handover_.endpoints = std::make_unique<ServiceEndpoints>();
+    auto& drains = *handover_.drains;
+    auto made = handover_.endpoints->create_writers(participant, {});
+    if (made) {
+      made = handover_.endpoints->create_readers(participant,
+                                                 {&drains.commands, &drains.admin, &drains.groups});
+    }
+    if (!made) return fail(cannot_create(made.error(), options.participant, participant));
+    return {};
+  }
+
   std::string name_;
   /// The beacon (real time: it waits on DDS liveliness); handover_ owns it
   /// until the takeover, the service after it.
@@ -100,10 +122,10 @@ class StandbyPresence::Impl {
   }
 
   contract::PeerDiscoveryListener listener_;
-  /// The participant and the beacon.
+  /// The participant, the beacon, the service's endpoints and their drains.
   Handover handover_;
   std::optional<Duration> vacancy_wait_;
-  std::optional<PrimaryWatch> watch_;  ///< made once our claim is known
+  std::optional<PrimaryWatch> watch_;      ///< made once our claim is known
   std::unique_ptr<LeaseFollower> leases_;  ///< null if it could not be made
   std::string primary_;  ///< the participant of the primary whose loss lapse() confirmed
 };

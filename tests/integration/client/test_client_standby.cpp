@@ -7,15 +7,20 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <condition_variable>
 #include <csignal>
 #include <future>
 #include <initializer_list>
 #include <mutex>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 #include "client_fixture.hpp"
+#include "dh3/contract/participant.hpp"
+#include "dh3/contract/participant_setup.hpp"
+#include "dh3/contract/qos.hpp"
 #include "dh3/registers.hpp"
 
 namespace dh3::test {
@@ -317,6 +322,56 @@ TEST_F(StandbyTest, AStandbyWhosePrimaryLivesTakesNothingAndSendsNothing) {
       << "the standby sent frames: " << ::testing::PrintToString(frames_as_hex(proxy.sent()));
   EXPECT_THAT(standby.log(), Not(HasSubstr("took over")));
   // The active service served throughout.
+  EXPECT_EQ(primary->process().stop(), 0);
+}
+
+// A standby makes the service's endpoints as it starts, so that a client
+// has matched them long before a takeover: its calls go to the new owner as
+// soon as the claim turns active, without waiting for endpoint discovery.
+TEST_F(StandbyTest, AClientHasMatchedTheStandbysServiceEndpointsWhileThePrimaryLives) {
+  auto primary = std::make_unique<RunningService>(box_config(sim_.bus_spec()));
+  ASSERT_TRUE(primary->started());
+  contract::ParticipantOptions options;
+  options.name = "endpoint-observer";
+  options.domain = test_domain();
+  contract::SetupReport report;
+  auto observer = contract::Participant::create(options, report);
+  ASSERT_TRUE(observer) << observer.error();
+  const contract::Topics& topics = (*observer)->topics();
+  auto* requests = (*observer)->publisher().create_datawriter(
+      topics.request, contract::writer_qos(contract::TopicRole::request));
+  auto* replies = (*observer)->subscriber().create_datareader(
+      topics.reply, contract::reader_qos(contract::TopicRole::reply));
+  auto* events = (*observer)->subscriber().create_datareader(
+      topics.event, contract::reader_qos(contract::TopicRole::hand_event));
+  ASSERT_TRUE(requests != nullptr && replies != nullptr && events != nullptr);
+  // The service's request reader, reply writer and event writer, and as many
+  // of the standby's: what a client needs matched to send it calls.
+  const auto matched = [&] {
+    eprosima::fastdds::dds::PublicationMatchedStatus request_readers;
+    eprosima::fastdds::dds::SubscriptionMatchedStatus reply_writers;
+    eprosima::fastdds::dds::SubscriptionMatchedStatus event_writers;
+    requests->get_publication_matched_status(request_readers);
+    replies->get_subscription_matched_status(reply_writers);
+    events->get_subscription_matched_status(event_writers);
+    return std::min({request_readers.current_count, reply_writers.current_count,
+                     event_writers.current_count});
+  };
+  const auto wait_for = [&](int count) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while (matched() < count && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return matched();
+  };
+  ASSERT_EQ(wait_for(1), 1) << "the active service's endpoints never matched";
+
+  const TempFile config(box_config(sim_.bus_spec()));
+  StandbyProcess standby(config.path());
+  ASSERT_TRUE(standby.wait_for("is served by")) << "the standby never saw the active service";
+  EXPECT_EQ(wait_for(2), 2) << "the standby's service endpoints did not match while it stood by";
+  EXPECT_THAT(standby.log(), Not(HasSubstr("took over")));
+  EXPECT_EQ(standby.stop(), 0);
   EXPECT_EQ(primary->process().stop(), 0);
 }
 

@@ -16,10 +16,12 @@
 // It reads the lease topic as well (lease_follower.hpp): at the takeover the
 // leases the primary granted are handed to the service with the rest.
 //
-// At the takeover the service is made on the same participant
-// (Service::create with the presence): every client has discovered it and
-// matched its owner writer already, so only the service's other endpoints
-// are new to them, and the claim that turns active is the one they watch.
+// It makes the service's endpoints as well (its writers, and request readers
+// that drop every request until the takeover), and writes nothing with them.
+// At the takeover the service is made on the same participant and endpoints
+// (Service::take_over): every client has discovered them and matched them
+// already, so the claim that turns active, the one they watch, is all a
+// client needs to send its calls to the new owner.
 //
 // Threads: Fast DDS listener threads and the beacon's thread inside; lapse()
 // from one thread.
@@ -43,6 +45,8 @@ namespace dh3::dds {
 
 class OwnerBeacon;
 struct HandedLease;
+struct ServiceEndpoints;
+struct RequestDrains;
 
 /// The primary's loss, as a standby confirmed it, or the cell's vacancy.
 struct PrimaryLapse {
@@ -74,8 +78,14 @@ class StandbyPresence {
   /// What the service that takes over is made on: Service::create takes it
   /// (once); the presence is empty after it.
   struct Handover {
+    /// What the request readers tell until the service serves them; first,
+    /// so that it outlives the participant whose readers use it.
+    std::unique_ptr<RequestDrains> drains;
     std::unique_ptr<contract::Participant> participant;
     std::unique_ptr<OwnerBeacon> beacon;
+    /// Made on the participant; what their request readers receive from the
+    /// handover on is kept by the drains, for the service to serve.
+    std::unique_ptr<ServiceEndpoints> endpoints;
     /// The leases the primary it took over from last said it granted, with
     /// their time left (none for a vacant cell).
     std::vector<HandedLease> leases;
