@@ -17,10 +17,13 @@
 #include <algorithm>
 #include <condition_variable>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <fstream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <thread>
@@ -279,20 +282,66 @@ Tally tally(const std::vector<LoggedCommand>& commands, const std::vector<Logged
   return t;
 }
 
-/// Kill to the first command sent after the kill and answered OK: the new owner's first.
-std::vector<double> takeover_times(const std::vector<LoggedCommand>& commands,
-                                   const std::vector<Kill>& kills) {
-  std::vector<double> times;
-  for (const auto& kill : kills) {
-    std::optional<WallClock::time_point> first;
-    for (const auto& command : commands) {
-      if (command.sent <= kill.at || command.answers.empty()) continue;
-      if (command.answers[0].code != Code::ok) continue;
-      if (!first || command.answers[0].at < *first) first = command.answers[0].at;
-    }
-    times.push_back(first ? ms_between(kill.at, *first) : -1.0);
+/// Where one takeover's time went, in milliseconds from the kill (-1: not seen).
+struct TakeoverSteps {
+  double loss_seen = -1;   ///< the heir first saw the owner without a live claim
+  double serving = -1;     ///< the heir's "took over" line
+  double calls_lost = -1;  ///< the first call to the killed owner ended SERVICE_LOST
+  double ok_sent = -1;     ///< the command the new owner answered first was sent
+  double ok = -1;          ///< ... and answered: the takeover time
+};
+
+/// The wall-clock time of a log line ("2026-12-03 15:55:58.466 warning ...",
+/// local time) and the "N ms after its loss was first seen" it ends with.
+std::optional<std::pair<WallClock::time_point, double>> served_at(const std::string& line) {
+  std::tm parts{};
+  int millis = 0;
+  double after_loss = 0;
+  const auto loss = line.rfind(", ");
+  if (std::sscanf(line.c_str(), "%d-%d-%d %d:%d:%d.%d", &parts.tm_year, &parts.tm_mon,
+                  &parts.tm_mday, &parts.tm_hour, &parts.tm_min, &parts.tm_sec, &millis) != 7 ||
+      loss == std::string::npos ||
+      std::sscanf(line.c_str() + loss + 2, "%lf ms after", &after_loss) != 1) {
+    return std::nullopt;
   }
-  return times;
+  parts.tm_year -= 1900;
+  parts.tm_mon -= 1;
+  parts.tm_isdst = -1;
+  const auto at = WallClock::from_time_t(std::mktime(&parts)) + std::chrono::milliseconds(millis);
+  return std::make_pair(at, after_loss);
+}
+
+std::vector<TakeoverSteps> takeover_steps(const std::vector<LoggedCommand>& commands,
+                                          const std::vector<Kill>& kills) {
+  std::vector<TakeoverSteps> out;
+  for (const auto& kill : kills) {
+    TakeoverSteps steps;
+    if (const auto served = served_at(kill.took_over)) {
+      steps.serving = ms_between(kill.at, served->first);
+      steps.loss_seen = steps.serving - served->second;
+    }
+    const LoggedCommand* first_ok = nullptr;
+    for (const auto& command : commands) {
+      if (command.answers.empty()) continue;
+      const auto& answer = command.answers[0];
+      // Written to the killed owner, before the kill or after it (before
+      // the client saw the loss): its answer is this kill's first loss.
+      if (answer.code == Code::service_lost && answer.at > kill.at &&
+          (steps.calls_lost < 0 || ms_between(kill.at, answer.at) < steps.calls_lost)) {
+        steps.calls_lost = ms_between(kill.at, answer.at);
+      }
+      if (command.sent > kill.at && answer.code == Code::ok &&
+          (first_ok == nullptr || answer.at < first_ok->answers[0].at)) {
+        first_ok = &command;
+      }
+    }
+    if (first_ok != nullptr) {
+      steps.ok_sent = ms_between(kill.at, first_ok->sent);
+      steps.ok = ms_between(kill.at, first_ok->answers[0].at);
+    }
+    out.push_back(steps);
+  }
+  return out;
 }
 
 double percentile(std::vector<double> values, double p) {
@@ -427,11 +476,17 @@ TEST_F(TakeoverKillsKernel, EveryCommandIsAnsweredOnceAndWrittenOnceAcrossKillsO
   const auto& frames = recording.frames;
   const auto bus = account_writes(commands, frames);
   const Tally t = tally(commands, frames, bus, kills_);
-  const auto times = takeover_times(commands, kills_);
+  const auto steps = takeover_steps(commands, kills_);
+  std::vector<double> times;
   for (std::size_t i = 0; i < kills_.size(); ++i) {
+    const auto& step = steps[i];
+    times.push_back(step.ok);
     std::printf(
-        "kill %2zu of member %s: first command answered by the new owner %.0f ms later; %s\n",
-        i + 1, kills_[i].victim.c_str(), times[i], kills_[i].took_over.c_str());
+        "kill %2zu of member %s: first command answered by the new owner %.0f ms later (ms "
+        "after the kill: the heir saw the loss %.0f, served %.0f; calls to the killed one "
+        "ended %.0f; that command was sent %.0f); %s\n",
+        i + 1, kills_[i].victim.c_str(), step.ok, step.loss_seen, step.serving, step.calls_lost,
+        step.ok_sent, kills_[i].took_over.c_str());
   }
   std::printf(
       "takeover_kills: %zu kills, %zu commands sent, %zu answered once (%zu OK, %zu "
