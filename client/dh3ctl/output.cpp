@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <ctime>
 
+#include "dh3/registers.hpp"
+
 namespace dh3::ctl {
 
 namespace {
@@ -33,6 +35,22 @@ std::string time_of_day_or_dash(std::uint64_t ns) {
 std::string pad(std::string text, std::size_t width) {
   if (text.size() < width) text.append(width - text.size(), ' ');
   return text;
+}
+
+/// The value where it says something the kind does not: GRASPED's force, ONLINE's
+/// firmware, OFFLINE's unanswered requests. A grip or rotation status value only
+/// repeats the kind, and a FAULT's message says what the hand answered.
+std::string value_text(const HandEvent& e) {
+  switch (e.kind) {
+    case EventKind::grasped:
+      return " force " + std::to_string(e.value);
+    case EventKind::online:
+      return " firmware " + firmware_version_text(e.value);
+    case EventKind::offline:
+      return e.value > 0 ? " after " + std::to_string(e.value) + " unanswered requests" : "";
+    default:
+      return "";
+  }
 }
 
 }  // namespace
@@ -102,8 +120,9 @@ std::string event_line(const HandEvent& e) {
   // Appended, not "literal" + std::string: GCC 12 warns falsely about that at -O3
   // (-Wrestrict inside libstdc++'s string insert, GCC bugs 105329, 105651).
   out.append(" ").append(to_string(e.kind));
-  out += " position " + (e.position ? std::to_string(*e.position) : std::string("- (not read yet)")) +
-         " target " + number_or_dash(e.target) + " value " + std::to_string(e.value);
+  out += " position " +
+         (e.position ? std::to_string(*e.position) : std::string("- (not read yet)")) + " target " +
+         number_or_dash(e.target) + value_text(e);
   if (!e.message.empty()) out += ": " + e.message;
   return out;
 }

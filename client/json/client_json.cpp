@@ -81,6 +81,11 @@ void to_json(Json& json, const HandEvent& e) {
               {"timestamp_ns", e.timestamp_ns},
               {"event_seq", e.event_seq},
               {"from_client", e.from_client}};
+  // What the value means, under its name, beside it.
+  if (const auto named = named_value(e)) {
+    json[std::string(named->name)] = named->value;
+    if (e.kind == EventKind::online) json["firmware_version_text"] = firmware_version_text(e.value);
+  }
 }
 
 void to_json(Json& json, const HandInfo& hand) {

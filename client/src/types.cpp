@@ -80,6 +80,31 @@ std::string_view to_string(RotationState state) {
   return "UNKNOWN";
 }
 
+std::optional<EventValue> named_value(const HandEvent& event) {
+  const auto named = [&event](std::string_view name) { return EventValue{name, event.value}; };
+  switch (event.kind) {
+    case EventKind::grasped:
+      return named("closing_force");
+    case EventKind::arrived:
+    case EventKind::missed:
+    case EventKind::dropped:
+      return named("grip_status");
+    case EventKind::rotation_arrived:
+    case EventKind::rotation_blocked:
+      return named("rotation_status");
+    case EventKind::online:
+      return named("firmware_version");
+    case EventKind::offline:
+      return named("unanswered_requests");
+    case EventKind::initialized:
+    case EventKind::init_failed:
+    case EventKind::fault:
+    case EventKind::taken_over:
+      break;
+  }
+  return std::nullopt;
+}
+
 std::string_view to_string(EventKind kind) {
   switch (kind) {
     case EventKind::online:

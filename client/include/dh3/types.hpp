@@ -181,6 +181,20 @@ struct HandEvent {
   bool from_client = false;
 };
 
+/// What a HandEvent's value means, named: `name` is the field it is shown
+/// as in `dh3ctl --json events` and dh3-web's event stream.
+struct EventValue {
+  std::string_view name;
+  std::int32_t value = 0;
+};
+/// grasped: {"closing_force", N}; arrived, missed, dropped: {"grip_status",
+/// the status register's value}; the rotation events: {"rotation_status",
+/// ...}; online: {"firmware_version", raw}; offline: {"unanswered_requests",
+/// N} (0: the link went down, or the service stopped). nullopt where the
+/// value says nothing the kind and the message do not (initialized,
+/// init_failed, fault, taken_over). Any thread.
+[[nodiscard]] DH3_CLIENT_API std::optional<EventValue> named_value(const HandEvent& event);
+
 struct HandInfo {
   std::uint16_t can_id = 0;
   std::string name;

@@ -2,7 +2,7 @@
 from concurrent.futures import Future
 from enum import IntEnum
 from types import TracebackType
-from typing import Callable, List, Optional
+from typing import Callable, List, Optional, Tuple
 
 class _Spelled(IntEnum): ...
 
@@ -237,6 +237,9 @@ class HandEvent:
     @property
     def from_client(self) -> bool:
         """True for the events the client makes itself: OFFLINE when a service disappears, ONLINE when it is back."""
+    @property
+    def named_value(self) -> Optional[Tuple[str, int]]:
+        """What value means, named: ('closing_force', 40) for GRASPED, ('grip_status', N) for ARRIVED, MISSED, DROPPED, ('rotation_status', N) for the rotation events, ('firmware_version', raw) for ONLINE, ('unanswered_requests', N) for OFFLINE; None where it says nothing the kind and the message do not."""
 
 class HandInfo:
     @property

@@ -180,6 +180,17 @@ void bind_hand_event(py::module_& m) {
       .def_readonly("from_client", &dh3::HandEvent::from_client,
                     "True for the events the client makes itself: OFFLINE when a service "
                     "disappears, ONLINE when it is back.")
+      .def_property_readonly(
+          "named_value",
+          [](const dh3::HandEvent& e) -> std::optional<std::pair<std::string, std::int32_t>> {
+            const auto named = dh3::named_value(e);
+            if (!named) return std::nullopt;
+            return std::make_pair(std::string(named->name), named->value);
+          },
+          "What value means, named: ('closing_force', 40) for GRASPED, ('grip_status', N) for "
+          "ARRIVED, MISSED, DROPPED, ('rotation_status', N) for the rotation events, "
+          "('firmware_version', raw) for ONLINE, ('unanswered_requests', N) for OFFLINE; None "
+          "where it says nothing the kind and the message do not.")
       .def("__repr__", [](const dh3::HandEvent& e) {
         return "HandEvent(" + e.hand.to_string() + ", " + std::string(dh3::to_string(e.kind)) +
                ", position=" + (e.position ? std::to_string(*e.position) : std::string("None")) +

@@ -44,6 +44,11 @@ def test_hand_events_reach_the_callback_on_the_clients_thread(client):
     assert log.wait(lambda items: dh3.EventKind.GRASPED in kinds(items)), kinds(log.items)
     assert all(e.hand == one.address for e in log.items)
     assert all(isinstance(e.kind, dh3.EventKind) for e in log.items)
+    # What the value is, by name: GRASPED's is the force it holds with.
+    grasped = next(e for e in log.items if e.kind == dh3.EventKind.GRASPED)
+    assert grasped.named_value == ("closing_force", grasped.value), grasped.named_value
+    initialized = next(e for e in log.items if e.kind == dh3.EventKind.INITIALIZED)
+    assert initialized.named_value is None
     assert threading.get_ident() not in log.threads
     assert len(log.threads) == 1
     subscription.unsubscribe()

@@ -4,7 +4,6 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <chrono>
@@ -22,6 +21,7 @@ namespace dh3::test {
 namespace {
 
 using ::testing::AllOf;
+using ::testing::ContainsRegex;
 using ::testing::HasSubstr;
 using ::testing::Not;
 using ::testing::StartsWith;
@@ -151,8 +151,8 @@ TEST_F(Dh3ctlTest, EventsOfAMotionAreWhereItStoppedAndAStopAtRestReportsNothing)
     seen += *line + "\n";
     if (line->find(" ARRIVED ") != std::string::npos) arrivals.push_back(*line);
   }
-  EXPECT_THAT(arrivals[0], HasSubstr(" target 50 "));
-  EXPECT_THAT(arrivals[1], HasSubstr(" target 20 ")) << "no arrival from the stop at rest";
+  EXPECT_THAT(arrivals[0], ContainsRegex(" target 50($|:)"));
+  EXPECT_THAT(arrivals[1], ContainsRegex(" target 20($|:)")) << "no arrival from the stop at rest";
   // Where each motion stopped, or "-" (not read yet): never where it started.
   EXPECT_THAT(arrivals[0], Not(HasSubstr("position 100 ")));
   EXPECT_THAT(arrivals[1], Not(HasSubstr("position 50 ")));
@@ -205,10 +205,11 @@ TEST_F(Dh3ctlTest, StatusWatchIntoAPipeIdlesWhileNothingChanges) {
   ASSERT_GE(cpu_before, 0.0);
   const auto started = std::chrono::steady_clock::now();
   std::this_thread::sleep_for(std::chrono::seconds(3));
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   const double used = cpu_seconds(watch.pid()) - cpu_before;
   EXPECT_LT(used, wall / 10) << "dh3ctl status --watch used " << used << " s of CPU in " << wall
-                              << " s at rest";
+                             << " s at rest";
   watch.send_signal(SIGINT);
   EXPECT_TRUE(watch.wait_exit(kClientDeadline));
 }

@@ -10,6 +10,7 @@
 namespace dh3::ctl {
 namespace {
 
+using ::testing::EndsWith;
 using ::testing::HasSubstr;
 using ::testing::Not;
 using ::testing::StartsWith;
@@ -129,6 +130,15 @@ TEST(JsonTest, EventAndServiceObjects) {
   EXPECT_THAT(to_json(e), HasSubstr(R"("position":null)")) << "where it stopped, not read yet";
   e.position = 40;
   EXPECT_THAT(to_json(e), HasSubstr(R"("position":40)"));
+  // The value beside it, under the name of what it is.
+  e.value = 55;
+  EXPECT_THAT(to_json(e), HasSubstr(R"("closing_force":55)"));
+  e.kind = EventKind::online;
+  e.value = 0x04010200;
+  EXPECT_THAT(to_json(e), HasSubstr(R"("firmware_version":67174912)"));
+  EXPECT_THAT(to_json(e), HasSubstr(R"("firmware_version_text":"4.1.2.0")"));
+  e.kind = EventKind::fault;
+  EXPECT_THAT(to_json(e), Not(HasSubstr("firmware")));
 
   ServiceInfo info;
   info.name = "cell";
@@ -187,13 +197,27 @@ TEST(TextTest, EventAndServiceLines) {
   e.kind = EventKind::dropped;
   e.position = 55;
   e.message = "object lost";
-  EXPECT_EQ(event_line(e), "cell/bus0/2 (right) DROPPED position 55 target 0 value 0: object lost");
+  EXPECT_EQ(event_line(e), "cell/bus0/2 (right) DROPPED position 55 target 0: object lost");
   e.kind = EventKind::arrived;
   e.position.reset();
   e.target = 30;
   e.value = 2;
   e.message.clear();
-  EXPECT_EQ(event_line(e), "cell/bus0/2 (right) ARRIVED position - (not read yet) target 30 value 2");
+  EXPECT_EQ(event_line(e), "cell/bus0/2 (right) ARRIVED position - (not read yet) target 30");
+  // The value in words where it says what the kind does not.
+  e.kind = EventKind::grasped;
+  e.position = 40;
+  e.value = 60;
+  EXPECT_EQ(event_line(e), "cell/bus0/2 (right) GRASPED position 40 target 30 force 60");
+  e.kind = EventKind::online;
+  e.value = 0x04010200;
+  EXPECT_THAT(event_line(e), EndsWith(" ONLINE position 40 target 30 firmware 4.1.2.0"));
+  e.kind = EventKind::offline;
+  e.value = 3;
+  EXPECT_THAT(event_line(e),
+              EndsWith(" OFFLINE position 40 target 30 after 3 unanswered requests"));
+  e.value = 0;
+  EXPECT_THAT(event_line(e), EndsWith(" OFFLINE position 40 target 30"));
 
   ServiceInfo info;
   info.name = "cell";

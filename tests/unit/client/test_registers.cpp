@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+
 #include "dh3/registers.hpp"
 #include "dh3/types.hpp"
 
@@ -48,6 +50,28 @@ TEST(TypesTest, ReplyIsTrueOnlyWhenOk) {
   reply.code = Code::cancelled;
   EXPECT_FALSE(reply);
   EXPECT_FALSE(reply.ok());
+}
+
+TEST(TypesTest, AnEventsValueIsNamedWhereItMeansSomething) {
+  HandEvent event;
+  event.value = 7;
+  const auto name_for = [&event](EventKind kind) {
+    event.kind = kind;
+    const auto named = named_value(event);
+    return named ? std::string(named->name) + "=" + std::to_string(named->value) : "-";
+  };
+  EXPECT_EQ(name_for(EventKind::grasped), "closing_force=7");
+  EXPECT_EQ(name_for(EventKind::arrived), "grip_status=7");
+  EXPECT_EQ(name_for(EventKind::missed), "grip_status=7");
+  EXPECT_EQ(name_for(EventKind::dropped), "grip_status=7");
+  EXPECT_EQ(name_for(EventKind::rotation_arrived), "rotation_status=7");
+  EXPECT_EQ(name_for(EventKind::rotation_blocked), "rotation_status=7");
+  EXPECT_EQ(name_for(EventKind::online), "firmware_version=7");
+  EXPECT_EQ(name_for(EventKind::offline), "unanswered_requests=7");
+  for (const EventKind kind :
+       {EventKind::initialized, EventKind::init_failed, EventKind::fault, EventKind::taken_over}) {
+    EXPECT_EQ(name_for(kind), "-") << to_string(kind);
+  }
 }
 
 }  // namespace
