@@ -62,7 +62,6 @@ struct ServiceEndpoints {
   [[nodiscard]] Result<void, std::string> create_readers(contract::Participant& participant,
                                                          const ReaderListeners& listeners);
   [[nodiscard]] bool has_writers() const { return status != nullptr; }
-  [[nodiscard]] bool has_readers() const { return request != nullptr; }
   /// Endpoints made with other listeners (a standby's) get these.
   void listen(const WriterListeners& listeners);
   void listen(const ReaderListeners& listeners);
