@@ -128,7 +128,7 @@ std::string Service::Impl::cannot_create(const std::string& what) const {
 
 Result<void, std::string> Service::Impl::create_writers() {
   const WriterListeners listeners{replies_.reply_listener(), replies_.group_reply_listener()};
-  if (endpoints_.has_writers()) {
+  if (drains_) {  // a standby's, made before its takeover
     endpoints_.listen(listeners);
   } else if (auto created = endpoints_.create_writers(*participant_, listeners); !created) {
     return fail(cannot_create(created.error()));

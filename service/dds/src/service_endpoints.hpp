@@ -61,7 +61,6 @@ struct ServiceEndpoints {
   /// reader, each left null if refused (as the group reply writer).
   [[nodiscard]] Result<void, std::string> create_readers(contract::Participant& participant,
                                                          const ReaderListeners& listeners);
-  [[nodiscard]] bool has_writers() const { return status != nullptr; }
   /// Endpoints made with other listeners (a standby's) get these.
   void listen(const WriterListeners& listeners);
   void listen(const ReaderListeners& listeners);
