@@ -31,11 +31,14 @@ def test_lookups(client):
 
 def test_status_says_when_its_values_were_read(client):
     hand = client.wait_for_hand(spec(3), timeout=DEADLINE)
-    first = hand.wait_until(lambda s: s.online and s.read_at_ns > 0, timeout=DEADLINE)
-    assert first is not None
+    # Online comes with the firmware read; the position is read in a later frame.
+    first = hand.wait_until(lambda s: s.online and s.position is not None and s.read_at_ns > 0,
+                            timeout=DEADLINE)
+    assert first is not None, hand.status()
     # At rest nothing changes, yet the hand is read again: a later sample says so.
     later = hand.wait_until(lambda s: s.read_at_ns > first.read_at_ns, timeout=DEADLINE)
-    assert later is not None and later.position == first.position
+    assert later is not None, hand.status()
+    assert later.position == first.position, (first, later)
 
 
 def test_values_not_read_are_none_and_numbers_once_read(client):
