@@ -135,9 +135,16 @@ TEST_F(StandbyOnSimBox, TheWatchKnowsWhatThePrimaryKnowsAndSendsNothing) {
   })) << "the standby's view of the hands never matched the primary's commands";
   EXPECT_GT(watch.requests_seen(), 0u);
   EXPECT_FALSE(watch.fences_clear(SteadyClock::now()));  // the primary polls: fenced
+  EXPECT_FALSE(watch.silent_at());
 
   primary.stop();  // the primary goes quiet on the bus
+  const TimePoint stopped = SteadyClock::now();
   EXPECT_TRUE(eventually([&] { return watch.fences_clear(SteadyClock::now()); }));
+  // Read silent after the quiet time: the word that confirms a lapse at once.
+  EXPECT_TRUE(eventually([&] {
+    const auto silent = watch.silent_at();
+    return silent && *silent >= stopped + 600ms;
+  }));
   const auto taken = watch.take_buses();
   ASSERT_EQ(taken.size(), 1u);
   // Promoted: the taken bus sends now, and the hand answers it.

@@ -12,6 +12,7 @@ PrimaryWatch::PrimaryWatch(contract::OwnerClaim self, TimePoint started,
 }
 
 std::optional<PrimaryLapse> PrimaryWatch::look(const OwnerView& view, TimePoint now,
+                                               std::optional<TimePoint> buses_silent_at,
                                                bool* changed) {
   if (changed) *changed = false;
   if (view.owner) {
@@ -22,7 +23,9 @@ std::optional<PrimaryLapse> PrimaryWatch::look(const OwnerView& view, TimePoint 
   }
   if (primary_) {
     if (!lost_since_) lost_since_ = now;
-    if (now - *lost_since_ < contract::kOwnerLapseConfirm || !senior(view)) return std::nullopt;
+    const bool confirmed = now - *lost_since_ >= contract::kOwnerLapseConfirm ||
+                           (buses_silent_at && *buses_silent_at >= *lost_since_);
+    if (!confirmed || !senior(view)) return std::nullopt;
     return PrimaryLapse{primary_, *lost_since_, view.highest_epoch};
   }
   if (!vacant_from_ || now < *vacant_from_) return std::nullopt;

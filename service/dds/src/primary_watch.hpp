@@ -3,8 +3,13 @@
 // what the owner topic shows each time it looks. It may take the cell when:
 // - the primary is lost: an owner was seen and none has been for
 //   contract::kOwnerLapseConfirm, the confirmation a client applies before
-//   it believes a lapse. A lapse overturned sooner (a frozen owner asserting
-//   again) is forgotten;
+//   it believes a lapse, or the buses already confirm it: a read of every
+//   bus after the lapse began found it silent (the primary drove it, then
+//   sent nothing for the fence's quiet time). The confirmation guards
+//   against a standby that stalled itself and has not yet read the
+//   assertions queued meanwhile; a bus read since then that found no
+//   request in the quiet time is the primary's own silence. A lapse
+//   overturned sooner (a frozen owner asserting again) is forgotten;
 // - or the cell is vacant: no owner was seen in the vacancy wait after the
 //   standby started, and no claim of a participant that discovery announced
 //   as a service or a standby of the name is still awaited (at most
@@ -44,8 +49,12 @@ class PrimaryWatch {
 
   /// The confirmed loss of the primary, or the cell's vacancy (a lapse
   /// without a primary), when this standby is to take the cell; nullopt
-  /// otherwise. `changed` is set when the owner is not the one seen before.
-  std::optional<PrimaryLapse> look(const OwnerView& view, TimePoint now, bool* changed = nullptr);
+  /// otherwise. `buses_silent_at`: the last time a read of every bus found
+  /// it silent (StandbyWatch::silent_at), nullopt if a bus is not. `changed`
+  /// is set when the owner is not the one seen before.
+  std::optional<PrimaryLapse> look(const OwnerView& view, TimePoint now,
+                                   std::optional<TimePoint> buses_silent_at = std::nullopt,
+                                   bool* changed = nullptr);
 
  private:
   /// No other standby of the name started before this one.

@@ -62,13 +62,13 @@ class StandbyPresence::Impl {
     return beacon_->stand_by(self);
   }
 
-  std::optional<PrimaryLapse> lapse(TimePoint now) {
+  std::optional<PrimaryLapse> lapse(TimePoint now, std::optional<TimePoint> buses_silent_at) {
     const OwnerView view = beacon_->read_table([this](const contract::OwnerTable& table) {
       return OwnerView{table.owner(name_), table.highest_epoch(name_), table.standbys(name_),
                        table.claim_awaited(name_)};
     });
     bool changed = false;
-    auto lost = watch_->look(view, now, &changed);
+    auto lost = watch_->look(view, now, buses_silent_at, &changed);
     if (lost && lost->primary) primary_ = lost->primary->participant;
     if (changed) {
       spdlog::info("standby: service '{}' is served by {} (epoch {})", name_,
@@ -149,8 +149,9 @@ Result<std::unique_ptr<StandbyPresence>, std::string> StandbyPresence::create(
   return std::unique_ptr<StandbyPresence>(new StandbyPresence(std::move(impl)));
 }
 
-std::optional<PrimaryLapse> StandbyPresence::lapse(TimePoint now) {
-  return impl_->lapse(now);
+std::optional<PrimaryLapse> StandbyPresence::lapse(TimePoint now,
+                                                  std::optional<TimePoint> buses_silent_at) {
+  return impl_->lapse(now, buses_silent_at);
 }
 
 std::optional<contract::OwnerClaim> StandbyPresence::owner() const {

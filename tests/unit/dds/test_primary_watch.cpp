@@ -61,6 +61,24 @@ TEST_F(PrimaryWatchTest, ALapseIsBelievedOnceItStoodTheClientsConfirmation) {
   EXPECT_EQ(lost->epoch, 3u);  // the takeover claims above it
 }
 
+TEST_F(PrimaryWatchTest, ABusReadSilentAfterTheLapseBeganConfirmsItAtOnce) {
+  EXPECT_FALSE(watch.look(view_of(table), clock.now(), clock.now()));
+  table.set_alive("aa", false);
+  const TimePoint lapsed = clock.now();
+  // Silent before the lapse was seen: not yet the buses' word on it.
+  EXPECT_FALSE(watch.look(view_of(table), clock.now(), lapsed - 1ms));
+  clock.advance(20ms);
+  const auto lost = watch.look(view_of(table), clock.now(), clock.now());
+  ASSERT_TRUE(lost);
+  EXPECT_EQ(lost->since, lapsed);
+}
+
+TEST_F(PrimaryWatchTest, BusesSilentDoNotMakeALiveOwnerLost) {
+  EXPECT_FALSE(watch.look(view_of(table), clock.now(), clock.now()));
+  clock.advance(1s);
+  EXPECT_FALSE(watch.look(view_of(table), clock.now(), clock.now()));
+}
+
 TEST_F(PrimaryWatchTest, ALapseOverturnedInTimeIsForgotten) {
   EXPECT_FALSE(look());
   table.set_alive("aa", false);
@@ -94,12 +112,12 @@ TEST_F(PrimaryWatchTest, AStandbyThatNeverSawAnOwnerNeverJudgesOneLost) {
 
 TEST_F(PrimaryWatchTest, ANewOwnerIsWatchedInstead) {
   bool changed = false;
-  EXPECT_FALSE(watch.look(view_of(table), clock.now(), &changed));
+  EXPECT_FALSE(watch.look(view_of(table), clock.now(), std::nullopt, &changed));
   EXPECT_TRUE(changed);
-  EXPECT_FALSE(watch.look(view_of(table), clock.now(), &changed));
+  EXPECT_FALSE(watch.look(view_of(table), clock.now(), std::nullopt, &changed));
   EXPECT_FALSE(changed);
   table.claim(claim("cc", /*standby=*/false, 4));  // took the name over
-  EXPECT_FALSE(watch.look(view_of(table), clock.now(), &changed));
+  EXPECT_FALSE(watch.look(view_of(table), clock.now(), std::nullopt, &changed));
   EXPECT_TRUE(changed);
   table.set_alive("cc", true);
   table.set_alive("cc", false);

@@ -348,7 +348,7 @@ std::optional<dh3::dds::PrimaryLapse> wait_for_takeover(dh3::dds::StandbyPresenc
   bool fence_reported = false;
   while (sigtimedwait(&stop_signals, nullptr, &poll) < 0) {
     const dh3::TimePoint now = clock.now();
-    const auto lapse = presence.lapse(now);
+    const auto lapse = presence.lapse(now, watch.silent_at());
     if (!lapse) {
       fence_reported = false;
       continue;

@@ -5,8 +5,10 @@
 namespace dh3::app {
 namespace {
 
-/// How long one receive waits: the loop checks for its end this often.
-constexpr Duration kReceiveWait = std::chrono::milliseconds(50);
+/// How long one receive waits: the loop checks for its end this often, and a
+/// silent bus is read this often (silent_at()), which bounds how long a
+/// lapse waits for the buses' word.
+constexpr Duration kReceiveWait = std::chrono::milliseconds(20);
 
 std::unique_ptr<bus::Bus> gated(std::unique_ptr<bus::Bus> opened) {
   return std::make_unique<bus::StandbyBus>(std::move(opened));
@@ -59,12 +61,17 @@ void StandbyWatch::watch(Watched& watched) {
         spdlog::info("standby: bus '{}' is up again", watched.setup.name);
       }
     }
-    if (frames.empty()) continue;
     const TimePoint now = clock_.now();
     const std::lock_guard lock(watched.mutex);
+    if (frames.empty()) {
+      const bool silent = received && watched.hands.requests_seen() > 0 && watched.fence.clear(now);
+      watched.silent_read_at = silent ? std::optional(now) : std::nullopt;
+      continue;
+    }
     for (const bus::CanFrame& frame : frames) {
       if (watched.hands.on_frame(frame, now) == hand::FrameRole::request) {
         watched.fence.on_request(now);
+        watched.silent_read_at.reset();
       }
     }
   }
@@ -97,6 +104,16 @@ std::vector<std::vector<hand::HandState>> StandbyWatch::states() const {
 
 bool StandbyWatch::fences_clear(TimePoint now) const {
   return busy_buses(now).empty();
+}
+
+std::optional<TimePoint> StandbyWatch::silent_at() const {
+  std::optional<TimePoint> earliest;
+  for (const auto& watched : buses_) {
+    const std::lock_guard lock(watched->mutex);
+    if (!watched->silent_read_at) return std::nullopt;
+    if (!earliest || *watched->silent_read_at < *earliest) earliest = watched->silent_read_at;
+  }
+  return earliest;
 }
 
 std::vector<std::string> StandbyWatch::busy_buses(TimePoint now) const {

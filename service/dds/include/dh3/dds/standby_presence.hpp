@@ -7,9 +7,10 @@
 // event, info or reply.
 //
 // The primary is lost when the owner of the name, once seen, has had no live
-// active claimant for contract::kOwnerLapseConfirm: its liveliness lapsed
-// (killed, frozen, cut off) or its owner writer left (a clean stop). A lapse
-// overturned within that time (a frozen owner asserting again) is forgotten.
+// active claimant for contract::kOwnerLapseConfirm, or sooner once the
+// buses confirm it: its liveliness lapsed (killed, frozen, cut off) or its
+// owner writer left (a clean stop). A lapse overturned before it is
+// confirmed (a frozen owner asserting again) is forgotten.
 // Given a vacancy wait, a cell that no owner served by then is vacant
 // (primary_watch.hpp says when, and which of several standbys takes it).
 //
@@ -71,7 +72,11 @@ class StandbyPresence {
   /// The primary's confirmed loss at `now`, once it stands, or the cell's
   /// vacancy; nullopt while an owner lives, before either is due, or while a
   /// standby senior to this one is there to take the cell.
-  [[nodiscard]] std::optional<PrimaryLapse> lapse(TimePoint now);
+  /// `buses_silent_at`: the last time a read of every bus found it silent
+  /// (StandbyWatch::silent_at); such a read after the lapse began confirms
+  /// it without the wait.
+  [[nodiscard]] std::optional<PrimaryLapse> lapse(
+      TimePoint now, std::optional<TimePoint> buses_silent_at = std::nullopt);
   /// The owner of the name now (for logging who the standby watches).
   [[nodiscard]] std::optional<contract::OwnerClaim> owner() const;
 

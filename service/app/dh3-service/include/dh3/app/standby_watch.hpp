@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -43,6 +44,11 @@ class StandbyWatch {
   [[nodiscard]] std::vector<std::vector<hand::HandState>> states() const;
   /// No bus carried a request in its quiet time before `now`.
   [[nodiscard]] bool fences_clear(TimePoint now) const;
+  /// The last time a read of every bus found it silent: the bus carried
+  /// requests once, then none for its quiet time, and the read found
+  /// nothing unread. nullopt while a bus is not silent (busy, down, or never
+  /// driven: a bus nobody polls says nothing of who drives it).
+  [[nodiscard]] std::optional<TimePoint> silent_at() const;
   /// The names of the buses that did.
   [[nodiscard]] std::vector<std::string> busy_buses(TimePoint now) const;
   /// Requests of another service seen, over every bus.
@@ -55,6 +61,7 @@ class StandbyWatch {
     mutable std::mutex mutex;         ///< guards hands and fence
     hand::ObservedHands hands;
     hand::BusFence fence;
+    std::optional<TimePoint> silent_read_at;  ///< see silent_at()
     std::thread loop;
     Watched(dds::BusSetup opened, Duration quiet, TimePoint now);
   };
