@@ -160,8 +160,23 @@ class StandbyTest : public ::testing::Test {
   }
 
   /// `member` says it took over, and serves the hand, online, at `position`.
+  /// Called after the kill: the new owner's service info started later.
   void take_over_at(StandbyProcess& member, std::int32_t position) {
+    const auto killed_ns = static_cast<std::uint64_t>(
+        std::chrono::duration_cast<std::chrono::nanoseconds>(
+            std::chrono::system_clock::now().time_since_epoch())
+            .count());
     ASSERT_TRUE(member.wait_for("took over from")) << "the standby never took over";
+    // A standby may serve before the client believes the lapse; a call made
+    // meanwhile is the lost owner's (SERVICE_LOST), so the read waits until
+    // the client takes the new owner's service info for the service's.
+    const auto deadline = std::chrono::steady_clock::now() + kClientDeadline;
+    for (;;) {
+      const auto info = client_.service(test_service_name());
+      if (info && info->started_ns > killed_ns) break;
+      ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "the client never saw the new owner";
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));  // polling the client's view
+    }
     ASSERT_TRUE(hand_->wait_until([](const HandStatus& s) { return s.online; }, kClientDeadline))
         << "the hand never came back online";
     const Reply read = hand_->read(reg::position);
