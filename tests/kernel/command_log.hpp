@@ -42,6 +42,9 @@ class CommandLog {
   void answer(std::size_t index, const Reply& reply);
   /// How many answers command `index` has got so far.
   [[nodiscard]] std::size_t answers(std::size_t index) const;
+  /// Each of clients 0 to `clients` - 1 had a command sent after `since`
+  /// answered OK.
+  [[nodiscard]] bool each_answered_ok_since(WallClock::time_point since, int clients) const;
   /// A copy of every command so far.
   [[nodiscard]] std::vector<LoggedCommand> commands() const;
 
