@@ -1,7 +1,6 @@
 // dh3-web: the hands of a DDS domain in a browser, and an HTTP API for
 // controllers that speak no DDS. A client of the domain like dh3ctl.
 
-#include <pthread.h>
 #include <spdlog/spdlog.h>
 
 #include <csignal>
@@ -9,6 +8,7 @@
 #include <thread>
 
 #include "dh3/base/host_name.hpp"
+#include "dh3/base/stop_signals.hpp"
 #include "cell_alarms.hpp"
 #include "dh3/client.hpp"
 #include "event_stream.hpp"
@@ -19,16 +19,6 @@
 
 namespace {
 
-/// SIGINT and SIGTERM blocked in every thread (the set is inherited by the
-/// ones started later) and taken by sigwait() on the main thread alone.
-sigset_t stop_signals() {
-  sigset_t set;
-  sigemptyset(&set);
-  sigaddset(&set, SIGINT);
-  sigaddset(&set, SIGTERM);
-  return set;
-}
-
 std::string url(const dh3::web::ListenAddress& listen, int port) {
   const bool v6 = listen.host.find(':') != std::string::npos;
   return "http://" + (v6 ? "[" + listen.host + "]" : listen.host) + ":" + std::to_string(port) +
@@ -38,8 +28,7 @@ std::string url(const dh3::web::ListenAddress& listen, int port) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const sigset_t signals = stop_signals();
-  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  const sigset_t signals = dh3::block_stop_signals();
 
   dh3::web::WebOptions options;
   if (auto exit_code = dh3::web::parse_web_options(argc, argv, options, std::cout, std::cerr)) {
