@@ -173,7 +173,6 @@ void ClientCore::submit(PendingCalls::Call call) {
                                                : tracker_.ready(service);
     if (ready) {
       call.sent_to = tracker_.incarnation(service);
-      call.sent_at = Clock::now();
       // Written here, without waking the io thread, unless that could let it
       // overtake a request written or queued before it.
       if (calls_.queue_empty() && calls_.writes_in_flight() == 0 && !t_on_dds_listener) {
@@ -260,7 +259,8 @@ void ClientCore::io_loop() {
     }
     auto expiry = calls_.expire(Clock::now());
     if (!expiry.expired.empty()) {
-      std::vector<PendingCalls::Completion> singles, groups;
+      std::vector<PendingCalls::Completion> singles;
+      std::vector<PendingCalls::Completion> groups;
       for (auto& call : expiry.expired) {
         Reply reply =
             PendingCalls::expired_reply(call, tracker_.alive(call.hand.service), options_.domain,
@@ -297,10 +297,8 @@ void ClientCore::run(Actions& actions) {
 // From the DDS listeners
 
 void ClientCore::apply_locked(const ServiceTracker::Outcome& outcome, Actions& out) {
-  const std::string& lost = outcome.lost_service ? outcome.lost : outcome.end_calls_of;
-  if (!outcome.handed_to.empty()) io_kick_ = out.wake_io = true;  // deadlines came closer
-  for (auto& ended : calls_.hand_on(outcome.keep_calls ? "" : lost, outcome.handed_to,
-                                    outcome.lapsed_at, Clock::now(), outcome.why)) {
+  const std::string& ending = outcome.lost_service ? outcome.lost : outcome.end_calls_of;
+  for (auto& ended : calls_.end_sent_to(outcome.keep_calls ? "" : ending, outcome.why)) {
     out.completions.push_back(std::move(ended));
   }
   const auto made_ns = ClientMadeEvents::now_ns();
@@ -328,8 +326,8 @@ void ClientCore::dispatch_locked(const std::string& service, Actions& out) {
     io_kick_ = out.wake_io = true;  // it may wait for its owner (next_lapse)
     return;
   }
-  if (calls_.assign(service, tracker_.incarnation(service), Clock::now(),
-                    tracker_.group_ready(service), tracker_.admin_ready(service))) {
+  if (calls_.assign(service, tracker_.incarnation(service), tracker_.group_ready(service),
+                    tracker_.admin_ready(service))) {
     out.wake_io = true;
   }
   changed_.notify_all();
@@ -470,7 +468,8 @@ void ClientCore::on_event(const std::string& prefix, const msg::HandEvent& sampl
 }
 
 void ClientCore::on_reply(const std::string& prefix, const msg::CommandReply& reply) {
-  // Checked though the reader's filter keeps our client_id: Fast DDS may have refused it.
+  // The reply reader's filter keeps our client_id; checked again in case
+  // Fast DDS refused the filtered topic and we read the plain one.
   if (reply.client_id() != client_id_) {
     foreign_replies_taken_.fetch_add(1, std::memory_order_relaxed);
     return;
@@ -481,7 +480,8 @@ void ClientCore::on_reply(const std::string& prefix, const msg::CommandReply& re
     std::lock_guard lock(mutex_);
     const PendingCalls::Call* call = calls_.find(reply.request_seq());
     if (call == nullptr || call->group || call->request.command() != reply.command()) return;
-    // Only the one the call went to is believed (a duplicate may answer too).
+    // Another service of the name answered too (a duplicate before it saw the
+    // owner): only the one the call went to is believed.
     if (!call->sent_to.empty() && call->sent_to != prefix) {
       not_owner_samples_.fetch_add(1, std::memory_order_relaxed);
       return;

@@ -40,13 +40,12 @@ std::string PendingCalls::Call::what() const {
 }
 
 bool PendingCalls::assign(const std::string& service, const std::string& incarnation,
-                          Clock::time_point now, bool group_ready, bool admin_ready) {
+                          bool group_ready, bool admin_ready) {
   bool any = false;
   for (auto& [seq, call] : calls_) {
     if (call.sent_to.empty() && call.hand.service == service && (group_ready || !call.group) &&
         (admin_ready || !call.administrative())) {
       call.sent_to = incarnation;
-      call.sent_at = now;
       to_write_.push_back(seq);
       any = true;
     }
@@ -67,44 +66,21 @@ std::optional<std::pair<std::uint64_t, PendingCalls::Outgoing>> PendingCalls::ne
   return std::nullopt;
 }
 
-namespace {
-
-std::string lost_while_pending(const std::string& why, const PendingCalls::Call& call) {
-  return why + " while " + call.what() +
-         " was pending; it had been sent to that service, so it may or may not have reached "
-         "the hand";
-}
-
-}  // namespace
-
 std::vector<PendingCalls::Completion> PendingCalls::end_sent_to(const std::string& incarnation,
                                                                 const std::string& why) {
-  return hand_on(incarnation, {}, {}, {}, why);
-}
-
-std::vector<PendingCalls::Completion> PendingCalls::hand_on(const std::string& from,
-                                                            const std::string& to,
-                                                            Clock::time_point lapsed_at,
-                                                            Clock::time_point now,
-                                                            const std::string& why) {
   std::vector<Completion> ended;
-  if (from.empty()) return ended;
+  if (incarnation.empty()) return ended;
   for (auto it = calls_.begin(); it != calls_.end();) {
-    Call& call = it->second;
-    if (call.sent_to != from) {
-      ++it;
-    } else if (!to.empty() && call.sent_at > lapsed_at) {
-      call.sent_to = to;
-      call.deadline = std::min(call.deadline, now + kHandedOnWait);
-      call.handed_on_why =
-          lost_while_pending(why + "; the new owner did not answer it in " +
-                                 describe_duration(kHandedOnWait),
-                             call);
-      ++it;
-    } else {
-      ended.emplace_back(std::move(call.done),
-                         make_reply(Code::service_lost, lost_while_pending(why, call)));
+    if (it->second.sent_to == incarnation) {
+      ended.emplace_back(
+          std::move(it->second.done),
+          make_reply(Code::service_lost,
+                     why + " while " + it->second.what() +
+                         " was pending; it had been sent to that service, so it may or may "
+                         "not have reached the hand"));
       it = calls_.erase(it);
+    } else {
+      ++it;
     }
   }
   return ended;
@@ -134,7 +110,6 @@ PendingCalls::Expiry PendingCalls::expire(Clock::time_point now) {
 
 Reply PendingCalls::expired_reply(const Call& call, bool service_alive, int domain,
                                   const std::string& seen) {
-  if (!call.handed_on_why.empty()) return make_reply(Code::service_lost, call.handed_on_why);
   const auto& service = call.hand.service;
   const std::string and_seen = seen.empty() ? "" : "; " + seen;
   if (call.group) {

@@ -53,10 +53,6 @@ class PendingCalls {
     /// reply); a group call's adapts the Reply to a GroupReply.
     Done done;
     std::string sent_to;  ///< the incarnation it was written to; empty: not yet written
-    Clock::time_point sent_at{};  ///< when it was given to sent_to
-    /// Set when a takeover handed the call on to the new owner (hand_on):
-    /// why it ends SERVICE_LOST if that one does not answer by its deadline.
-    std::string handed_on_why;
 
     /// SET_CAN_ID or SET_BAUD_RATE: written on the admin request topic.
     [[nodiscard]] bool administrative() const;
@@ -77,11 +73,11 @@ class PendingCalls {
   [[nodiscard]] Call* find(std::uint64_t seq);
   std::optional<Call> take(std::uint64_t seq);
 
-  /// The calls for `service` not yet written go to `incarnation` at `now`,
-  /// queued for the io thread; group calls only when `group_ready` (its group
-  /// endpoints matched). True if any was.
-  bool assign(const std::string& service, const std::string& incarnation, Clock::time_point now,
-              bool group_ready = false, bool admin_ready = false);
+  /// The calls for `service` not yet written go to `incarnation`, queued for
+  /// the io thread; group calls only when `group_ready` (its group endpoints
+  /// matched). True if any was.
+  bool assign(const std::string& service, const std::string& incarnation, bool group_ready = false,
+              bool admin_ready = false);
   /// Queues a call already assigned for the io thread.
   void queue(std::uint64_t seq) { to_write_.push_back(seq); }
   [[nodiscard]] bool queue_empty() const { return to_write_.empty(); }
@@ -92,18 +88,6 @@ class PendingCalls {
 
   /// Ends the calls written to `incarnation` SERVICE_LOST, saying `why`.
   std::vector<Completion> end_sent_to(const std::string& incarnation, const std::string& why);
-  /// How long a call handed on to a service's new owner waits for its answer:
-  /// the new owner answers what it kept as soon as its hands do.
-  static constexpr std::chrono::milliseconds kHandedOnWait{500};
-  /// A new owner took over from `from`, whose lapse was first reported at
-  /// `lapsed_at`. The calls written to `from` after that may have reached the
-  /// new owner only (it keeps what comes once it is about to serve): they go
-  /// to `to` and wait for its answer until `now` + kHandedOnWait at most, then
-  /// end SERVICE_LOST saying `why`. The others end SERVICE_LOST now (as
-  /// end_sent_to, which is this with no `to`). Returns those ended now.
-  std::vector<Completion> hand_on(const std::string& from, const std::string& to,
-                                  Clock::time_point lapsed_at, Clock::time_point now,
-                                  const std::string& why);
   /// Ends every call with `reply` and empties the queue.
   std::vector<Completion> end_all(const Reply& reply);
   /// Takes the calls whose deadline is at or before `now`; the next deadline

@@ -194,14 +194,10 @@ void ServiceTracker::follow_owner(const std::string& service, Outcome& out) {
   auto& state = services_[service];
   if (owner) {
     if (state.incarnation == owner->participant && state.alive) return;
-    const auto lapse = lapses_.find(state.incarnation);
-    if (lapse != lapses_.end() && state.incarnation != owner->participant) {
-      out.handed_to = owner->participant;
-      out.lapsed_at = lapse->second.reported;
-    }
     if (state.alive && !state.incarnation.empty()) {
       lose(service, "service '" + service + "' is now served by " + owner->describe(), out);
-    } else if (state.incarnation != owner->participant && lapse != lapses_.end() &&
+    } else if (const auto lapse = lapses_.find(state.incarnation);
+               state.incarnation != owner->participant && lapse != lapses_.end() &&
                lapse->second.believed) {
       // A lapsed owner's calls in flight wait for its return no longer:
       // another owner serves the name (a standby took over), and no reply of

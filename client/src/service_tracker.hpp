@@ -68,11 +68,6 @@ class ServiceTracker {
     /// who serves it now, in words; empty if it did not change hands.
     std::string taken_over_from;
     std::string taken_over_by;
-    /// A new owner took over from the lost one (`lost` or `end_calls_of`)
-    /// after its lapse was reported at `lapsed_at`: the calls written to the
-    /// lost one since may be the new owner's to answer (PendingCalls::hand_on).
-    std::string handed_to;
-    std::chrono::steady_clock::time_point lapsed_at{};
   };
 
   /// How long a service whose other endpoints matched waits for its owner
@@ -229,11 +224,8 @@ class ServiceTracker {
   contract::OwnerTable owners_;
   /// A lapse reported and not yet final.
   struct Lapse {
-    explicit Lapse(std::chrono::steady_clock::time_point reported_at)
-        : reported(reported_at),
-          confirm_at(reported_at + contract::kOwnerLapseConfirm),
-          judge(reported_at) {}
-    std::chrono::steady_clock::time_point reported;    ///< Fast DDS reported it then
+    explicit Lapse(std::chrono::steady_clock::time_point reported)
+        : confirm_at(reported + contract::kOwnerLapseConfirm), judge(reported) {}
     std::chrono::steady_clock::time_point confirm_at;  ///< the service is lost then
     LapseJudge judge;  ///< when its calls in flight end
     bool believed = false;

@@ -132,9 +132,9 @@ TEST(GroupCalls, WaitForTheirServicesGroupEndpointsWhereSingleCallsDoNot) {
   PendingCalls calls;
   std::vector<GroupReply> ended;
   calls.add(1, group_call(GroupCommand::move, 2, &ended));
-  EXPECT_FALSE(calls.assign("cell", "aa", {}, false));
+  EXPECT_FALSE(calls.assign("cell", "aa", false));
   EXPECT_TRUE(calls.find(1)->sent_to.empty());
-  EXPECT_TRUE(calls.assign("cell", "aa", {}, true));
+  EXPECT_TRUE(calls.assign("cell", "aa", true));
   const auto next = calls.next_to_write();
   ASSERT_TRUE(next);
   EXPECT_EQ(next->first, 1U);

@@ -78,9 +78,9 @@ TEST(PendingCalls, AssignQueuesTheUnsentCallsOfOneServiceInOrder) {
   calls.add(a, call_for("svc", kT0 + milliseconds(100)));
   calls.add(b, call_for("other", kT0 + milliseconds(100)));
   calls.add(c, call_for("svc", kT0 + milliseconds(100)));
-  EXPECT_FALSE(calls.assign("none", "X", {}));
-  EXPECT_TRUE(calls.assign("svc", "A", {}));
-  EXPECT_FALSE(calls.assign("svc", "A", {}));  // already assigned
+  EXPECT_FALSE(calls.assign("none", "X"));
+  EXPECT_TRUE(calls.assign("svc", "A"));
+  EXPECT_FALSE(calls.assign("svc", "A"));  // already assigned
   EXPECT_EQ(calls.find(a)->sent_to, "A");
   EXPECT_TRUE(calls.find(b)->sent_to.empty());
   // A call that ended meanwhile is skipped: it must never be written.
@@ -98,7 +98,7 @@ TEST(PendingCalls, ALostIncarnationEndsOnlyTheCallsWrittenToIt) {
   const auto sent = calls.next_seq();
   const auto waiting = calls.next_seq();
   calls.add(sent, call_for("svc", kT0 + milliseconds(100), &ended));
-  calls.assign("svc", "A", {});
+  calls.assign("svc", "A");
   calls.add(waiting, call_for("svc", kT0 + milliseconds(100), &ended));
   EXPECT_TRUE(calls.end_sent_to("", "why").empty());
   run(calls.end_sent_to("A", "service 'svc' restarted"));
@@ -109,50 +109,12 @@ TEST(PendingCalls, ALostIncarnationEndsOnlyTheCallsWrittenToIt) {
   EXPECT_NE(calls.find(waiting), nullptr);  // waits for the next incarnation
 }
 
-TEST(PendingCalls, ATakeoverHandsOnTheCallsWrittenSinceTheLapseAndEndsTheOthers) {
-  PendingCalls calls;
-  std::vector<Reply> ended;
-  const auto before = calls.next_seq();
-  const auto after = calls.next_seq();
-  calls.add(before, call_for("svc", kT0 + milliseconds(5000), &ended));
-  calls.assign("svc", "A", kT0 + milliseconds(100));
-  calls.add(after, call_for("svc", kT0 + milliseconds(5000), &ended));
-  calls.assign("svc", "A", kT0 + milliseconds(700));
-  const auto lapsed = kT0 + milliseconds(600);
-  const auto now = kT0 + milliseconds(720);
-  run(calls.hand_on("A", "B", lapsed, now, "service 'svc' is now served by B"));
-  // Written before the lapse: the old owner's, lost with it.
-  ASSERT_EQ(ended.size(), 1U);
-  EXPECT_EQ(ended[0].code, Code::service_lost);
-  EXPECT_EQ(calls.find(before), nullptr);
-  // Written since: the new owner's to answer, for a while.
-  const PendingCalls::Call* handed = calls.find(after);
-  ASSERT_NE(handed, nullptr);
-  EXPECT_EQ(handed->sent_to, "B");
-  EXPECT_EQ(handed->deadline, now + PendingCalls::kHandedOnWait);
-  auto expiry = calls.expire(now + PendingCalls::kHandedOnWait);
-  ASSERT_EQ(expiry.expired.size(), 1U);
-  const Reply unanswered = PendingCalls::expired_reply(expiry.expired[0], true, 7);
-  EXPECT_EQ(unanswered.code, Code::service_lost);
-  EXPECT_THAT(unanswered.message, HasSubstr("the new owner did not answer it in"));
-  EXPECT_THAT(unanswered.message, HasSubstr("may or may not have reached the hand"));
-}
-
-TEST(PendingCalls, AHandedOnCallKeepsAnEarlierDeadlineOfItsOwn) {
-  PendingCalls calls;
-  const auto seq = calls.next_seq();
-  calls.add(seq, call_for("svc", kT0 + milliseconds(800)));
-  calls.assign("svc", "A", kT0 + milliseconds(700));
-  run(calls.hand_on("A", "B", kT0 + milliseconds(600), kT0 + milliseconds(720), "why"));
-  EXPECT_EQ(calls.find(seq)->deadline, kT0 + milliseconds(800));
-}
-
 TEST(PendingCalls, EndAllEndsEveryCallAndEmptiesTheQueue) {
   PendingCalls calls;
   std::vector<Reply> ended;
   calls.add(calls.next_seq(), call_for("svc", kT0 + milliseconds(100), &ended));
   calls.add(calls.next_seq(), call_for("other", kT0 + milliseconds(100), &ended));
-  calls.assign("svc", "A", {});
+  calls.assign("svc", "A");
   Reply closed;
   closed.code = Code::not_connected;
   run(calls.end_all(closed));
