@@ -145,7 +145,7 @@ void ClientCore::submit(PendingCalls::Call call) {
   std::uint64_t seq = 0;
   bool write_now = false;
   bool kick = false;
-  std::optional<PendingCalls::Outgoing> to_send;
+  std::optional<PendingCalls::Write> to_send;
   {
     std::unique_lock lock(mutex_);
     if (closed_) {
@@ -178,11 +178,7 @@ void ClientCore::submit(PendingCalls::Call call) {
       if (calls_.queue_empty() && calls_.writes_in_flight() == 0 && !t_on_dds_listener) {
         write_now = true;
         calls_.begin_write();
-        if (call.group) {
-          to_send = PendingCalls::Outgoing(call.group->request);
-        } else {
-          to_send = PendingCalls::Outgoing(call.request);
-        }
+        to_send = PendingCalls::write_of(seq, call);
       } else {
         calls_.queue(seq);
         kick = true;
@@ -193,7 +189,7 @@ void ClientCore::submit(PendingCalls::Call call) {
     if (kick) io_kick_ = true;
   }
   if (kick) io_wake_.notify_all();
-  if (write_now) write_request(seq, *to_send);
+  if (write_now) write_request(*to_send);
 }
 
 std::future<Reply> ClientCore::call(const HandAddress& hand, msg::CommandType command,
@@ -206,14 +202,15 @@ std::future<Reply> ClientCore::call(const HandAddress& hand, msg::CommandType co
   return future;
 }
 
-void ClientCore::write_request(std::uint64_t seq, const PendingCalls::Outgoing& request) {
-  const bool group = std::holds_alternative<msg::GroupRequest>(request);
+void ClientCore::write_request(const PendingCalls::Write& write) {
+  const std::uint64_t seq = write.seq;
+  const bool group = std::holds_alternative<msg::GroupRequest>(write.request);
   bool written = false;
   if (group) {
-    msg::GroupRequest sample = std::get<msg::GroupRequest>(request);
-    written = endpoints_->write(sample);
+    msg::GroupRequest sample = std::get<msg::GroupRequest>(write.request);
+    written = endpoints_->write(sample, write.to);
   } else {
-    written = endpoints_->write(std::get<msg::CommandRequest>(request));
+    written = endpoints_->write(std::get<msg::CommandRequest>(write.request), write.to);
   }
   Done failed;
   {
@@ -238,7 +235,7 @@ void ClientCore::write_requests(std::unique_lock<std::mutex>& lock) {
     if (!next) return;
     calls_.begin_write();
     lock.unlock();
-    write_request(next->first, next->second);
+    write_request(*next);
     lock.lock();
   }
 }

@@ -190,7 +190,7 @@ class ClientCore : public std::enable_shared_from_this<ClientCore> {
   void submit(PendingCalls::Call call);
   /// Writes one pending request (`mutex_` not held; counted in flight); ends
   /// the call if the write fails.
-  void write_request(std::uint64_t seq, const PendingCalls::Outgoing& request);
+  void write_request(const PendingCalls::Write& write);
   void run(Actions& actions);
 
   // All *_locked: `mutex_` held.

@@ -7,6 +7,7 @@
 #include "dh3/contract/admin_commands.hpp"
 #include "dh3/contract/participant_options.hpp"
 #include "dh3/contract/qos.hpp"
+#include "dh3/contract/request_address.hpp"
 
 namespace dh3::detail {
 
@@ -187,15 +188,19 @@ std::string ClientEndpoints::admin_denied_message(const ClientOptions& options) 
   return message;
 }
 
-bool ClientEndpoints::write(const msg::CommandRequest& request) {
+bool ClientEndpoints::write(const msg::CommandRequest& request, const std::string& to) {
   // DataWriter::write takes a non-const sample.
   msg::CommandRequest sample = request;
-  if (contract::is_administrative(request.command())) return admin_request_writer_->write(&sample);
-  return request_writer_->write(&sample);
+  auto address = contract::addressed_to(to);
+  if (contract::is_administrative(request.command())) {
+    return admin_request_writer_->write(&sample, address);
+  }
+  return request_writer_->write(&sample, address);
 }
 
-bool ClientEndpoints::write(msg::GroupRequest& request) {
-  return group_request_writer_->write(&request);
+bool ClientEndpoints::write(msg::GroupRequest& request, const std::string& to) {
+  auto address = contract::addressed_to(to);
+  return group_request_writer_->write(&request, address);
 }
 
 bool ClientEndpoints::requests_acknowledged() const {

@@ -181,9 +181,10 @@ class ClientEndpoints {
   /// Why administrative commands end DENIED on a client that may command.
   [[nodiscard]] static std::string admin_denied_message(const ClientOptions& options);
 
-  /// On the admin request topic if it is administrative, else on the command request topic.
-  bool write(const msg::CommandRequest& request);
-  bool write(msg::GroupRequest& request);
+  /// On the admin request topic if it is administrative, else on the command
+  /// request topic; for the service incarnation `to` only (request_address.hpp).
+  bool write(const msg::CommandRequest& request, const std::string& to);
+  bool write(msg::GroupRequest& request, const std::string& to);
   /// The services' request readers acknowledged every request written.
   [[nodiscard]] bool requests_acknowledged() const;
   /// Replies to other clients and statuses of what we do not follow that the

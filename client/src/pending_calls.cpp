@@ -53,15 +53,16 @@ bool PendingCalls::assign(const std::string& service, const std::string& incarna
   return any;
 }
 
-std::optional<std::pair<std::uint64_t, PendingCalls::Outgoing>> PendingCalls::next_to_write() {
+PendingCalls::Write PendingCalls::write_of(std::uint64_t seq, const Call& call) {
+  if (call.group) return {seq, Outgoing(call.group->request), call.sent_to};
+  return {seq, Outgoing(call.request), call.sent_to};
+}
+
+std::optional<PendingCalls::Write> PendingCalls::next_to_write() {
   while (!to_write_.empty()) {
     const std::uint64_t seq = to_write_.front();
     to_write_.pop_front();
-    if (const auto it = calls_.find(seq); it != calls_.end()) {
-      const Call& call = it->second;
-      if (call.group) return std::make_pair(seq, Outgoing(call.group->request));
-      return std::make_pair(seq, Outgoing(call.request));
-    }
+    if (const auto it = calls_.find(seq); it != calls_.end()) return write_of(seq, it->second);
   }
   return std::nullopt;
 }

@@ -78,13 +78,22 @@ class PendingCalls {
   /// matched). True if any was.
   bool assign(const std::string& service, const std::string& incarnation, bool group_ready = false,
               bool admin_ready = false);
+  /// A request to write, and the incarnation it is written to
+  /// (contract::addressed_to: no other serves it).
+  struct Write {
+    std::uint64_t seq = 0;
+    Outgoing request;
+    std::string to;
+  };
+  /// What writing call `seq` writes.
+  [[nodiscard]] static Write write_of(std::uint64_t seq, const Call& call);
   /// Queues a call already assigned for the io thread.
   void queue(std::uint64_t seq) { to_write_.push_back(seq); }
   [[nodiscard]] bool queue_empty() const { return to_write_.empty(); }
   /// The next queued request of a call still pending; calls ended meanwhile
   /// are skipped (never sent, so a command the caller was told failed does not
   /// run after all).
-  std::optional<std::pair<std::uint64_t, Outgoing>> next_to_write();
+  std::optional<Write> next_to_write();
 
   /// Ends the calls written to `incarnation` SERVICE_LOST, saying `why`.
   std::vector<Completion> end_sent_to(const std::string& incarnation, const std::string& why);

@@ -137,8 +137,8 @@ TEST(GroupCalls, WaitForTheirServicesGroupEndpointsWhereSingleCallsDoNot) {
   EXPECT_TRUE(calls.assign("cell", "aa", true));
   const auto next = calls.next_to_write();
   ASSERT_TRUE(next);
-  EXPECT_EQ(next->first, 1U);
-  EXPECT_TRUE(std::holds_alternative<msg::GroupRequest>(next->second));
+  EXPECT_EQ(next->seq, 1U);
+  EXPECT_TRUE(std::holds_alternative<msg::GroupRequest>(next->request));
 }
 
 }  // namespace

@@ -87,7 +87,7 @@ TEST(PendingCalls, AssignQueuesTheUnsentCallsOfOneServiceInOrder) {
   ASSERT_TRUE(calls.take(a));
   const auto next = calls.next_to_write();
   ASSERT_TRUE(next);
-  EXPECT_EQ(next->first, c);
+  EXPECT_EQ(next->seq, c);
   EXPECT_FALSE(calls.next_to_write());
   EXPECT_TRUE(calls.queue_empty());
 }
