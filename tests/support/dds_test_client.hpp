@@ -32,12 +32,14 @@
 #include <string>
 #include <thread>
 #include <tuple>
+#include <type_traits>
 #include <vector>
 
 #include "dh3/contract/dh3.h"
 #include "dh3/contract/dh3PubSubTypes.h"
 #include "dh3/contract/participant_setup.hpp"
 #include "dh3/contract/qos.hpp"
+#include "dh3/contract/request_address.hpp"
 #include "dh3/contract/type_support.hpp"
 
 namespace dh3::test {
@@ -130,6 +132,20 @@ class DdsTestClient {
       sent_ids_.insert(request.client_id());
     }
     request_writer_->write(&request);
+    return request.request_seq();
+  }
+
+  /// The participant (hex GUID prefix) that wrote the last reply received.
+  [[nodiscard]] std::string last_replier() {
+    std::lock_guard lock(mutex_);
+    return last_replier_;
+  }
+  /// Sends a request addressed to the service participant `participant_id`
+  /// (contract::addressed_to), as the client library writes them.
+  std::uint64_t send_to(msg::CommandRequest request, const std::string& participant_id) {
+    request.request_seq(++last_seq_);
+    auto address = contract::addressed_to(participant_id);
+    request_writer_->write(&request, address);
     return request.request_seq();
   }
 
@@ -420,6 +436,9 @@ class DdsTestClient {
         if (!info.valid_data) continue;
         {
           std::lock_guard lock(client_.mutex_);
+          if constexpr (std::is_same_v<T, msg::CommandReply>) {
+            client_.last_replier_ = contract::client_id_for(info.publication_handle);
+          }
           store(sample);
         }
         client_.changed_.notify_all();
@@ -455,6 +474,7 @@ class DdsTestClient {
   std::uint64_t last_seq_ = 0;
 
   std::mutex mutex_;
+  std::string last_replier_;
   std::condition_variable changed_;
   std::map<std::pair<std::string, std::uint64_t>, std::vector<msg::CommandReply>> replies_;
   std::set<std::string> sent_ids_;  ///< every client_id this client sent requests under

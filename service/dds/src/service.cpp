@@ -3,6 +3,8 @@
 
 #include <algorithm>
 
+#include "dh3/contract/request_address.hpp"
+
 #include "lease_mirror.hpp"
 #include "round_robin.hpp"
 #include "service_impl.hpp"
@@ -256,8 +258,7 @@ void Service::Impl::on_requests(fdds::DataReader& reader, RequestTopic topic) {
         intake_.pop_back();
         break;
       }
-      // Outranked by another service of this name: that one answers.
-      if (!info.valid_data || !owner_->owns()) {
+      if (!serves(info)) {
         intake_.pop_back();
         continue;
       }
@@ -288,7 +289,7 @@ void Service::Impl::serve_kept() {
     std::vector<Caller> callers;
     intake_.clear();
     for (auto& kept : drain.forward_to(&listener)) {
-      if (!kept.info.valid_data || !owner_->owns()) continue;
+      if (!serves(kept.info)) continue;
       intake_.push_back(std::move(kept.request));
       callers.push_back(caller_of(kept.info));
     }
@@ -297,8 +298,7 @@ void Service::Impl::serve_kept() {
   serve(drains_->commands, request_listener_, RequestTopic::commands);
   serve(drains_->admin, admin_request_listener_, RequestTopic::admin);
   for (auto& kept : drains_->groups.forward_to(&group_request_listener_)) {
-    if (kept.info.valid_data && owner_->owns())
-      groups_.handle(kept.request, caller_of(kept.info), stopping_);
+    if (serves(kept.info)) groups_.handle(kept.request, caller_of(kept.info), stopping_);
   }
 }
 
@@ -306,9 +306,21 @@ void Service::Impl::on_group_requests(fdds::DataReader& reader) {
   std::lock_guard lock(dispatch_mutex_);
   fdds::SampleInfo info;
   while (reader.take_next_sample(&group_request_, &info) == ReturnCode_t::RETCODE_OK) {
-    if (info.valid_data && owner_->owns())
-      groups_.handle(group_request_, caller_of(info), stopping_);
+    if (serves(info)) groups_.handle(group_request_, caller_of(info), stopping_);
   }
+}
+
+bool Service::Impl::serves(const fdds::SampleInfo& info) {
+  // Outranked by another service of this name: that one answers.
+  if (!info.valid_data || !owner_->owns()) return false;
+  if (!contract::addressed_elsewhere(info, participant_->participant().guid().guidPrefix)) {
+    return true;
+  }
+  // Written to the service this one took over from, or to one before it:
+  // the caller's call ends with that one's loss (request_address.hpp).
+  spdlog::debug("a request of participant {} written to another incarnation of '{}' is dropped",
+                contract::client_id_for(info.publication_handle), options_.name);
+  return false;
 }
 
 Caller Service::Impl::caller_of(const fdds::SampleInfo& info) const {

@@ -138,6 +138,9 @@ class Service::Impl {
   /// listeners here.
   void serve_kept();
   void on_group_requests(fdds::DataReader& reader);
+  /// A request sample is this service's to serve: valid, the name is this
+  /// service's, and the request is not for another incarnation of it.
+  [[nodiscard]] bool serves(const fdds::SampleInfo& info);
   /// Who wrote a request sample: its participant, never the request's client_id.
   [[nodiscard]] Caller caller_of(const fdds::SampleInfo& info) const;
   /// What the participant listener does with each participant that joins or leaves.

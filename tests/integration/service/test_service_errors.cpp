@@ -115,6 +115,22 @@ TEST_F(ServiceErrorsTest, EmptyServiceIsInvalidAndOtherServicesAreIgnored) {
   EXPECT_EQ(client_->reply_count(ignored), 0U);
 }
 
+TEST_F(ServiceErrorsTest, ARequestWrittenToAnotherIncarnationIsNotServed) {
+  // As a client writes to the owner it believes, one that has since died;
+  // the service that took over must not carry it out.
+  const auto h = hand("slow", 1);
+  ASSERT_TRUE(client_->call(h, msg::READ_REGISTER, 0, 0x0602));  // unaddressed: served
+  const std::string service_id = client_->last_replier();
+  const auto elsewhere = client_->send_to(client_->request(h, msg::READ_REGISTER, 0, 0x0602),
+                                          "0123456789abcdef01234567");
+  const auto reply = client_->wait_reply(
+      client_->send_to(client_->request(h, msg::READ_REGISTER, 0, 0x0602), service_id));
+  ASSERT_TRUE(reply) << "a request written to this service went unanswered";
+  EXPECT_EQ(reply->code(), msg::OK) << reply->message();
+  // Answered in order: the other incarnation's request would have come first.
+  EXPECT_EQ(client_->reply_count(elsewhere), 0U);
+}
+
 TEST_F(ServiceErrorsTest, InitializationThatNeverFinishesFails) {
   const auto reply = client_->call(hand("stuck", 2), msg::INITIALIZE);
   ASSERT_TRUE(reply);
