@@ -7,9 +7,9 @@
 #include <iostream>
 #include <thread>
 
+#include "cell_alarms.hpp"
 #include "dh3/base/host_name.hpp"
 #include "dh3/base/stop_signals.hpp"
-#include "cell_alarms.hpp"
 #include "dh3/client.hpp"
 #include "event_stream.hpp"
 #include "hand_api.hpp"

@@ -31,7 +31,8 @@ std::optional<rtps::GuidPrefix_t> prefix_of(const std::string& participant_id) {
 
 rtps::WriteParams addressed_to(const std::string& participant_id) {
   rtps::WriteParams params;
-  if (const auto prefix = prefix_of(participant_id); prefix && *prefix != rtps::c_GuidPrefix_Unknown) {
+  if (const auto prefix = prefix_of(participant_id);
+      prefix && *prefix != rtps::c_GuidPrefix_Unknown) {
     rtps::SampleIdentity identity;
     identity.writer_guid(rtps::GUID_t(*prefix, rtps::c_EntityId_RTPSParticipant));
     params.related_sample_identity(identity);

@@ -500,10 +500,9 @@ TEST_F(TakeoverKillsKernel, EveryCommandIsAnsweredOnceAndWrittenOnceAcrossKillsO
         i + 1, kills_[i].victim.c_str(), step.ok, step.loss_seen, step.serving, step.calls_lost,
         step.ok_sent, kills_[i].took_over.c_str());
     if (step.ok_command) {
-      std::printf("  that command: %s\n",
-                  describe(commands[*step.ok_command], bus.frames_of[*step.ok_command], frames,
-                           kills_)
-                      .c_str());
+      std::printf("  that command: %s\n", describe(commands[*step.ok_command],
+                                                   bus.frames_of[*step.ok_command], frames, kills_)
+                                              .c_str());
     }
   }
   std::printf(

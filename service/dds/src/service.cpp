@@ -4,7 +4,6 @@
 #include <algorithm>
 
 #include "dh3/contract/request_address.hpp"
-
 #include "lease_mirror.hpp"
 #include "round_robin.hpp"
 #include "service_impl.hpp"

@@ -150,7 +150,7 @@ Result<std::unique_ptr<StandbyPresence>, std::string> StandbyPresence::create(
 }
 
 std::optional<PrimaryLapse> StandbyPresence::lapse(TimePoint now,
-                                                  std::optional<TimePoint> buses_silent_at) {
+                                                   std::optional<TimePoint> buses_silent_at) {
   return impl_->lapse(now, buses_silent_at);
 }
 

@@ -162,10 +162,10 @@ class StandbyTest : public ::testing::Test {
   /// `member` says it took over, and serves the hand, online, at `position`.
   /// Called after the kill: the new owner's service info started later.
   void take_over_at(StandbyProcess& member, std::int32_t position) {
-    const auto killed_ns = static_cast<std::uint64_t>(
-        std::chrono::duration_cast<std::chrono::nanoseconds>(
-            std::chrono::system_clock::now().time_since_epoch())
-            .count());
+    const auto killed_ns =
+        static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                       std::chrono::system_clock::now().time_since_epoch())
+                                       .count());
     ASSERT_TRUE(member.wait_for("took over from")) << "the standby never took over";
     // A standby may serve before the client believes the lapse; a call made
     // meanwhile is the lost owner's (SERVICE_LOST), so the read waits until

@@ -13,11 +13,11 @@
 // lost datagram), which the dead owner may have carried out already. The
 // client ends such a call SERVICE_LOST (docs/hot-standby.md).
 
-#include <string>
+#include <fastdds/rtps/common/WriteParams.h>
 
 #include <fastdds/dds/subscriber/SampleInfo.hpp>
 #include <fastdds/rtps/common/GuidPrefix_t.hpp>
-#include <fastdds/rtps/common/WriteParams.h>
+#include <string>
 
 namespace dh3::contract {
 
