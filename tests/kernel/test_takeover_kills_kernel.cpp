@@ -4,9 +4,9 @@
 // command as soon as the last one is answered. Whichever service is active
 // is killed (SIGKILL) again and again, alternating: the other takes over,
 // the killed one is started again once every client was served and stands
-// by, and the next kill is its
-// peer's. Every command must get exactly one answer (OK, or an error such as
-// SERVICE_LOST), and no command's write may reach its hand twice: candump
+// by, and the next kill is its peer's. Every command must get exactly one
+// answer (OK, or an error such as SERVICE_LOST), and no command's write may
+// reach its hand twice: candump
 // records the bus, and each command writes a value its hand's register did
 // not get from the command before (kernel/bus_write_account.hpp). Prints
 // the takeover time of each kill (kill to the first command answered by the
