@@ -285,11 +285,11 @@ Tally tally(const std::vector<LoggedCommand>& commands, const std::vector<Logged
 
 /// Where one takeover's time went, in milliseconds from the kill (-1: not seen).
 struct TakeoverSteps {
-  double loss_seen = -1;   ///< the heir first saw the owner without a live claim
-  double serving = -1;     ///< the heir's "took over" line
-  double calls_lost = -1;  ///< the first call to the killed owner ended SERVICE_LOST
-  double ok_sent = -1;     ///< the command the new owner answered first was sent
-  double ok = -1;          ///< ... and answered: the takeover time
+  double loss_seen = -1;                  ///< the heir first saw the owner without a live claim
+  double serving = -1;                    ///< the heir's "took over" line
+  double calls_lost = -1;                 ///< the first call to the killed owner ended SERVICE_LOST
+  double ok_sent = -1;                    ///< the command the new owner answered first was sent
+  double ok = -1;                         ///< ... and answered: the takeover time
   std::optional<std::size_t> ok_command;  ///< that command's index
 };
 
