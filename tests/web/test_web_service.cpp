@@ -2,8 +2,8 @@
 // on the simulator (three hands, hand 1 with an object at 40), driven with
 // plain HTTP requests. Commands, every bad input and the missing token, the
 // push stream, viewing behind the token, requests for another Host name (DNS
-// rebinding), an access log that a request cannot forge lines in, and a token
-// file others may read.
+// rebinding), an access log that a request cannot forge lines in, a token
+// file others may read, and the alarm a failed initialization raises.
 
 #include <arpa/inet.h>
 #include <gmock/gmock.h>
@@ -424,6 +424,42 @@ TEST(WebViewing, CanNeedTheToken) {
   auto listed = http.Get("/api/hands", with_token());
   ASSERT_TRUE(listed);
   EXPECT_EQ(listed->status, 200);
+}
+
+TEST(WebAlarms, AnInitializationThatFailsIsRaisedFromTheServicesEvent) {
+  // The hands take a minute to initialize; the service gives them 300 ms.
+  std::string config = sim_config(60000);
+  const std::string patient = "init_timeout_ms: 120000";
+  config.replace(config.find(patient), patient.size(), "init_timeout_ms: 300");
+  RunningService service{config};
+  ASSERT_TRUE(service.started());
+  WebProcess web;
+  ASSERT_GT(web.port(), 0);
+  auto http = web.client();
+  const std::string hand = hand_spec(2);
+  const auto deadline = std::chrono::steady_clock::now() + kClientDeadline;
+  for (;;) {
+    auto seen = http.Get(("/api/hands/" + hand).c_str());
+    if (seen && seen->status == 200 && seen->body.find(R"("online":true)") != std::string::npos) {
+      break;
+    }
+    ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "dh3-web never saw " << hand;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));  // polling the hand
+  }
+  auto init = http.Post(("/api/hands/" + hand + "/init").c_str(), with_token(), "",
+                        "application/json");
+  ASSERT_TRUE(init);
+  EXPECT_NE(init->status, 200) << init->body;
+  // The failed command is one alarm; the service's INIT_FAILED event another.
+  const std::string raised = "hand " + hand + " Error: initialization failed";
+  std::string listed;
+  while (listed.find(raised) == std::string::npos && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));  // polling the list
+    if (auto res = http.Get("/api/alarms"); res && res->status == 200) listed = res->body;
+  }
+  EXPECT_THAT(listed, HasSubstr(raised));
+  EXPECT_THAT(listed, HasSubstr(R"("key":"event:)" + hand + ":"));
+  EXPECT_THAT(listed, HasSubstr("Command to hand " + hand + " failed: Error in init"));
 }
 
 TEST(WebTokens, EachRoleMayDoWhatItsRoleMayAndNoMore) {
