@@ -1,29 +1,17 @@
 #include "dh3/contract/request_address.hpp"
 
-#include <cstddef>
 #include <optional>
+
+#include "dh3/base/hex.hpp"
 
 namespace dh3::contract {
 namespace {
 
 namespace rtps = eprosima::fastrtps::rtps;
 
-std::optional<int> hex_digit(char c) {
-  if (c >= '0' && c <= '9') return c - '0';
-  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
-  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-  return std::nullopt;
-}
-
 std::optional<rtps::GuidPrefix_t> prefix_of(const std::string& participant_id) {
-  if (participant_id.size() != 2 * rtps::GuidPrefix_t::size) return std::nullopt;
   rtps::GuidPrefix_t prefix;
-  for (std::size_t i = 0; i < rtps::GuidPrefix_t::size; ++i) {
-    const auto high = hex_digit(participant_id[2 * i]);
-    const auto low = hex_digit(participant_id[2 * i + 1]);
-    if (!high || !low) return std::nullopt;
-    prefix.value[i] = static_cast<rtps::octet>(*high << 4 | *low);
-  }
+  if (!bytes_from_hex(participant_id, prefix.value)) return std::nullopt;
   return prefix;
 }
 

@@ -4,16 +4,12 @@
 
 #include <cctype>
 #include <charconv>
+#include <span>
+
+#include "dh3/base/hex.hpp"
 
 namespace dh3::bus {
 namespace {
-
-std::optional<std::uint8_t> hex_digit(char c) {
-  if (c >= '0' && c <= '9') return static_cast<std::uint8_t>(c - '0');
-  if (c >= 'A' && c <= 'F') return static_cast<std::uint8_t>(c - 'A' + 10);
-  if (c >= 'a' && c <= 'f') return static_cast<std::uint8_t>(c - 'a' + 10);
-  return std::nullopt;
-}
 
 /// "(SECONDS.MICROS)" at the start of `text`; advances it past the ')'.
 std::optional<WallTime> parse_time(std::string_view& text) {
@@ -68,11 +64,8 @@ Result<void, LogLineError> parse_frame(std::string_view text, CanFrame& frame) {
   }
   frame.length = static_cast<std::uint8_t>(data.size() / 2);
   frame.data = {};
-  for (std::size_t i = 0; i < frame.length; ++i) {
-    const auto high = hex_digit(data[2 * i]);
-    const auto low = hex_digit(data[2 * i + 1]);
-    if (!high || !low) return fail(LogLineError::malformed);
-    frame.data[i] = static_cast<std::uint8_t>((*high << 4U) | *low);
+  if (!bytes_from_hex(data, std::span(frame.data).first(frame.length))) {
+    return fail(LogLineError::malformed);
   }
   return {};
 }

@@ -6,12 +6,11 @@
 // serves a request that names its own participant or none (a client of
 // another vendor, or built from an older contract; an identity that is not a
 // participant's is not an address); it drops one that names another
-// participant. So a request
-// written to an owner that has since died is never carried out by the
-// standby that took over: neither one the client wrote just before it saw
-// the takeover, nor one DDS brought to the standby late (repaired after a
-// lost datagram), which the dead owner may have carried out already. The
-// client ends such a call SERVICE_LOST (docs/hot-standby.md).
+// participant. So a request written to an owner that has since died is never
+// carried out by the standby that took over: neither one the client wrote
+// just before it saw the takeover, nor one DDS brought to the standby late
+// (repaired after a lost datagram), which the dead owner may have carried out
+// already. The client ends such a call SERVICE_LOST (docs/hot-standby.md).
 
 #include <fastdds/rtps/common/WriteParams.h>
 
